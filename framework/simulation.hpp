@@ -1,0 +1,84 @@
+#pragma once
+// Simulated calibration experiments, all drawn from one seed:
+//   true parameters = nominal + U[-e, e] on every free parameter,
+//   configurations  = actuators at the home pose (nominal model) + U[-r, r] per actuator,
+//   readings        = sensors at the true pose + U[-a, a] noise,
+//   validation set  = more configurations drawn the same way, with their true poses.
+// Each part uses its own sub-stream of the seed, so changing the noise level does not
+// change the configurations, and a seed reproduces a scenario bit for bit.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "framework/calibration_problem.hpp"
+#include "framework/solver.hpp"
+
+namespace kincal {
+
+struct ScenarioOptions {
+  int num_configurations = 30;
+  double noise_half_width = 0.0;      ///< a (mm): readings get U[-a, a]
+  double param_error_half_width = 5;  ///< e (mm) on each free parameter
+  double config_range = 20;           ///< r (mm) around the home actuator values
+  int num_validation = 200;
+  std::uint64_t seed = 1;
+};
+
+/// The paper's Table 2: case 1..5 -> noise half-width and number of configurations.
+struct PaperCase {
+  int id;
+  double noise_half_width;
+  int num_configurations;
+};
+const std::vector<PaperCase>& paper_cases();
+/// Throws std::invalid_argument for an id outside 1..5.
+const PaperCase& paper_case(int id);
+
+struct Scenario {
+  std::shared_ptr<const MeasurementModel> model;
+  ScenarioOptions options;
+  VectorXd nominal;                    ///< full parameter vector, nominal values
+  VectorXd truth;                      ///< full parameter vector, true values
+  std::vector<int> free_indices;       ///< the estimated parameters
+  Measurements calibration;            ///< noisy readings for the calibration
+  MatrixXd validation_actuators;       ///< num_validation x num_actuators
+  std::vector<Pose> validation_poses;  ///< true poses of the validation configurations
+
+  /// The least-squares problem of this scenario, starting from the nominal values.
+  std::shared_ptr<CalibrationProblem> make_problem() const;
+};
+
+/// Draws a scenario. Configurations whose true forward kinematics fails are redrawn (from
+/// the same stream, so the result is still a function of the seed).
+Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
+                       const ScenarioOptions& options);
+
+/// Pose errors of the model with `params` against the true poses, over the validation set.
+struct PoseErrorStats {
+  double position_mean_mm = 0;
+  double position_max_mm = 0;
+  double orientation_mean_rad = 0;
+  double orientation_max_rad = 0;
+  int fk_failures = 0;  ///< validation configurations where forward kinematics failed
+};
+PoseErrorStats validation_errors(const Scenario& scenario, const VectorXd& params);
+
+/// One simulated calibration with its accuracy at every iteration.
+struct CalibrationRun {
+  Summary summary;
+  VectorXd estimate;  ///< full parameter vector
+  PoseErrorStats before;
+  PoseErrorStats after;
+  /// Validation errors at each trace entry (same length as summary.trace).
+  std::vector<PoseErrorStats> trace_errors;
+  /// RMS over free parameters of (estimate - truth), mm.
+  double parameter_rms_error = 0;
+};
+
+/// Solves the scenario's problem from nominal. When `track_iterations` is set, the
+/// validation errors are computed at every iteration (through the solver's callback).
+CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
+                               SolverOptions options, bool track_iterations = true);
+
+}  // namespace kincal

@@ -1,0 +1,97 @@
+#include "framework/solver.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace kincal {
+
+const char* to_string(TerminationType type) {
+  switch (type) {
+    case TerminationType::kConverged:
+      return "converged";
+    case TerminationType::kMaxIterations:
+      return "max_iterations";
+    case TerminationType::kDiverged:
+      return "diverged";
+    case TerminationType::kFailed:
+      return "failed";
+    case TerminationType::kUserStopped:
+      return "user_stopped";
+  }
+  return "unknown";
+}
+
+std::string Summary::brief_report() const {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%s: %s after %d iterations, cost %.6g -> %.6g (%.3g s)",
+                solver.c_str(), to_string(termination), iterations, initial_cost, final_cost,
+                wall_seconds);
+  std::string out = buf;
+  if (!message.empty()) out += " — " + message;
+  return out;
+}
+
+void Solver::check_options(const SolverOptions& options) const {
+  solver_option::require_known_keys(name(), options, {});
+  if (options.max_iterations < 0)
+    throw InvalidSolverOptions(name() + ": max_iterations must be >= 0");
+  if (options.lower_bounds.has_value() != options.upper_bounds.has_value())
+    throw InvalidSolverOptions(name() + ": give both lower and upper bounds, or neither");
+}
+
+namespace solver_option {
+
+void require_known_keys(const std::string& solver, const SolverOptions& options,
+                        const std::vector<std::string>& known) {
+  for (const auto& [key, value] : options.backend_options) {
+    bool found = false;
+    for (const auto& k : known) found = found || k == key;
+    if (!found) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InvalidSolverOptions(
+          solver + ": unknown option '" + key + "'" +
+          (list.empty() ? " (this solver takes no options)" : " (known: " + list + ")"));
+    }
+  }
+}
+
+double get_double(const std::string& solver, const SolverOptions& options, const std::string& key,
+                  double fallback) {
+  const auto it = options.backend_options.find(key);
+  if (it == options.backend_options.end()) return fallback;
+  std::istringstream in(it->second);
+  double value;
+  if (!(in >> value) || !(in >> std::ws).eof())
+    throw InvalidSolverOptions(solver + ": option " + key + "='" + it->second +
+                               "' is not a number");
+  return value;
+}
+
+int get_int(const std::string& solver, const SolverOptions& options, const std::string& key,
+            int fallback) {
+  const auto it = options.backend_options.find(key);
+  if (it == options.backend_options.end()) return fallback;
+  std::istringstream in(it->second);
+  int value;
+  if (!(in >> value) || !(in >> std::ws).eof())
+    throw InvalidSolverOptions(solver + ": option " + key + "='" + it->second +
+                               "' is not an integer");
+  return value;
+}
+
+std::string get_choice(const std::string& solver, const SolverOptions& options,
+                       const std::string& key, const std::vector<std::string>& choices,
+                       const std::string& fallback) {
+  const auto it = options.backend_options.find(key);
+  if (it == options.backend_options.end()) return fallback;
+  for (const auto& c : choices)
+    if (c == it->second) return c;
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+  throw InvalidSolverOptions(solver + ": option " + key + "='" + it->second +
+                             "' is not one of: " + list);
+}
+
+}  // namespace solver_option
+}  // namespace kincal

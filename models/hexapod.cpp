@@ -1,0 +1,84 @@
+#include "models/hexapod.hpp"
+
+#include <cmath>
+
+namespace kincal {
+
+namespace {
+
+const char* const kAxes[3] = {"x", "y", "z"};
+
+}  // namespace
+
+Hexapod::Hexapod(const HexapodGeometry& geometry) : geometry_(geometry) {
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const std::string prefix = "leg" + std::to_string(leg + 1);
+    actuator_names_.push_back(prefix);
+    for (int a = 0; a < 3; ++a)
+      parameters_.push_back(
+          {prefix + ".base." + kAxes[a], geometry.base_joints[leg][a], "mm", false});
+    for (int a = 0; a < 3; ++a)
+      parameters_.push_back(
+          {prefix + ".platform." + kAxes[a], geometry.platform_joints[leg][a], "mm", false});
+    parameters_.push_back({prefix + ".offset", geometry.leg_offsets[leg], "mm", false});
+  }
+}
+
+HexapodGeometry Hexapod::geometry_from(const ParamsRef& params) const {
+  HexapodGeometry g = geometry_;
+  for (int leg = 0; leg < kLegs; ++leg) {
+    g.base_joints[leg] = params.segment<3>(base_index(leg));
+    g.platform_joints[leg] = params.segment<3>(platform_index(leg));
+    g.leg_offsets[leg] = params[offset_index(leg)];
+  }
+  return g;
+}
+
+void Hexapod::inverse_kinematics(const ParamsRef& params, const Pose& pose,
+                                 Eigen::Ref<VectorXd> q) const {
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const Vector3d b = params.segment<3>(base_index(leg));
+    const Vector3d p = params.segment<3>(platform_index(leg));
+    q[leg] = (pose.transform_point(p) - b).norm() - params[offset_index(leg)];
+  }
+}
+
+bool Hexapod::actuators_valid(const ParamsRef& params, const ActuatorsRef& q) const {
+  if (q.size() != kLegs || !q.allFinite()) return false;
+  for (int leg = 0; leg < kLegs; ++leg)
+    if (!(q[leg] + params[offset_index(leg)] > 0.0)) return false;
+  return true;
+}
+
+void Hexapod::constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
+                          Vector6d& g, Matrix6d* J_g_pose) const {
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const Vector3d b = params.segment<3>(base_index(leg));
+    const Vector3d a = pose.rotation * params.segment<3>(platform_index(leg));
+    const Vector3d leg_vector = pose.translation + a - b;
+    const double length = leg_vector.norm();
+    g[leg] = length - (q[leg] + params[offset_index(leg)]);
+    if (J_g_pose) {
+      // d|v| = n . dv with dv = dt + dw x a  =>  row = [n^T, (a x n)^T].
+      const Vector3d n = leg_vector / length;
+      J_g_pose->row(leg).head<3>() = n.transpose();
+      J_g_pose->row(leg).tail<3>() = a.cross(n).transpose();
+    }
+  }
+}
+
+void Hexapod::constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef&,
+                                         const Pose& pose, Eigen::Ref<Matrix6Xd> J_g_params) const {
+  J_g_params.setZero();
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const Vector3d b = params.segment<3>(base_index(leg));
+    const Vector3d leg_vector =
+        pose.translation + pose.rotation * params.segment<3>(platform_index(leg)) - b;
+    const Vector3d n = leg_vector.normalized();
+    J_g_params.block<1, 3>(leg, base_index(leg)) = -n.transpose();
+    J_g_params.block<1, 3>(leg, platform_index(leg)) = n.transpose() * pose.rotation;
+    J_g_params(leg, offset_index(leg)) = -1.0;
+  }
+}
+
+}  // namespace kincal

@@ -1,0 +1,27 @@
+#pragma once
+// Built-in models by name (`kincal list models`).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/measurement_model.hpp"
+
+namespace kincal {
+
+struct PresetInfo {
+  std::string name;
+  std::string description;
+};
+
+std::vector<PresetInfo> list_presets();
+
+/// A fresh measurement model for a preset, with the preset's default free parameters.
+/// Throws std::invalid_argument listing the presets when `name` is unknown.
+std::shared_ptr<MeasurementModel> make_preset(const std::string& name);
+
+/// The paper's hexapod (Table 1), home pose t0 = (0, 0, 410) mm, R0 = I, one length gauge,
+/// with the paper's 24 free parameters.
+std::shared_ptr<MeasurementModel> make_cube_hexapod();
+
+}  // namespace kincal

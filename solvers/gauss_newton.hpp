@@ -1,0 +1,13 @@
+#pragma once
+// `gn`: the paper's undamped Gauss-Newton (eq. 26), each step solved by column-pivoting QR
+// of J rather than by inverting J^T J.
+
+#include <memory>
+
+#include "framework/solver.hpp"
+
+namespace kincal {
+
+std::unique_ptr<Solver> make_gauss_newton_solver();
+
+}  // namespace kincal

@@ -1,0 +1,48 @@
+// The paper's Gauss-Newton on simulated data.
+
+#include <gtest/gtest.h>
+
+#include "framework/simulation.hpp"
+#include "framework/solver_registry.hpp"
+#include "models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+Scenario paper_scenario(int case_id, std::uint64_t seed) {
+  ScenarioOptions options;
+  options.num_configurations = paper_case(case_id).num_configurations;
+  options.noise_half_width = paper_case(case_id).noise_half_width;
+  options.num_validation = 20;
+  options.seed = seed;
+  return make_scenario(make_cube_hexapod(), options);
+}
+
+class NoiseFreeCalibration : public ::testing::TestWithParam<std::uint64_t> {};
+
+TEST_P(NoiseFreeCalibration, RecoversTheTrueParameters) {
+  const Scenario scenario = paper_scenario(1, GetParam());
+  const auto solver = SolverRegistry::global().create("gn");
+  SolverOptions options;
+  const CalibrationRun run = run_calibration(scenario, *solver, options, false);
+  EXPECT_EQ(run.summary.termination, TerminationType::kConverged) << run.summary.brief_report();
+  for (int i : scenario.free_indices)
+    EXPECT_NEAR(run.estimate[i], scenario.truth[i], 1e-6) << scenario.model->parameters()[i].name;
+  EXPECT_LT(run.after.position_max_mm, 1e-6);
+  EXPECT_GT(run.before.position_mean_mm, 0.1);  // the starting model was really off
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, NoiseFreeCalibration, ::testing::Values(1, 2, 3, 4, 5, 6, 7, 8));
+
+TEST(GaussNewton, StopsAtTheIterationLimitAndSaysSo) {
+  const Scenario scenario = paper_scenario(1, 3);
+  const auto solver = SolverRegistry::global().create("gn");
+  SolverOptions options;
+  options.max_iterations = 1;
+  const CalibrationRun run = run_calibration(scenario, *solver, options, false);
+  EXPECT_EQ(run.summary.termination, TerminationType::kMaxIterations);
+  EXPECT_EQ(run.summary.iterations, 1);
+}
+
+}  // namespace
+}  // namespace kincal
