@@ -1,1 +1,56 @@
-int main() { return 0; }
+// kincal: kinematic identification from the command line. Thin: parse, call the library,
+// print.
+
+#include <iostream>
+
+#include "cli/commands.hpp"
+
+namespace kincal::cli {
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> table = {
+      {"list", "list built-in solvers or models", run_list},
+      {"simulate", "run one simulated calibration of the cube hexapod", run_simulate},
+      {"reproduce", "Monte Carlo of the paper's five Table 2 cases", run_reproduce},
+  };
+  return table;
+}
+
+namespace {
+
+void print_usage(std::ostream& out) {
+  out << "usage: kincal <command> [options]   (kincal <command> --help for its options)\n\n"
+         "commands:\n";
+  for (const auto& c : commands()) {
+    std::string name = c.name;
+    name.resize(14, ' ');
+    out << "  " << name << c.summary << "\n";
+  }
+}
+
+}  // namespace
+}  // namespace kincal::cli
+
+int main(int argc, char** argv) {
+  using namespace kincal::cli;
+  if (argc < 2) {
+    print_usage(std::cerr);
+    return 2;
+  }
+  const std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    print_usage(std::cout);
+    return 0;
+  }
+  for (const auto& command : commands()) {
+    if (name != command.name) continue;
+    try {
+      return command.run(Args(argv + 2, argv + argc));
+    } catch (const std::exception& e) {
+      std::cerr << "kincal " << name << ": error: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  std::cerr << "kincal: error: unknown command '" << name << "' (try kincal --help)\n";
+  return 2;
+}

@@ -1,13 +1,37 @@
 // The one place that knows which backends are built: one registration line per backend.
+// Optional backends are compiled in when their CMake option (KINCAL_WITH_<NAME>) is ON.
 
 #include "framework/solver_registry.hpp"
 #include "solvers/gauss_newton.hpp"
+#ifdef KINCAL_WITH_CERES
+#include "solvers/ceres_solver.hpp"
+#endif
+#ifdef KINCAL_WITH_NLOPT
+#include "solvers/nlopt_solver.hpp"
+#endif
+#ifdef KINCAL_WITH_IPOPT
+#include "solvers/ipopt_solver.hpp"
+#endif
 
 namespace kincal {
 
 void register_builtin_solvers(SolverRegistry& registry) {
   registry.add("gn", "Gauss-Newton as in the paper (undamped, QR-solved steps)",
                [](const std::string&) { return make_gauss_newton_solver(); });
+#ifdef KINCAL_WITH_CERES
+  registry.add("ceres", "Ceres Solver, trust region (LM, dense QR by default)",
+               [](const std::string&) { return make_ceres_solver(); });
+#endif
+#ifdef KINCAL_WITH_NLOPT
+  registry.add(
+      "nlopt", "NLopt minimising the sum of squares (any NLopt algorithm name)",
+      [](const std::string& algorithm) { return make_nlopt_solver(algorithm); },
+      nlopt_featured_algorithms(), /*is_family=*/true);
+#endif
+#ifdef KINCAL_WITH_IPOPT
+  registry.add("ipopt", "Ipopt interior point with the Gauss-Newton Hessian J^T J",
+               [](const std::string&) { return make_ipopt_solver(); });
+#endif
 }
 
 }  // namespace kincal

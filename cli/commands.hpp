@@ -1,0 +1,34 @@
+#pragma once
+// One function per sub-command, each in its own cli/command_<name>.cpp. A command receives
+// the arguments after its name, prints to stdout, and returns the exit code. Bad input is
+// thrown as std::exception (usually CliError) and main() turns it into one line on stderr
+// and exit code 2.
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace kincal::cli {
+
+class CliError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+using Args = std::vector<std::string>;
+
+struct Command {
+  const char* name;
+  const char* summary;
+  std::function<int(const Args&)> run;
+};
+
+/// The command table, in the order `kincal --help` lists them (cli/main.cpp).
+const std::vector<Command>& commands();
+
+int run_list(const Args& args);
+int run_simulate(const Args& args);
+int run_reproduce(const Args& args);
+
+}  // namespace kincal::cli
