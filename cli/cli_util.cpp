@@ -6,6 +6,8 @@
 #include <iostream>
 #include <random>
 
+#include "framework/solver_registry.hpp"
+
 namespace kincal::cli {
 
 bool parse_command_line(const std::string& command, const Args& args,
@@ -66,6 +68,35 @@ void write_file_atomically(const std::string& path, const std::string& content) 
     fs::remove(temp, ec);
     throw CliError("cannot write '" + path + "': " + ec.message());
   }
+}
+
+std::string default_solver_name() { return SolverRegistry::global().contains("lm") ? "lm" : "gn"; }
+
+void add_solver_options(po::options_description& options) {
+  options.add_options()("solver", po::value<std::string>()->default_value(default_solver_name()),
+                        "solver backend (kincal list solvers)")(
+      "solver-option", po::value<std::vector<std::string>>()->composing(),
+      "backend-specific setting key=value (repeatable; see docs/solvers.md)")(
+      "max-iterations", po::value<int>()->default_value(100), "iteration limit of the solver")(
+      "verbose,v", po::bool_switch(), "print one line per solver iteration on stderr");
+}
+
+SolverChoice make_solver_choice(const po::variables_map& vm) {
+  SolverChoice choice;
+  choice.name = vm["solver"].as<std::string>();
+  try {
+    choice.solver = SolverRegistry::global().create(choice.name);
+    if (vm.count("solver-option"))
+      choice.options.backend_options =
+          parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option");
+    choice.options.max_iterations = vm["max-iterations"].as<int>();
+    if (choice.options.max_iterations < 0) throw CliError("--max-iterations must be >= 0");
+    choice.options.verbosity = vm["verbose"].as<bool>() ? 1 : 0;
+    choice.solver->check_options(choice.options);
+  } catch (const InvalidSolverOptions& e) {
+    throw CliError(e.what());
+  }
+  return choice;
 }
 
 void ensure_directory(const std::string& dir) {

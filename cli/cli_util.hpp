@@ -3,6 +3,7 @@
 
 #include <boost/program_options.hpp>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,22 @@ std::map<std::string, std::string> parse_key_values(const std::vector<std::strin
 /// so an existing file is never left half-written. "-" writes to stdout. Throws CliError
 /// naming the path when it cannot be written.
 void write_file_atomically(const std::string& path, const std::string& content);
+
+/// "lm" when that backend is built, else "gn".
+std::string default_solver_name();
+
+/// Adds the options every solving command shares: --solver, --solver-option (repeatable
+/// key=value), --max-iterations, --verbose.
+void add_solver_options(po::options_description& options);
+
+/// The solver chosen by those options, with its SolverOptions; validates the solver name
+/// and backend options up front (throws CliError with the backend's message).
+struct SolverChoice {
+  std::string name;
+  std::unique_ptr<Solver> solver;
+  SolverOptions options;
+};
+SolverChoice make_solver_choice(const po::variables_map& vm);
 
 /// Creates directory `dir` (and parents); throws CliError when that fails.
 void ensure_directory(const std::string& dir);

@@ -1,0 +1,13 @@
+#pragma once
+// Order statistics for Monte Carlo summaries.
+
+#include <vector>
+
+namespace kincal {
+
+/// The q-quantile (0 <= q <= 1) with linear interpolation between order statistics;
+/// NaN for an empty sample. Infinite values sort last, so a few failures show in p90.
+double quantile(std::vector<double> values, double q);
+inline double median(std::vector<double> values) { return quantile(std::move(values), 0.5); }
+
+}  // namespace kincal
