@@ -1,0 +1,110 @@
+// kincal list / simulate / reproduce through the real binary.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+
+namespace kincal {
+namespace {
+
+using kincal::testing::count_lines;
+using kincal::testing::read_text;
+using kincal::testing::run_cli;
+using kincal::testing::TempDir;
+
+TEST(CliList, ListsSolversAndModels) {
+  const auto solvers = run_cli("list solvers");
+  EXPECT_EQ(solvers.exit_code, 0);
+  EXPECT_NE(solvers.out.find("gn "), std::string::npos) << solvers.out;
+  const auto models = run_cli("list models");
+  EXPECT_EQ(models.exit_code, 0);
+  EXPECT_NE(models.out.find("cube-hexapod"), std::string::npos);
+  const auto bad = run_cli("list widgets");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(count_lines(bad.err), 1) << bad.err;
+}
+
+TEST(CliSimulate, JsonHasTheDocumentedFields) {
+  const auto r = run_cli("simulate --case 1 --solver gn --validation 20 --json -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["solver"], "gn");
+  EXPECT_EQ(j["termination"], "converged");
+  EXPECT_GT(j["iterations"].get<int>(), 0);
+  EXPECT_GE(j["solve_seconds"].get<double>(), 0.0);
+  EXPECT_GT(j["initial_cost"].get<double>(), j["final_cost"].get<double>());
+  ASSERT_EQ(j["parameters"].size(), 24u);
+  for (const auto& p : j["parameters"]) {
+    EXPECT_TRUE(p.contains("name") && p.contains("nominal"));
+    EXPECT_NEAR(p["estimate"].get<double>(), p["true"].get<double>(), 1e-6) << p["name"];
+  }
+  for (const char* phase : {"before", "after"})
+    for (const char* field :
+         {"position_mean_mm", "position_max_mm", "orientation_mean_rad", "orientation_max_rad"})
+      EXPECT_TRUE(j["validation"][phase][field].is_number()) << phase << " " << field;
+  EXPECT_LT(j["validation"]["after"]["position_max_mm"].get<double>(), 1e-6);
+  ASSERT_EQ(j["trace"].size(), static_cast<std::size_t>(j["iterations"].get<int>() + 1));
+  EXPECT_EQ(j["trace"][0]["iteration"], 0);
+  EXPECT_TRUE(j["trace"][0]["position_mean_mm"].is_number());
+  EXPECT_TRUE(j["trace"][0]["orientation_mean_rad"].is_number());
+  EXPECT_TRUE(j["trace"][0]["cost"].is_number());
+}
+
+TEST(CliSimulate, SameSeedSameOutputAndFilesWritten) {
+  TempDir dir("simulate");
+  const std::string args = "simulate --case 4 --solver gn --seed 17 --validation 10 --json " +
+                           (dir / "a.json") + " --trace " + (dir / "a.csv");
+  const auto first = run_cli(args);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_NE(first.out.find("case 4"), std::string::npos);
+  auto a = nlohmann::json::parse(read_text(dir / "a.json"));
+  const std::string trace = read_text(dir / "a.csv");
+  EXPECT_EQ(trace.rfind("iteration,cost", 0), 0u);
+  EXPECT_EQ(count_lines(trace), a["iterations"].get<int>() + 2);
+  const auto second = run_cli(args);
+  ASSERT_EQ(second.exit_code, 0);
+  auto b = nlohmann::json::parse(read_text(dir / "a.json"));
+  // Everything but the timings must agree bit for bit.
+  a.erase("solve_seconds");
+  b.erase("solve_seconds");
+  EXPECT_EQ(a.dump(), b.dump());
+}
+
+TEST(CliSimulate, BadOptionsGiveOneLineAndExitCode2) {
+  for (const char* args :
+       {"simulate --case 7", "simulate --poses abc", "simulate --solver nope",
+        "simulate --case 2 --poses 10", "simulate --noise -1", "simulate --bogus",
+        "simulate --solver gn --solver-option nokey", "simulate --solver gn --solver-option a=1",
+        "simulate --validation 0", "simulate --json /nonexistent-dir/x.json", "frobnicate"}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("error"), std::string::npos) << args;
+  }
+}
+
+TEST(CliReproduce, WritesTablesForAllFiveCases) {
+  TempDir dir("reproduce");
+  const auto r = run_cli("reproduce --trials 3 --solver gn --validation 10 --threads 2 --out " +
+                         dir.path().string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* c : {"\n1 ", "\n2 ", "\n3 ", "\n4 ", "\n5 "})
+    EXPECT_NE(r.out.find(c), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(read_text(dir / "summary.csv")), 6);
+  EXPECT_EQ(count_lines(read_text(dir / "trials.csv")), 1 + 5 * 3);
+  EXPECT_GT(count_lines(read_text(dir / "trace.csv")), 5);
+}
+
+TEST(CliReproduce, ResultsDoNotDependOnTheThreadCount) {
+  TempDir dir("reproduce-threads");
+  const std::string common = "reproduce --trials 4 --solver gn --validation 10 --out ";
+  ASSERT_EQ(run_cli(common + (dir / "one") + " --threads 1").exit_code, 0);
+  ASSERT_EQ(run_cli(common + (dir / "two") + " --threads 2").exit_code, 0);
+  EXPECT_EQ(read_text(dir / "one/summary.csv"), read_text(dir / "two/summary.csv"));
+  EXPECT_EQ(read_text(dir / "one/trace.csv"), read_text(dir / "two/trace.csv"));
+}
+
+}  // namespace
+}  // namespace kincal

@@ -1,0 +1,118 @@
+// Parameters, pose helpers, robust losses, statistics, the registry and parallel_for.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "framework/parallel.hpp"
+#include "framework/parameters.hpp"
+#include "framework/pose.hpp"
+#include "framework/random.hpp"
+#include "framework/robust_loss.hpp"
+#include "framework/solver_registry.hpp"
+#include "framework/statistics.hpp"
+
+namespace kincal {
+namespace {
+
+TEST(Parameters, GlobMatching) {
+  EXPECT_TRUE(glob_match("leg*.offset", "leg4.offset"));
+  EXPECT_TRUE(glob_match("leg?.base.*", "leg1.base.z"));
+  EXPECT_TRUE(glob_match("*", "gauge.offset"));
+  EXPECT_FALSE(glob_match("leg*.offset", "gauge.offset"));
+  EXPECT_FALSE(glob_match("leg?.base.x", "leg10.base.x"));
+  EXPECT_TRUE(glob_match("gauge.offset", "gauge.offset"));
+  EXPECT_FALSE(glob_match("gauge.offse", "gauge.offset"));
+}
+
+TEST(Parameters, FreeMaskByPatternAndErrors) {
+  ParameterSet set({{"a.x", 1, "mm", false}, {"a.y", 2, "mm", false}, {"b.x", 3, "mm", true}});
+  EXPECT_EQ(set.set_free("a.*", true), 2);
+  EXPECT_EQ(set.num_free(), 3);
+  EXPECT_EQ(set.set_free("b.x", false), 1);
+  EXPECT_EQ(set.free_indices(), (std::vector<int>{0, 1}));
+  EXPECT_THROW(set.set_free("c.*", true), std::invalid_argument);
+  EXPECT_THROW(set.index_of("nope"), std::invalid_argument);
+  EXPECT_THROW(ParameterSet({{"a", 0, "mm", false}, {"a", 0, "mm", false}}), std::invalid_argument);
+}
+
+TEST(Pose, EulerZyxRoundTripAndExpLog) {
+  Random rng(9);
+  for (int i = 0; i < 100; ++i) {
+    const Vector3d abg(rng.symmetric(3.0), rng.symmetric(1.5), rng.symmetric(3.0));
+    EXPECT_LT((euler_zyx(rotation_from_euler_zyx(abg)) - abg).norm(), 1e-12);
+    const Vector3d w(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0));
+    EXPECT_LT((log_so3(exp_so3(w)) - w).norm(), 1e-12);
+  }
+  // Orientation error of the paper: a pure rotation by 0.01 rad about z reads 0.01.
+  Pose a, b;
+  b.rotation = exp_so3(Vector3d(0, 0, 0.01));
+  EXPECT_NEAR(orientation_error(a, b), 0.01, 1e-15);
+}
+
+TEST(RobustLoss, ParsesAndRejects) {
+  EXPECT_EQ(RobustLoss::parse("none").kind, RobustLoss::Kind::kNone);
+  EXPECT_EQ(RobustLoss::parse("huber:0.5").kind, RobustLoss::Kind::kHuber);
+  EXPECT_DOUBLE_EQ(RobustLoss::parse("cauchy:2").delta, 2.0);
+  for (const char* bad : {"huber", "huber:", "huber:-1", "huber:x", "tukey:1", "cauchy:1e400"})
+    EXPECT_THROW(RobustLoss::parse(bad), std::invalid_argument) << bad;
+}
+
+TEST(RobustLoss, DerivativesMatchFiniteDifferences) {
+  for (const char* text : {"huber:0.7", "cauchy:0.7"}) {
+    const RobustLoss loss = RobustLoss::parse(text);
+    for (double s : {0.01, 0.3, 0.45, 0.6, 2.0, 10.0}) {
+      const double h = 1e-6;
+      const auto e = loss.evaluate(s), ep = loss.evaluate(s + h), em = loss.evaluate(s - h);
+      EXPECT_NEAR(e[1], (ep[0] - em[0]) / (2 * h), 1e-6) << text << " s=" << s;
+      EXPECT_NEAR(e[2], (ep[1] - em[1]) / (2 * h), 1e-5) << text << " s=" << s;
+    }
+  }
+}
+
+TEST(Statistics, Quantiles) {
+  EXPECT_DOUBLE_EQ(median({3, 1, 2}), 2);
+  EXPECT_DOUBLE_EQ(median({4, 1, 2, 3}), 2.5);
+  EXPECT_DOUBLE_EQ(quantile({0, 10}, 0.9), 9);
+  EXPECT_TRUE(std::isnan(median({})));
+}
+
+TEST(Random, DeterministicAndUniform) {
+  Random a(5), b(5);
+  double sum = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const double u = a.uniform01();
+    EXPECT_EQ(u, b.uniform01());
+    ASSERT_GE(u, 0.0);
+    ASSERT_LT(u, 1.0);
+    sum += u;
+  }
+  EXPECT_NEAR(sum / 100000, 0.5, 0.01);
+  EXPECT_NE(derive_seed(1, 1), derive_seed(1, 2));
+  EXPECT_NE(derive_seed(1, 1), derive_seed(2, 1));
+}
+
+TEST(Parallel, VisitsEveryIndexOnceAndPropagatesErrors) {
+  std::vector<std::atomic<int>> hits(1000);
+  parallel_for(1000, 3, [&](int i) { ++hits[i]; });
+  for (auto& h : hits) EXPECT_EQ(h.load(), 1);
+  EXPECT_THROW(parallel_for(10, 2,
+                            [](int i) {
+                              if (i == 7) throw std::runtime_error("boom");
+                            }),
+               std::runtime_error);
+}
+
+TEST(Registry, UnknownNamesAreRejectedWithTheList) {
+  try {
+    SolverRegistry::global().create("no-such-solver");
+    FAIL() << "no exception";
+  } catch (const InvalidSolverOptions& e) {
+    EXPECT_NE(std::string(e.what()).find("gn"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(SolverRegistry::global().contains("gn"));
+  EXPECT_FALSE(SolverRegistry::global().contains("gn:x"));
+}
+
+}  // namespace
+}  // namespace kincal
