@@ -111,7 +111,7 @@ int run_reproduce(const Args& args) {
         r.termination = run.summary.termination;
         r.iterations = run.summary.iterations;
         r.parameter_rms = run.parameter_rms_error;
-        r.seconds = run.summary.wall_seconds;
+        r.seconds = run.solve_seconds;
         r.before = run.before;
         r.after = run.after;
         r.trace = run.trace_errors;

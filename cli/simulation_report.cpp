@@ -69,7 +69,7 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   out["termination"] = to_string(summary.termination);
   out["message"] = summary.message;
   out["iterations"] = summary.iterations;
-  out["solve_seconds"] = summary.wall_seconds;
+  out["solve_seconds"] = run.solve_seconds;
   out["initial_cost"] = summary.initial_cost;
   out["final_cost"] = summary.final_cost;
   out["residual_evaluations"] = summary.residual_evaluations;

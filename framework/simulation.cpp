@@ -1,6 +1,7 @@
 #include "framework/simulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -147,15 +148,20 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   const auto problem = scenario.make_problem();
   CalibrationRun run;
   run.before = validation_errors(scenario, scenario.nominal);
+  double tracking_seconds = 0;
   if (track_iterations) {
     IterationCallback user_callback = options.callback;
     options.callback = [&](const IterationRecord& record, const VectorXd& x) {
+      const auto start = std::chrono::steady_clock::now();
       run.trace_errors.push_back(validation_errors(scenario, problem->full_parameters(x)));
+      tracking_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return user_callback ? user_callback(record, x) : CallbackAction::kContinue;
     };
   }
   VectorXd x = problem->initial_free_parameters();
   run.summary = solver.solve(*problem, x, options);
+  run.solve_seconds = std::max(0.0, run.summary.wall_seconds - tracking_seconds);
   run.estimate = problem->full_parameters(x);
   run.after = validation_errors(scenario, run.estimate);
   double sum = 0;

@@ -74,6 +74,9 @@ struct CalibrationRun {
   std::vector<PoseErrorStats> trace_errors;
   /// RMS over free parameters of (estimate - truth), mm.
   double parameter_rms_error = 0;
+  /// Wall time of the solve alone: summary.wall_seconds minus the time spent computing the
+  /// per-iteration validation errors inside the callback.
+  double solve_seconds = 0;
 };
 
 /// Solves the scenario's problem from nominal. When `track_iterations` is set, the
