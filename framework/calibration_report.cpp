@@ -1,0 +1,213 @@
+#include "framework/calibration_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace kincal {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// JSON has no NaN or infinity: such values are written as null.
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(); }
+
+Json numbers(const VectorXd& v) {
+  Json out = Json::array();
+  for (int i = 0; i < v.size(); ++i) out.push_back(number(v[i]));
+  return out;
+}
+
+std::string format(const char* fmt, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, a);
+  return buf;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const auto mid = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+}  // namespace
+
+CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
+                                          const Summary& summary, const std::vector<int>& lines,
+                                          const IdentifiabilityOptions& options) {
+  CalibrationReport r;
+  r.summary = summary;
+  r.names = problem.parameter_names();
+  r.nominal = problem.initial_free_parameters();
+  r.estimate = x;
+  r.num_configurations = problem.num_residual_blocks();
+  r.reading_names = problem.model().reading_names();
+  r.lines = lines;
+  VectorXd residuals;
+  MatrixXd J;
+  if (!problem.evaluate(x, &residuals, &J)) return r;
+
+  const int k = problem.residuals_per_block();
+  r.residuals = Eigen::Map<const MatrixXd>(residuals.data(), k, r.num_configurations).transpose();
+  r.residual_rms = residuals.size() ? std::sqrt(residuals.squaredNorm() / residuals.size()) : 0;
+  r.residual_max = residuals.size() ? residuals.cwiseAbs().maxCoeff() : 0;
+  std::vector<double> magnitudes(residuals.data(), residuals.data() + residuals.size());
+  for (double& v : magnitudes) v = std::abs(v);
+  r.outlier_threshold = std::max(3 * 1.4826 * median(magnitudes), 1e-9);
+  for (int c = 0; c < r.num_configurations; ++c)
+    r.outlier.push_back(r.residuals.row(c).cwiseAbs().maxCoeff() > r.outlier_threshold);
+
+  r.uncertainty = estimate_uncertainty(J, residuals);
+  r.identifiability = analyze_identifiability(J, r.names, options);
+  return r;
+}
+
+Json to_json(const Identifiability& a) {
+  Json out;
+  out["residuals"] = a.num_residuals;
+  out["parameters"] = a.num_parameters;
+  out["scaling"] = "columns of J scaled to unit norm";
+  out["singular_values"] = numbers(a.singular_values);
+  out["rank"] = a.rank;
+  out["rank_threshold"] = a.rank_threshold;
+  out["numerical_rank"] = a.numerical_rank;
+  out["numerical_rank_threshold"] = a.numerical_threshold;
+  out["rcond"] = a.rcond;
+  out["condition_number"] = number(a.condition_number);
+  out["O1"] = a.o1;
+  out["O2"] = a.o2;
+  out["O3"] = a.o3;
+  out["O4"] = a.o4;
+  out["O5"] = a.o5;
+  out["unseen_parameters"] = a.unseen;
+  out["combinations"] = Json::array();
+  for (const auto& c : a.combinations) {
+    Json terms = Json::array();
+    for (const auto& [name, coefficient] : c.terms)
+      terms.push_back({{"name", name}, {"coefficient", coefficient}});
+    out["combinations"].push_back({{"singular_value", c.singular_value},
+                                   {"kind", c.null_space ? "null_space" : "weak"},
+                                   {"terms", terms}});
+  }
+  return out;
+}
+
+Json to_json(const CalibrationReport& r) {
+  Json out;
+  out["format"] = "kincal-calibration-report";
+  out["version"] = 1;
+  out["model"] = r.model_file;
+  out["data"] = r.data_file;
+  out["solver"] = r.summary.solver;
+  out["loss"] = r.loss;
+  out["termination"] = to_string(r.summary.termination);
+  out["message"] = r.summary.message;
+  out["iterations"] = r.summary.iterations;
+  out["initial_cost"] = number(r.summary.initial_cost);
+  out["final_cost"] = number(r.summary.final_cost);
+  out["configurations"] = r.num_configurations;
+  out["skipped_lines"] = r.skipped_lines;
+  out["residual_rms"] = r.residual_rms;
+  out["residual_max"] = r.residual_max;
+  out["sigma_hat"] = number(r.uncertainty.sigma);
+  out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
+  out["parameters"] = Json::array();
+  for (std::size_t i = 0; i < r.names.size(); ++i) {
+    const double std = r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN;
+    out["parameters"].push_back({{"name", r.names[i]},
+                                 {"unit", "mm"},
+                                 {"nominal", r.nominal[i]},
+                                 {"estimate", r.estimate[i]},
+                                 {"std", number(std)}});
+  }
+  out["fixed_by_identifiability"] = r.fixed_by_identifiability;
+  Json correlation = Json::array();
+  for (int i = 0; i < r.uncertainty.correlation.rows(); ++i)
+    correlation.push_back(numbers(r.uncertainty.correlation.row(i).transpose()));
+  out["correlation"] = correlation;
+  out["outlier_threshold"] = r.outlier_threshold;
+  out["residuals"] = Json::array();
+  for (int c = 0; c < r.residuals.rows(); ++c) {
+    Json row;
+    row["line"] = r.lines[c];
+    for (int k = 0; k < r.residuals.cols(); ++k) row[r.reading_names[k]] = r.residuals(c, k);
+    row["outlier"] = static_cast<bool>(r.outlier[c]);
+    out["residuals"].push_back(row);
+  }
+  out["identifiability"] = to_json(r.identifiability);
+  return out;
+}
+
+std::string to_text(const Identifiability& a) {
+  std::ostringstream out;
+  out << "identifiability (" << a.num_residuals << " residuals, " << a.num_parameters
+      << " free parameters, columns scaled to unit norm):\n";
+  out << "  rank " << a.rank << " (threshold " << format("%.2e", a.rank_threshold)
+      << "), numerical rank " << a.numerical_rank << " (threshold "
+      << format("%.2e", a.numerical_threshold) << " = " << format("%g", a.rcond) << " x s_max)\n";
+  out << "  singular values " << format("%.4g", a.singular_values.size() ? a.singular_values[0] : 0)
+      << " .. "
+      << format("%.4g", a.singular_values.size() ? a.singular_values[a.num_parameters - 1] : 0)
+      << ", condition number " << format("%.4g", a.condition_number) << "\n";
+  out << "  O1 " << format("%.4g", a.o1) << "  O2 " << format("%.4g", a.o2) << "  O3 "
+      << format("%.4g", a.o3) << "  O4 " << format("%.4g", a.o4) << "  O5 " << format("%.4g", a.o5)
+      << "\n";
+  for (const auto& name : a.unseen) out << "  not seen by the data: " << name << "\n";
+  for (const auto& c : a.combinations)
+    out << "  " << (c.null_space ? "cannot be determined" : "weakly determined")
+        << " (s = " << format("%.2e", c.singular_value) << "): " << c.describe() << "\n";
+  return out.str();
+}
+
+std::string to_text(const CalibrationReport& r) {
+  std::ostringstream out;
+  out << "calibration of " << r.model_file << " from " << r.data_file << ": "
+      << r.num_configurations << " configurations";
+  if (!r.skipped_lines.empty()) out << " (" << r.skipped_lines.size() << " rows skipped)";
+  out << "\n" << r.summary.brief_report() << "\n";
+  out << "residuals: RMS " << format("%.4g", r.residual_rms) << " mm, max "
+      << format("%.4g", r.residual_max) << " mm, sigma_hat " << format("%.4g", r.uncertainty.sigma)
+      << " mm (" << r.uncertainty.degrees_of_freedom << " degrees of freedom)\n";
+  int outliers = 0;
+  for (bool o : r.outlier) outliers += o;
+  if (outliers) {
+    out << outliers << " outlier configuration(s) (|residual| > "
+        << format("%.3g", r.outlier_threshold) << " mm) at line(s)";
+    for (std::size_t c = 0; c < r.outlier.size(); ++c)
+      if (r.outlier[c]) out << " " << r.lines[c];
+    out << "\n";
+  }
+  out << "parameters (mm):\n";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "  %-22s %14s %14s %12s %12s\n", "name", "nominal", "estimate",
+                "change", "std");
+  out << buf;
+  for (std::size_t i = 0; i < r.names.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "  %-22s %14.6f %14.6f %12.6f %12.3g\n", r.names[i].c_str(),
+                  r.nominal[i], r.estimate[i], r.estimate[i] - r.nominal[i],
+                  r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN);
+    out << buf;
+  }
+  for (const auto& name : r.fixed_by_identifiability)
+    out << "  " << name << ": fixed at its model value (not identifiable from this data)\n";
+  // The strongest correlations are what a reader acts on; the matrix is in the JSON.
+  double worst = 0;
+  int wi = -1, wj = -1;
+  for (int i = 0; i < r.uncertainty.correlation.rows(); ++i)
+    for (int j = 0; j < i; ++j)
+      if (std::abs(r.uncertainty.correlation(i, j)) > worst) {
+        worst = std::abs(r.uncertainty.correlation(i, j));
+        wi = i;
+        wj = j;
+      }
+  if (wi >= 0)
+    out << "largest correlation " << format("%+.3f", r.uncertainty.correlation(wi, wj))
+        << " between " << r.names[wi] << " and " << r.names[wj] << "\n";
+  out << to_text(r.identifiability);
+  return out.str();
+}
+
+}  // namespace kincal

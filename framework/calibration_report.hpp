@@ -1,0 +1,50 @@
+#pragma once
+// What a calibration from measured data reports: the fit, the estimated parameters with
+// their uncertainty, per-configuration residuals with outlier flags, and identifiability.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "framework/calibration_problem.hpp"
+#include "framework/identifiability.hpp"
+#include "framework/solver.hpp"
+#include "framework/uncertainty.hpp"
+
+namespace kincal {
+
+struct CalibrationReport {
+  std::string model_file, data_file, loss = "none";
+  Summary summary;
+  std::vector<std::string> names;  ///< free parameters, problem order
+  VectorXd nominal, estimate;      ///< free parameters (mm)
+  ParameterUncertainty uncertainty;
+  int num_configurations = 0;
+  std::vector<std::string> reading_names;
+  std::vector<int> lines;  ///< file line of each configuration
+  MatrixXd residuals;      ///< configurations x readings, predicted - measured (mm)
+  /// A configuration is an outlier when one of its residuals exceeds this (mm):
+  /// 3 * 1.4826 * median|r| (a robust 3-sigma), at least 1e-9 mm.
+  double outlier_threshold = 0;
+  std::vector<bool> outlier;
+  double residual_rms = 0, residual_max = 0;
+  Identifiability identifiability;  ///< at the estimate
+  /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
+  std::vector<std::string> fixed_by_identifiability;
+  std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)
+};
+
+/// Fills everything but the file names, loss and the two lists above from the solved
+/// problem at x. Returns with empty residuals when they cannot be computed at x.
+CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
+                                          const Summary& summary, const std::vector<int>& lines,
+                                          const IdentifiabilityOptions& options = {});
+
+nlohmann::ordered_json to_json(const Identifiability& a);
+nlohmann::ordered_json to_json(const CalibrationReport& report);
+
+/// Human-readable forms, several lines each.
+std::string to_text(const Identifiability& a);
+std::string to_text(const CalibrationReport& report);
+
+}  // namespace kincal

@@ -1,0 +1,123 @@
+#include "framework/identifiability.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace kincal {
+
+namespace {
+
+// J D^-1 with unit-norm columns; zero columns stay zero.
+MatrixXd scale_columns(const MatrixXd& J, VectorXd& norms) {
+  norms = J.colwise().norm().transpose();
+  MatrixXd scaled = J;
+  for (int i = 0; i < J.cols(); ++i)
+    if (norms[i] > 0) scaled.col(i) /= norms[i];
+  return scaled;
+}
+
+ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& norms,
+                                      const std::vector<std::string>& names, double s,
+                                      bool null_space, double cutoff) {
+  // Back to parameter units: scaled coordinate z_i = D_i p_i, so p_i = z_i / D_i. An unseen
+  // parameter (D_i = 0) keeps its scaled coefficient.
+  VectorXd v(v_scaled.size());
+  for (int i = 0; i < v.size(); ++i) v[i] = norms[i] > 0 ? v_scaled[i] / norms[i] : v_scaled[i];
+  v.normalize();
+  // Sign convention: the largest term is positive, so the output is deterministic.
+  Eigen::Index largest = 0;
+  v.cwiseAbs().maxCoeff(&largest);
+  if (v[largest] < 0) v = -v;
+  ParameterCombination c;
+  c.singular_value = s;
+  c.null_space = null_space;
+  const double max_abs = std::abs(v[largest]);
+  for (int i = 0; i < v.size(); ++i)
+    if (std::abs(v[i]) >= cutoff * max_abs) c.terms.emplace_back(names[i], v[i]);
+  std::stable_sort(c.terms.begin(), c.terms.end(), [](const auto& a, const auto& b) {
+    return std::abs(a.second) > std::abs(b.second);
+  });
+  return c;
+}
+
+}  // namespace
+
+std::string ParameterCombination::describe() const {
+  std::string out;
+  char buf[32];
+  for (const auto& [name, coefficient] : terms) {
+    std::snprintf(buf, sizeof buf, "%+.3f ", coefficient);
+    out += (out.empty() ? "" : " ") + std::string(buf) + name;
+  }
+  return out;
+}
+
+Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std::string>& names,
+                                        const IdentifiabilityOptions& options) {
+  Identifiability a;
+  a.num_residuals = static_cast<int>(J.rows());
+  a.num_parameters = static_cast<int>(J.cols());
+  a.names = names;
+  a.rcond = options.rcond;
+  const int n = a.num_parameters;
+  if (n == 0) return a;
+
+  const MatrixXd scaled = scale_columns(J, a.column_norms);
+  for (int i = 0; i < n; ++i)
+    if (a.column_norms[i] == 0) a.unseen.push_back(names[i]);
+
+  // Full V: with fewer residuals than parameters the missing directions are null space too.
+  const Eigen::JacobiSVD<MatrixXd> svd(scaled, Eigen::ComputeFullV);
+  a.singular_values = VectorXd::Zero(n);
+  a.singular_values.head(svd.singularValues().size()) = svd.singularValues();
+  const VectorXd& s = a.singular_values;
+  const double s_max = s[0];
+  a.rank_threshold = std::max(a.num_residuals, n) * std::numeric_limits<double>::epsilon() * s_max;
+  a.numerical_threshold = options.rcond * s_max;
+  for (int i = 0; i < n; ++i) {
+    a.rank += s[i] > a.rank_threshold;
+    a.numerical_rank += s[i] > a.numerical_threshold;
+  }
+
+  const double s_min = s[n - 1];
+  a.condition_number = s_min > 0 ? s_max / s_min : std::numeric_limits<double>::infinity();
+  if (s_min > 0) {
+    double log_product = 0, inverse_squares = 0;
+    for (int i = 0; i < n; ++i) {
+      log_product += std::log(s[i]);
+      inverse_squares += 1.0 / (s[i] * s[i]);
+    }
+    a.o1 = std::exp(log_product / n) / std::sqrt(static_cast<double>(a.num_residuals));
+    a.o2 = s_min / s_max;
+    a.o3 = s_min;
+    a.o4 = s_min * s_min / s_max;
+    a.o5 = 1.0 / inverse_squares;
+  }
+
+  const MatrixXd& V = svd.matrixV();
+  for (int i = n - 1; i >= 0; --i) {
+    const bool null_space = !(s[i] > a.numerical_threshold);
+    if (!null_space && !(s[i] < options.weak_ratio * s_max)) break;
+    a.combinations.push_back(
+        make_combination(V.col(i), a.column_norms, names, s[i], null_space, options.term_cutoff));
+  }
+  return a;
+}
+
+std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options) {
+  std::vector<std::string> names(J.cols());
+  const Identifiability a = analyze_identifiability(J, names, options);
+  VectorXd norms;
+  const MatrixXd scaled = scale_columns(J, norms);
+  const Eigen::ColPivHouseholderQR<MatrixXd> qr(scaled);
+  std::vector<int> keep;
+  for (int k = 0; k < a.numerical_rank; ++k) keep.push_back(qr.colsPermutation().indices()[k]);
+  std::sort(keep.begin(), keep.end());
+  return keep;
+}
+
+}  // namespace kincal

@@ -1,0 +1,78 @@
+#pragma once
+// Identifiability of a calibration: what the identification Jacobian J (m residuals x n
+// free parameters) says about which parameters the data can determine.
+//
+// Every figure is computed from the column-scaled Jacobian J D^-1, D = diag(|J_:,i|): each
+// parameter's column has unit norm, so a parameter with a long lever arm does not look
+// better determined merely because of its units or scale (Hollerbach & Wampler).
+// With s_1 >= ... >= s_n its singular values and m the number of residuals:
+//   condition number  s_1 / s_n                            (infinite when s_n = 0)
+//   O1  (s_1 s_2 ... s_n)^(1/n) / sqrt(m)                  Borm & Menq, 1991
+//   O2  s_n / s_1, the inverse condition number            Driels & Pathre, 1990
+//   O3  s_n, the smallest singular value                   Nahvi, Hollerbach & Hayward, 1994
+//   O4  s_n^2 / s_1, the noise amplification index          Nahvi & Hollerbach, 1996
+//   O5  1 / sum_i (1 / s_i^2) = 1 / trace((D^-T J^T J D^-1)^-1)   A-optimality
+// For each larger is better; all but the condition number are 0 for a rank-deficient J.
+
+#include <string>
+#include <vector>
+
+#include "framework/types.hpp"
+
+namespace kincal {
+
+struct IdentifiabilityOptions {
+  /// Numerical rank = number of scaled singular values above rcond * s_1. 1e-6: a direction
+  /// a million times weaker than the best one amplifies gauge noise beyond any use.
+  double rcond = 1e-6;
+  /// Directions with s_i < weak_ratio * s_1 are also reported, as weakly determined.
+  double weak_ratio = 1e-3;
+  /// Terms whose |coefficient| is below this fraction of the largest one are left out of
+  /// a combination's description.
+  double term_cutoff = 0.05;
+};
+
+/// A direction in parameter space the data (nearly) cannot see: moving the parameters by
+/// sum_k coefficient_k * e_k changes the readings by only singular_value (scaled units).
+struct ParameterCombination {
+  double singular_value = 0;  ///< scaled singular value of the direction
+  bool null_space = false;    ///< below the rank threshold (not merely weak)
+  /// (name, coefficient) of the significant terms, in parameter units (mm), largest first,
+  /// normalised to unit length over all terms.
+  std::vector<std::pair<std::string, double>> terms;
+  /// e.g. "+0.707 leg1.offset -0.707 gauge.offset".
+  std::string describe() const;
+};
+
+struct Identifiability {
+  int num_residuals = 0;
+  int num_parameters = 0;
+  std::vector<std::string> names;
+  VectorXd column_norms;           ///< |J_:,i|, the scaling D
+  VectorXd singular_values;        ///< of the scaled Jacobian, descending
+  int rank = 0;                    ///< singular values above rank_threshold
+  double rank_threshold = 0;       ///< max(m, n) * eps * s_1 (machine precision)
+  int numerical_rank = 0;          ///< singular values above numerical_threshold
+  double numerical_threshold = 0;  ///< rcond * s_1
+  double rcond = 0;
+  double condition_number = 0;  ///< s_1 / s_n; +infinity when s_n = 0
+  double o1 = 0, o2 = 0, o3 = 0, o4 = 0, o5 = 0;
+  /// Parameters whose column is zero: no reading depends on them.
+  std::vector<std::string> unseen;
+  /// Null-space directions, then weak ones, weakest first.
+  std::vector<ParameterCombination> combinations;
+
+  bool rank_deficient() const { return numerical_rank < num_parameters; }
+};
+
+/// Analysis of J; `names` names its columns.
+Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std::string>& names,
+                                        const IdentifiabilityOptions& options = {});
+
+/// Columns of J that together are well determined: a column-pivoted QR of the scaled
+/// Jacobian picks them greedily, most independent first, and stops at the numerical rank.
+/// Returns the indices of the columns to keep, ascending. Fixing the others at their
+/// current values solves the problem in an identifiable subspace.
+std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options = {});
+
+}  // namespace kincal

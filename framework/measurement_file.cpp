@@ -1,0 +1,201 @@
+#include "framework/measurement_file.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace kincal {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  const auto last = s.find_last_not_of(" \t\r");
+  return s.substr(first, last - first + 1);
+}
+
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string::size_type start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+bool is_skipped(const std::string& trimmed) { return trimmed.empty() || trimmed[0] == '#'; }
+
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ",") + n;
+  return out;
+}
+
+// strtod accepts "nan" and "inf", and stops at the first bad character: check both.
+double parse_value(const std::string& field, const std::string& where) {
+  if (field.empty()) throw std::invalid_argument(where + " is empty, expected a number");
+  const char* begin = field.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  if (end == begin || *end != '\0')
+    throw std::invalid_argument(where + ": '" + field + "' is not a number");
+  if (!std::isfinite(v) || errno == ERANGE)
+    throw std::invalid_argument(where + ": '" + field + "' is not a finite number");
+  return v;
+}
+
+}  // namespace
+
+MeasurementTable read_measurements(const std::string& path,
+                                   const std::vector<std::string>& actuator_names,
+                                   const std::vector<std::string>& reading_names) {
+  std::ifstream in(path);
+  if (!in)
+    throw std::invalid_argument(path + ": cannot open measurement file (missing or unreadable)");
+  return parse_measurements(in, path, actuator_names, reading_names);
+}
+
+MeasurementTable parse_measurements(std::istream& in, const std::string& source,
+                                    const std::vector<std::string>& actuator_names,
+                                    const std::vector<std::string>& reading_names) {
+  MeasurementTable table;
+  std::vector<std::string> wanted = actuator_names;
+  wanted.insert(wanted.end(), reading_names.begin(), reading_names.end());
+  const std::string expected = "expected columns " + join(wanted);
+
+  std::string line;
+  int line_number = 0;
+  std::vector<std::string> header;
+  int header_line = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (is_skipped(trim(line))) continue;
+    header = split_fields(line);
+    header_line = line_number;
+    break;
+  }
+  if (header.empty()) throw std::invalid_argument(source + ": no header row (" + expected + ")");
+
+  // Column of each wanted name; every other column is ignored.
+  const std::string at_header = source + ":" + std::to_string(header_line);
+  std::map<std::string, int> column_of;
+  for (int c = 0; c < static_cast<int>(header.size()); ++c) {
+    const auto [it, inserted] = column_of.emplace(header[c], c);
+    if (!inserted)
+      throw std::invalid_argument(at_header + ": column '" + header[c] +
+                                  "' appears twice (fields " + std::to_string(it->second + 1) +
+                                  " and " + std::to_string(c + 1) + ")");
+  }
+  std::vector<int> columns;
+  for (const auto& name : wanted) {
+    const auto it = column_of.find(name);
+    if (it == column_of.end())
+      throw std::invalid_argument(at_header + ": header has no column '" + name + "' (" + expected +
+                                  ")");
+    columns.push_back(it->second);
+  }
+  for (const auto& field : header) {
+    bool used = false;
+    for (const auto& name : wanted) used = used || name == field;
+    if (!used)
+      table.notices.push_back(at_header + ": ignoring column '" + field +
+                              "' (not an actuator or reading of the model)");
+  }
+
+  const int num_actuators = static_cast<int>(actuator_names.size());
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (is_skipped(trim(line))) continue;
+    const auto fields = split_fields(line);
+    const std::string at = source + ":" + std::to_string(line_number);
+    if (fields.size() != header.size())
+      throw std::invalid_argument(at + ": " + std::to_string(fields.size()) + " fields, expected " +
+                                  std::to_string(header.size()) + " as in the header");
+    std::vector<double> values;
+    for (std::size_t w = 0; w < wanted.size(); ++w)
+      values.push_back(parse_value(fields[columns[w]], at + ": field '" + wanted[w] + "'"));
+    rows.push_back(std::move(values));
+    table.line_numbers.push_back(line_number);
+  }
+  if (rows.empty()) throw std::invalid_argument(source + ": no measurement rows after the header");
+
+  const int m = static_cast<int>(rows.size());
+  table.data.actuators.resize(m, num_actuators);
+  table.data.readings.resize(m, static_cast<int>(reading_names.size()));
+  for (int r = 0; r < m; ++r) {
+    for (int c = 0; c < num_actuators; ++c) table.data.actuators(r, c) = rows[r][c];
+    for (int c = 0; c < table.data.readings.cols(); ++c)
+      table.data.readings(r, c) = rows[r][num_actuators + c];
+  }
+  return table;
+}
+
+std::string measurements_to_csv(const Measurements& data,
+                                const std::vector<std::string>& actuator_names,
+                                const std::vector<std::string>& reading_names,
+                                const std::string& comment) {
+  std::ostringstream out;
+  if (!comment.empty()) {
+    std::istringstream lines(comment);
+    std::string line;
+    while (std::getline(lines, line)) out << "# " << line << "\n";
+  }
+  std::vector<std::string> names = actuator_names;
+  names.insert(names.end(), reading_names.begin(), reading_names.end());
+  out << join(names) << "\n";
+  // 17 significant digits: a written file reads back bit for bit.
+  out << std::setprecision(std::numeric_limits<double>::max_digits10);
+  for (int r = 0; r < data.size(); ++r) {
+    for (int c = 0; c < data.actuators.cols(); ++c) out << (c ? "," : "") << data.actuators(r, c);
+    for (int c = 0; c < data.readings.cols(); ++c) out << "," << data.readings(r, c);
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
+                                                  const VectorXd& params,
+                                                  const Measurements& data) {
+  std::vector<UnreachableRow> bad;
+  auto ws = model.make_workspace();
+  VectorXd readings(model.num_readings());
+  for (int r = 0; r < data.size(); ++r) {
+    const ForwardKinematicsResult fk =
+        model.predict(params, data.actuators.row(r).transpose(), readings, nullptr, ws);
+    if (!fk.ok()) bad.push_back({r, fk.describe()});
+  }
+  return bad;
+}
+
+Measurements drop_rows(const Measurements& data, const std::vector<int>& rows) {
+  Measurements out;
+  const int m = data.size() - static_cast<int>(rows.size());
+  out.actuators.resize(m, data.actuators.cols());
+  out.readings.resize(m, data.readings.cols());
+  std::size_t next = 0;
+  int k = 0;
+  for (int r = 0; r < data.size(); ++r) {
+    if (next < rows.size() && rows[next] == r) {
+      ++next;
+      continue;
+    }
+    out.actuators.row(k) = data.actuators.row(r);
+    out.readings.row(k) = data.readings.row(r);
+    ++k;
+  }
+  return out;
+}
+
+}  // namespace kincal

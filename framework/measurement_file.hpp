@@ -1,0 +1,55 @@
+#pragma once
+// Measurement files: CSV with a header row naming the columns, one row per configuration.
+// The actuator columns carry the mechanism's actuator names (leg1..leg6), the reading
+// columns the sensors' reading names (gauge). Column order is free; other columns are
+// ignored with a notice; blank lines and lines starting with '#' are skipped. Fields are
+// plain numbers separated by commas (no quoting); surrounding spaces are ignored.
+
+#include <istream>
+#include <string>
+#include <vector>
+
+#include "framework/calibration_problem.hpp"
+
+namespace kincal {
+
+struct MeasurementTable {
+  Measurements data;
+  /// 1-based line number of each data row in the file, for error messages and reports.
+  std::vector<int> line_numbers;
+  /// Non-fatal remarks, e.g. "D.csv:1: ignoring column 'temperature'".
+  std::vector<std::string> notices;
+};
+
+/// Reads `path`. Throws std::invalid_argument with "<path>:<line>: <what was expected>" for a
+/// missing file, a missing or duplicated column, a row with the wrong number of fields, a
+/// non-numeric, NaN or infinite value, or a file without data rows.
+MeasurementTable read_measurements(const std::string& path,
+                                   const std::vector<std::string>& actuator_names,
+                                   const std::vector<std::string>& reading_names);
+
+/// The same from a stream; `source` names it in messages.
+MeasurementTable parse_measurements(std::istream& in, const std::string& source,
+                                    const std::vector<std::string>& actuator_names,
+                                    const std::vector<std::string>& reading_names);
+
+/// CSV text of `data` (header, then one row per configuration, full precision). Each line
+/// of `comment` becomes a leading "# " line.
+std::string measurements_to_csv(const Measurements& data,
+                                const std::vector<std::string>& actuator_names,
+                                const std::vector<std::string>& reading_names,
+                                const std::string& comment = "");
+
+/// Rows whose readings the model cannot predict at `params` (forward kinematics fails),
+/// with the reason, in row order.
+struct UnreachableRow {
+  int row = 0;  ///< 0-based row of the Measurements
+  std::string reason;
+};
+std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
+                                                  const VectorXd& params, const Measurements& data);
+
+/// `data` without the listed 0-based rows (`rows` sorted ascending).
+Measurements drop_rows(const Measurements& data, const std::vector<int>& rows);
+
+}  // namespace kincal
