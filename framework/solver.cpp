@@ -32,7 +32,8 @@ std::string Summary::brief_report() const {
 }
 
 void Solver::check_options(const SolverOptions& options) const {
-  solver_option::require_known_keys(name(), options, {});
+  // Backend keys are checked by each backend against its own list (require_known_keys):
+  // rejecting every key here broke every backend that calls the base and takes options.
   if (options.max_iterations < 0)
     throw InvalidSolverOptions(name() + ": max_iterations must be >= 0");
   if (options.lower_bounds.has_value() != options.upper_bounds.has_value())
