@@ -1,9 +1,13 @@
 // kincal simulate: one simulated calibration of the cube hexapod, readable or as JSON.
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
+#include "cli/model_args.hpp"
 #include "cli/simulation_report.hpp"
+#include "framework/measurement_file.hpp"
+#include "models/model_io.hpp"
 #include "models/presets.hpp"
 
 namespace kincal::cli {
@@ -49,6 +53,13 @@ int run_simulate(const Args& args) {
   options.add_options()("json", po::value<std::string>(),
                         "write the result as JSON to FILE, or - for stdout")(
       "trace", po::value<std::string>(), "write the per-iteration trace as CSV to FILE");
+  // Files for the calibrate workflow (docs/calibrating-a-machine.md).
+  options.add_options()("model", po::value<std::string>(),
+                        "model file (JSON) to simulate instead of the cube-hexapod preset; its "
+                        "free parameters get the errors")(
+      "write-data", po::value<std::string>(),
+      "write the simulated measurements as CSV to FILE, and the true model beside it as "
+      "<FILE stem>.truth.json");
   po::variables_map vm;
   if (!parse_command_line("simulate", args, options, vm)) return 0;
 
@@ -56,7 +67,15 @@ int run_simulate(const Args& args) {
   const ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
   SolverChoice choice = make_solver_choice(vm);
 
-  const Scenario scenario = make_scenario(make_cube_hexapod(), scenario_options);
+  std::string truth_file;
+  if (vm.count("write-data")) {
+    const std::string data_file = vm["write-data"].as<std::string>();
+    if (data_file == "-") throw CliError("--write-data needs a file name (it writes two files)");
+    truth_file = std::filesystem::path(data_file).replace_extension(".truth.json").string();
+    check_writable(data_file, "write-data");
+  }
+  const Scenario scenario = make_scenario(
+      vm.count("model") ? load_model_option(vm) : make_cube_hexapod(), scenario_options);
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
 
   const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";
@@ -65,6 +84,19 @@ int run_simulate(const Args& args) {
     write_file_atomically(vm["json"].as<std::string>(),
                           to_json(scenario, run, case_id).dump(2) + "\n");
   if (vm.count("trace")) write_file_atomically(vm["trace"].as<std::string>(), trace_csv(run));
+  if (vm.count("write-data")) {
+    const MeasurementModel& model = *scenario.model;
+    const std::string comment =
+        "kincal simulate: " + std::to_string(scenario_options.num_configurations) +
+        " configurations, gauge noise U[-a, a] with a = " +
+        std::to_string(scenario_options.noise_half_width) + " mm, seed " +
+        std::to_string(scenario_options.seed) + "\ntrue model: " + truth_file;
+    write_file_atomically(truth_file, model_to_json(model, scenario.truth).dump(2) + "\n");
+    write_file_atomically(
+        vm["write-data"].as<std::string>(),
+        measurements_to_csv(scenario.calibration, model.mechanism().actuator_names(),
+                            model.reading_names(), comment));
+  }
   return 0;
 }
 

@@ -30,5 +30,10 @@ const std::vector<Command>& commands();
 int run_list(const Args& args);
 int run_simulate(const Args& args);
 int run_reproduce(const Args& args);
+int run_model(const Args& args);
+int run_fk(const Args& args);
+int run_ik(const Args& args);
+int run_calibrate(const Args& args);
+int run_observability(const Args& args);
 
 }  // namespace kincal::cli

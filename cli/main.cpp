@@ -12,6 +12,12 @@ const std::vector<Command>& commands() {
       {"list", "list built-in solvers or models", run_list},
       {"simulate", "run one simulated calibration of the cube hexapod", run_simulate},
       {"reproduce", "Monte Carlo of the paper's five Table 2 cases", run_reproduce},
+      {"model", "write a built-in model as an editable model file", run_model},
+      {"fk", "forward kinematics of a model file: leg lengths -> pose", run_fk},
+      {"ik", "inverse kinematics of a model file: pose -> leg lengths", run_ik},
+      {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
+      {"observability", "which free parameters a set of configurations can determine",
+       run_observability},
   };
   return table;
 }

@@ -156,9 +156,12 @@ std::string to_text(const Identifiability& a) {
       << format("%.4g", a.o3) << "  O4 " << format("%.4g", a.o4) << "  O5 " << format("%.4g", a.o5)
       << "\n";
   for (const auto& name : a.unseen) out << "  not seen by the data: " << name << "\n";
+  // The weakest few are what a reader can act on; all of them are in the JSON.
+  int shown = 0;
   for (const auto& c : a.combinations)
-    out << "  " << (c.null_space ? "cannot be determined" : "weakly determined")
-        << " (s = " << format("%.2e", c.singular_value) << "): " << c.describe() << "\n";
+    if (shown++ < 3)
+      out << "  " << (c.null_space ? "cannot be determined" : "weakly determined")
+          << " (s = " << format("%.2e", c.singular_value) << "): " << c.describe() << "\n";
   return out.str();
 }
 

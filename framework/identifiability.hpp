@@ -26,10 +26,10 @@ struct IdentifiabilityOptions {
   /// a million times weaker than the best one amplifies gauge noise beyond any use.
   double rcond = 1e-6;
   /// Directions with s_i < weak_ratio * s_1 are also reported, as weakly determined.
-  double weak_ratio = 1e-3;
+  double weak_ratio = 1e-4;
   /// Terms whose |coefficient| is below this fraction of the largest one are left out of
   /// a combination's description.
-  double term_cutoff = 0.05;
+  double term_cutoff = 0.1;
 };
 
 /// A direction in parameter space the data (nearly) cannot see: moving the parameters by

@@ -64,7 +64,8 @@ Vector3d vector3(const Json& value, const std::string& source, const std::string
   return v;
 }
 
-Json array3(const Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
+// "+ 0.0" turns -0 into 0 so that files do not show "-0.0".
+Json array3(const Vector3d& v) { return Json::array({v[0] + 0.0, v[1] + 0.0, v[2] + 0.0}); }
 
 Json pose_to_json(const Pose& pose) {
   const Vector3d zyx = euler_zyx(pose.rotation);  // (alpha, beta, gamma) = (rz, ry, rx)

@@ -1,0 +1,165 @@
+// kincal calibrate: estimates a model's free parameters from a measurement file and writes
+// the calibrated model (same schema) and a report with uncertainty and identifiability.
+
+#include <iostream>
+
+#include "cli/model_args.hpp"
+#include "framework/calibration_report.hpp"
+#include "framework/robust_loss.hpp"
+#include "models/model_io.hpp"
+
+namespace kincal::cli {
+
+namespace {
+
+// One line naming what the data cannot determine, for the error before solving.
+std::string describe_deficiency(const Identifiability& a) {
+  std::string text;
+  if (!a.unseen.empty()) {
+    text = "no reading depends on free parameter(s)";
+    for (const auto& name : a.unseen) text += " " + name;
+    text += "; ";
+  }
+  text += "the data determine only " + std::to_string(a.numerical_rank) + " of " +
+          std::to_string(a.num_parameters) + " free parameters (numerical rank, threshold " +
+          std::to_string(a.rcond) + " x largest scaled singular value)";
+  int shown = 0;
+  for (const auto& c : a.combinations) {
+    if (!c.null_space || shown == 3) continue;
+    text += std::string(shown++ ? "; " : ": cannot separate ") + "[" + c.describe() + "]";
+  }
+  return text;
+}
+
+}  // namespace
+
+int run_calibrate(const Args& args) {
+  po::options_description options("kincal calibrate");
+  options.add_options()("model", po::value<std::string>(), "model file (JSON): the nominal values")(
+      "data", po::value<std::string>(), "measurement file (CSV)")(
+      "out", po::value<std::string>(), "write the calibrated model (JSON, same schema) to FILE")(
+      "report", po::value<std::string>(), "write the report (JSON) to FILE, or - for stdout")(
+      "loss", po::value<std::string>(),
+      "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)")(
+      "allow-rank-deficient", po::bool_switch(),
+      "when the data cannot determine every free parameter, fix the dependent ones at their "
+      "model values and solve for the rest instead of stopping")(
+      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
+      "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
+      "numerical rank threshold relative to the largest scaled singular value");
+  add_free_fix_options(options);
+  add_solver_options(options);
+  po::variables_map vm;
+  if (!parse_command_line("calibrate", args, options, vm)) return 0;
+  if (!vm.count("data")) throw CliError("--data FILE is required");
+  IdentifiabilityOptions id_options;
+  id_options.rcond = vm["rcond"].as<double>();
+  if (!(id_options.rcond > 0 && id_options.rcond < 1)) throw CliError("--rcond must be in (0, 1)");
+
+  // Every check that does not need the data comes first, so a typo costs nothing.
+  SolverChoice choice = make_solver_choice(vm);
+  std::string loss = "none";
+  if (vm.count("loss")) {
+    loss = vm["loss"].as<std::string>();
+    try {
+      RobustLoss::parse(loss);
+    } catch (const std::invalid_argument& e) {
+      throw CliError("--loss '" + loss + "': " + e.what());
+    }
+    choice.options.backend_options["loss"] = loss;
+    try {
+      choice.solver->check_options(choice.options);
+    } catch (const InvalidSolverOptions& e) {
+      throw CliError("--loss: solver '" + choice.name + "' does not take a robust loss (" +
+                     e.what() + "); use --solver lm");
+    }
+  }
+  for (const char* option : {"out", "report"})
+    if (vm.count(option)) check_writable(vm[option].as<std::string>(), option);
+
+  const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
+  const std::string data_file = vm["data"].as<std::string>();
+  std::shared_ptr<MeasurementModel> model = load_model_option(vm);
+  apply_free_fix(vm, *model);
+  const VectorXd nominal = model->parameters().nominal_values();
+  std::vector<int> free = model->parameters().free_indices();
+  if (free.empty()) throw CliError("no free parameters: nothing to calibrate (use --free)");
+  const LoadedData loaded =
+      load_measurements("calibrate", data_file, *model, nominal, vm["skip-bad-rows"].as<bool>());
+  const int readings = loaded.data.size() * model->num_readings();
+  if (readings < static_cast<int>(free.size()))
+    throw CliError(data_file + ": " + std::to_string(loaded.data.size()) +
+                   " usable configurations give " + std::to_string(readings) + " readings for " +
+                   std::to_string(free.size()) +
+                   " free parameters; expected at least as many readings as free parameters "
+                   "(measure more configurations or --fix parameters)");
+
+  // Identifiability at the starting point decides whether solving makes sense at all.
+  std::vector<std::string> fixed_by_identifiability;
+  {
+    const CalibrationProblem probe(model, loaded.data, nominal, free);
+    VectorXd r;
+    MatrixXd J;
+    std::string why;
+    if (!probe.evaluate(probe.initial_free_parameters(), &r, &J, &why))
+      throw CliError(data_file + ": " + why);
+    const Identifiability a = analyze_identifiability(J, probe.parameter_names(), id_options);
+    if (a.rank_deficient()) {
+      if (!vm["allow-rank-deficient"].as<bool>())
+        throw CliError(data_file + ": " + describe_deficiency(a) +
+                       "; fix parameters with --fix, or pass --allow-rank-deficient");
+      const std::vector<int> keep = identifiable_subset(J, id_options);
+      std::vector<int> kept;
+      std::size_t next = 0;
+      for (std::size_t i = 0; i < free.size(); ++i) {
+        if (next < keep.size() && keep[next] == static_cast<int>(i)) {
+          kept.push_back(free[i]);
+          ++next;
+        } else {
+          fixed_by_identifiability.push_back(model->parameters()[free[i]].name);
+          note("calibrate", "fixing " + fixed_by_identifiability.back() +
+                                " at its model value (not identifiable from this data)");
+        }
+      }
+      free = kept;
+    }
+  }
+  if (readings == static_cast<int>(free.size()))
+    note("calibrate",
+         "as many readings as free parameters: the fit is exact and the "
+         "standard deviations cannot be estimated");
+
+  const CalibrationProblem problem(model, loaded.data, nominal, free);
+  VectorXd x = problem.initial_free_parameters();
+  const Summary summary = choice.solver->solve(problem, x, choice.options);
+
+  CalibrationReport report = make_calibration_report(problem, x, summary, loaded.lines, id_options);
+  report.model_file = model_file;
+  report.data_file = data_file;
+  report.loss = loss;
+  report.fixed_by_identifiability = fixed_by_identifiability;
+  report.skipped_lines = loaded.skipped_lines;
+
+  const bool solved = summary.termination == TerminationType::kConverged ||
+                      summary.termination == TerminationType::kMaxIterations;
+  const bool report_to_stdout = vm.count("report") && vm["report"].as<std::string>() == "-";
+  if (!report_to_stdout) std::cout << to_text(report);
+  if (vm.count("report"))
+    write_file_atomically(vm["report"].as<std::string>(), to_json(report).dump(2) + "\n");
+  if (!solved) {
+    std::cerr << "kincal calibrate: error: the solver did not reach a solution ("
+              << to_string(summary.termination) << ": " << summary.message
+              << "); no calibrated model written\n";
+    return 1;
+  }
+  if (summary.termination == TerminationType::kMaxIterations)
+    note("calibrate", "iteration limit reached before convergence; consider --max-iterations");
+  if (vm.count("out"))
+    write_file_atomically(vm["out"].as<std::string>(),
+                          model_to_json(*model, problem.full_parameters(x)).dump(2) + "\n");
+  else if (!report_to_stdout)
+    note("calibrate", "no --out given: the calibrated model was not saved");
+  return 0;
+}
+
+}  // namespace kincal::cli

@@ -1,0 +1,38 @@
+// kincal ik: leg lengths of a model file at a given pose.
+
+#include <cstdio>
+
+#include "cli/command_kinematics.hpp"
+#include "cli/model_args.hpp"
+
+namespace kincal::cli {
+
+int run_ik(const Args& args) {
+  po::options_description options(std::string("kincal ik (") + kPoseConvention + ")");
+  options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
+      "pose", po::value<std::string>(),
+      "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)");
+  po::variables_map vm;
+  if (!parse_command_line("ik", args, options, vm)) return 0;
+  if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz is required");
+  const auto model = load_model_option(vm);
+  const auto v =
+      parse_numbers(vm["pose"].as<std::string>(), 6, "pose", "x,y,z in mm and rx,ry,rz in degrees");
+  constexpr double kRadians = 3.14159265358979323846 / 180.0;
+  Pose pose;
+  pose.translation = Vector3d(v[0], v[1], v[2]);
+  pose.rotation = rotation_from_euler_zyx(Vector3d(v[5], v[4], v[3]) * kRadians);
+  const VectorXd params = model->parameters().nominal_values();
+  VectorXd q(model->mechanism().num_actuators());
+  model->mechanism().inverse_kinematics(params.head(model->mechanism().num_parameters()), pose, q);
+  const auto& names = model->mechanism().actuator_names();
+  for (int i = 0; i < q.size(); ++i) std::printf("%-8s %.6f\n", names[i].c_str(), q[i]);
+  VectorXd readings(model->num_readings());
+  model->predict_at_pose(params, pose, readings);
+  const auto reading_names = model->reading_names();
+  for (int k = 0; k < readings.size(); ++k)
+    std::printf("%-8s %.6f\n", reading_names[k].c_str(), readings[k]);
+  return 0;
+}
+
+}  // namespace kincal::cli

@@ -1,0 +1,76 @@
+// kincal observability: identifiability of a model's free parameters from a measurement
+// file or from simulated configurations, before any solving.
+
+#include <iostream>
+
+#include "cli/model_args.hpp"
+#include "framework/calibration_report.hpp"
+#include "framework/simulation.hpp"
+
+namespace kincal::cli {
+
+int run_observability(const Args& args) {
+  po::options_description options("kincal observability");
+  options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
+      "data", po::value<std::string>(), "measurement file (CSV) whose configurations to analyse")(
+      "poses", po::value<int>(),
+      "instead of --data: this many random configurations, home leg lengths + U[-r, r]")(
+      "seed", po::value<std::uint64_t>()->default_value(1), "random seed for --poses")(
+      "config-range", po::value<double>()->default_value(20.0), "r in mm for --poses")(
+      "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
+      "numerical rank threshold relative to the largest scaled singular value")(
+      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
+      "json", po::value<std::string>(), "write the analysis as JSON to FILE, or - for stdout");
+  add_free_fix_options(options);
+  po::variables_map vm;
+  if (!parse_command_line("observability", args, options, vm)) return 0;
+  if (vm.count("data") == vm.count("poses"))
+    throw CliError("give exactly one of --data FILE and --poses M");
+  IdentifiabilityOptions id_options;
+  id_options.rcond = vm["rcond"].as<double>();
+  if (!(id_options.rcond > 0 && id_options.rcond < 1)) throw CliError("--rcond must be in (0, 1)");
+  if (vm.count("json")) check_writable(vm["json"].as<std::string>(), "json");
+
+  std::shared_ptr<MeasurementModel> model = load_model_option(vm);
+  apply_free_fix(vm, *model);
+  const VectorXd values = model->parameters().nominal_values();
+  const std::vector<int> free = model->parameters().free_indices();
+  if (free.empty()) throw CliError("no free parameters: nothing to analyse (use --free)");
+
+  Measurements data;
+  if (vm.count("data")) {
+    data = load_measurements("observability", vm["data"].as<std::string>(), *model, values,
+                             vm["skip-bad-rows"].as<bool>())
+               .data;
+  } else {
+    ScenarioOptions s;
+    s.num_configurations = vm["poses"].as<int>();
+    s.seed = vm["seed"].as<std::uint64_t>();
+    s.config_range = vm["config-range"].as<double>();
+    s.param_error_half_width = 0;  // analyse at the model's own values
+    s.num_validation = 0;
+    if (s.num_configurations < 1) throw CliError("--poses must be at least 1");
+    if (!(s.config_range >= 0)) throw CliError("--config-range must be >= 0");
+    data = make_scenario(model, s).calibration;
+  }
+
+  const CalibrationProblem problem(model, data, values, free);
+  VectorXd residuals;
+  MatrixXd J;
+  std::string why;
+  if (!problem.evaluate(problem.initial_free_parameters(), &residuals, &J, &why))
+    throw CliError("cannot evaluate the identification Jacobian: " + why);
+  const Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
+  const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";
+  if (!json_to_stdout) {
+    std::cout << data.size() << " configurations\n" << to_text(a);
+    if (a.num_residuals < a.num_parameters)
+      std::cout << "fewer readings (" << a.num_residuals << ") than free parameters ("
+                << a.num_parameters << "): measure more configurations\n";
+  }
+  if (vm.count("json"))
+    write_file_atomically(vm["json"].as<std::string>(), to_json(a).dump(2) + "\n");
+  return 0;
+}
+
+}  // namespace kincal::cli

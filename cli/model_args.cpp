@@ -1,0 +1,127 @@
+#include "cli/model_args.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "framework/measurement_file.hpp"
+#include "models/model_io.hpp"
+
+namespace kincal::cli {
+
+void add_free_fix_options(po::options_description& options) {
+  options.add_options()("free", po::value<std::vector<std::string>>()->composing(),
+                        "also estimate the parameters matching this glob, e.g. 'leg*.offset' "
+                        "(repeatable)")(
+      "fix", po::value<std::vector<std::string>>()->composing(),
+      "hold the parameters matching this glob at their model values, e.g. gauge.offset "
+      "(repeatable; applied after --free)");
+}
+
+void apply_free_fix(const po::variables_map& vm, MeasurementModel& model) {
+  for (const char* option : {"free", "fix"}) {
+    if (!vm.count(option)) continue;
+    for (const auto& pattern : vm[option].as<std::vector<std::string>>()) {
+      try {
+        model.parameters().set_free(pattern, std::string(option) == "free");
+      } catch (const std::invalid_argument& e) {
+        throw CliError("--" + std::string(option) + " '" + pattern +
+                       "': matches no parameter of the model (names look like leg4.base.x, "
+                       "leg1.offset, gauge.offset)");
+      }
+    }
+  }
+}
+
+std::shared_ptr<MeasurementModel> load_model_option(const po::variables_map& vm) {
+  if (!vm.count("model")) throw CliError("--model FILE is required");
+  return load_model(vm["model"].as<std::string>());
+}
+
+std::vector<double> parse_numbers(const std::string& text, int count, const std::string& option,
+                                  const std::string& expected) {
+  std::vector<double> values;
+  std::string::size_type start = 0;
+  while (true) {
+    const auto comma = text.find(',', start);
+    const std::string field = text.substr(start, comma - start);
+    char* end = nullptr;
+    const double v = std::strtod(field.c_str(), &end);
+    if (field.empty() || *end != '\0' || !std::isfinite(v))
+      throw CliError("--" + option + " '" + text + "': field " + std::to_string(values.size() + 1) +
+                     " '" + field + "' is not a finite number (expected " + expected + ")");
+    values.push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (static_cast<int>(values.size()) != count)
+    throw CliError("--" + option + " '" + text + "': " + std::to_string(values.size()) +
+                   " numbers, expected " + std::to_string(count) + " (" + expected + ")");
+  return values;
+}
+
+void check_writable(const std::string& path, const std::string& option) {
+  if (path == "-") return;
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (fs::is_directory(target))
+    throw CliError("--" + option + " '" + path + "': is a directory, expected a file path");
+  const fs::path probe = dir / (".kincal-write-check-" + target.filename().string());
+  {
+    std::ofstream out(probe);
+    if (!out)
+      throw CliError("--" + option + " '" + path +
+                     "': cannot write there (directory missing or not writable)");
+  }
+  std::error_code ec;
+  fs::remove(probe, ec);
+}
+
+void note(const std::string& command, const std::string& text) {
+  std::cerr << "kincal " << command << ": note: " << text << "\n";
+}
+
+LoadedData load_measurements(const std::string& command, const std::string& path,
+                             const MeasurementModel& model, const VectorXd& params,
+                             bool skip_bad_rows) {
+  MeasurementTable table =
+      read_measurements(path, model.mechanism().actuator_names(), model.reading_names());
+  for (const auto& n : table.notices) note(command, n);
+  LoadedData loaded;
+  const auto bad = find_unreachable_rows(model, params, table.data);
+  if (!bad.empty() && !skip_bad_rows) {
+    std::string list;
+    for (std::size_t i = 0; i < bad.size() && i < 5; ++i)
+      list += (i ? ", " : "") + std::to_string(table.line_numbers[bad[i].row]) + " (" +
+              bad[i].reason + ")";
+    if (bad.size() > 5) list += " and " + std::to_string(bad.size() - 5) + " more";
+    throw CliError(path + ": forward kinematics of the model fails at line" +
+                   (bad.size() > 1 ? "s " : " ") + list +
+                   "; expected reachable leg lengths (fix the rows, or drop them with "
+                   "--skip-bad-rows)");
+  }
+  std::vector<int> rows;
+  for (const auto& b : bad) {
+    rows.push_back(b.row);
+    loaded.skipped_lines.push_back(table.line_numbers[b.row]);
+    note(command, path + ":" + std::to_string(table.line_numbers[b.row]) +
+                      ": skipped, forward kinematics " + b.reason);
+  }
+  loaded.data = drop_rows(table.data, rows);
+  std::size_t next = 0;
+  for (int r = 0; r < table.data.size(); ++r) {
+    if (next < rows.size() && rows[next] == r) {
+      ++next;
+      continue;
+    }
+    loaded.lines.push_back(table.line_numbers[r]);
+  }
+  if (loaded.data.size() == 0)
+    throw CliError(path + ": every row was skipped as unreachable; nothing left to use");
+  return loaded;
+}
+
+}  // namespace kincal::cli
