@@ -98,12 +98,29 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
     a.o5 = 1.0 / inverse_squares;
   }
 
-  const MatrixXd& V = svd.matrixV();
-  for (int i = n - 1; i >= 0; --i) {
-    const bool null_space = !(s[i] > a.numerical_threshold);
-    if (!null_space && !(s[i] < options.weak_ratio * s_max)) break;
-    a.combinations.push_back(
-        make_combination(V.col(i), a.column_norms, names, s[i], null_space, options.term_cutoff));
+  // Combinations come from the seen columns only: an unseen parameter is reported by name
+  // above, and leaving it in would mix it arbitrarily into the other null-space directions.
+  std::vector<int> seen;
+  for (int i = 0; i < n; ++i)
+    if (a.column_norms[i] > 0) seen.push_back(i);
+  if (seen.empty()) return a;
+  const int n_seen = static_cast<int>(seen.size());
+  MatrixXd scaled_seen(scaled.rows(), n_seen);
+  VectorXd norms_seen(n_seen);
+  std::vector<std::string> names_seen;
+  for (int k = 0; k < n_seen; ++k) {
+    scaled_seen.col(k) = scaled.col(seen[k]);
+    norms_seen[k] = a.column_norms[seen[k]];
+    names_seen.push_back(names[seen[k]]);
+  }
+  const Eigen::JacobiSVD<MatrixXd> svd_seen(scaled_seen, Eigen::ComputeFullV);
+  VectorXd s_seen = VectorXd::Zero(n_seen);
+  s_seen.head(svd_seen.singularValues().size()) = svd_seen.singularValues();
+  for (int i = n_seen - 1; i >= 0; --i) {
+    const bool null_space = !(s_seen[i] > a.numerical_threshold);
+    if (!null_space && !(s_seen[i] < options.weak_ratio * s_max)) break;
+    a.combinations.push_back(make_combination(svd_seen.matrixV().col(i), norms_seen, names_seen,
+                                              s_seen[i], null_space, options.term_cutoff));
   }
   return a;
 }

@@ -1,0 +1,159 @@
+// Identifiability figures on Jacobians with known singular values, named null-space
+// combinations, and the covariance of a calibration against the spread over many seeds.
+
+#include "framework/identifiability.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "framework/calibration_report.hpp"
+#include "framework/random.hpp"
+#include "framework/simulation.hpp"
+#include "framework/solver_registry.hpp"
+#include "framework/uncertainty.hpp"
+#include "models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+// Every index against its formula on the singular values of the scaled Jacobian.
+TEST(Identifiability, IndicesFollowTheirDefinitions) {
+  // Columns e1, e2 and (e1 + 2 e3)/sqrt(5): unit norms, Gram matrix known.
+  MatrixXd J = MatrixXd::Zero(4, 3);
+  J(0, 0) = 1;
+  J(1, 1) = 1;
+  J(0, 2) = 1 / std::sqrt(5.0);
+  J(2, 2) = 2 / std::sqrt(5.0);
+  J *= 7.0;  // column scaling must remove this
+  const Identifiability a = analyze_identifiability(J, {"a", "b", "c"});
+  const Eigen::JacobiSVD<MatrixXd> svd(J / 7.0);
+  const VectorXd s = svd.singularValues();
+  ASSERT_EQ(a.singular_values.size(), 3);
+  EXPECT_NEAR((a.singular_values - s).norm(), 0, 1e-12);
+  EXPECT_EQ(a.rank, 3);
+  EXPECT_EQ(a.numerical_rank, 3);
+  EXPECT_NEAR(a.condition_number, s[0] / s[2], 1e-12);
+  EXPECT_NEAR(a.o1, std::cbrt(s[0] * s[1] * s[2]) / 2.0, 1e-12);
+  EXPECT_NEAR(a.o2, s[2] / s[0], 1e-12);
+  EXPECT_NEAR(a.o3, s[2], 1e-12);
+  EXPECT_NEAR(a.o4, s[2] * s[2] / s[0], 1e-12);
+  EXPECT_NEAR(a.o5, 1 / (1 / (s[0] * s[0]) + 1 / (s[1] * s[1]) + 1 / (s[2] * s[2])), 1e-12);
+  EXPECT_NEAR(a.column_norms[2], 7.0, 1e-12);
+  EXPECT_FALSE(a.rank_deficient());
+}
+
+TEST(Identifiability, NamesTheCombinationThatCannotBeSeparated) {
+  // Readings depend on offset_a + offset_b only (two encoder zeros in series), and not at
+  // all on "ghost".
+  Random rng(3);
+  MatrixXd J(20, 4);
+  for (int i = 0; i < 20; ++i) {
+    J(i, 0) = rng.symmetric(1);
+    J(i, 1) = 1;
+    J(i, 2) = 2;  // offset_b in half-millimetres: same direction, different scale
+    J(i, 3) = 0;
+  }
+  const Identifiability a = analyze_identifiability(J, {"x", "offset_a", "offset_b", "ghost"});
+  EXPECT_EQ(a.rank, 2);
+  EXPECT_EQ(a.numerical_rank, 2);
+  EXPECT_TRUE(a.rank_deficient());
+  EXPECT_TRUE(std::isinf(a.condition_number));
+  EXPECT_EQ(a.o1, 0);
+  EXPECT_EQ(a.unseen, std::vector<std::string>{"ghost"});
+  ASSERT_EQ(a.combinations.size(), 1u);
+  bool found = false;
+  for (const auto& c : a.combinations) {
+    EXPECT_TRUE(c.null_space);
+    if (c.terms.size() == 2 && c.terms[0].first == "offset_a") {
+      // In parameter units: d offset_a = -2 d offset_b leaves the readings unchanged.
+      EXPECT_NEAR(c.terms[0].second, 2 / std::sqrt(5.0), 1e-9);
+      EXPECT_EQ(c.terms[1].first, "offset_b");
+      EXPECT_NEAR(c.terms[1].second, -1 / std::sqrt(5.0), 1e-9);
+      EXPECT_EQ(c.describe(), "+0.894 offset_a -0.447 offset_b");
+      found = true;
+    }
+  }
+  EXPECT_TRUE(found);
+  // Keeping x and one of the offsets is the identifiable subset.
+  const auto keep = identifiable_subset(J);
+  ASSERT_EQ(keep.size(), 2u);
+  EXPECT_EQ(keep[0], 0);
+  EXPECT_TRUE(keep[1] == 1 || keep[1] == 2);
+}
+
+TEST(Identifiability, FewerResidualsThanParametersIsRankDeficient) {
+  const MatrixXd J = MatrixXd::Random(3, 5);
+  const Identifiability a = analyze_identifiability(J, {"a", "b", "c", "d", "e"});
+  EXPECT_EQ(a.singular_values.size(), 5);
+  EXPECT_EQ(a.numerical_rank, 3);
+  EXPECT_EQ(std::count_if(a.combinations.begin(), a.combinations.end(),
+                          [](const auto& c) { return c.null_space; }),
+            2);
+}
+
+TEST(Uncertainty, SigmaHatUsesTheDegreesOfFreedom) {
+  MatrixXd J(4, 1);
+  J << 1, 1, 1, 1;
+  VectorXd r(4);
+  r << 1, -1, 1, -1;
+  const ParameterUncertainty u = estimate_uncertainty(J, r);
+  EXPECT_EQ(u.degrees_of_freedom, 3);
+  EXPECT_NEAR(u.sigma, std::sqrt(4.0 / 3.0), 1e-12);
+  EXPECT_NEAR(u.std[0], u.sigma / 2.0, 1e-12);  // mean of 4 readings
+  EXPECT_NEAR(u.correlation(0, 0), 1.0, 1e-12);
+  EXPECT_TRUE(std::isnan(estimate_uncertainty(J.topRows(1), r.head(1)).sigma));
+}
+
+// The reported standard deviations must describe the real scatter of the estimates: same
+// truth and configurations, fresh gauge noise per seed, many solves.
+TEST(Uncertainty, ReportedStdMatchesTheSpreadOverSeeds) {
+  ScenarioOptions options;
+  options.num_configurations = 60;
+  options.noise_half_width = 0.0;
+  options.num_validation = 0;
+  options.seed = 11;
+  const Scenario exact = make_scenario(make_cube_hexapod(), options);
+  const auto solver = SolverRegistry::global().create("gn");
+  SolverOptions solver_options;
+  // Small noise keeps the problem in its linear regime, where sigma^2 (J^T J)^-1 is exact.
+  const double a = 1e-4, sigma = a / std::sqrt(3.0);
+  const int trials = 300;
+  const int n = static_cast<int>(exact.free_indices.size());
+  MatrixXd estimates(trials, n);
+  VectorXd mean_reported = VectorXd::Zero(n);
+  double mean_sigma_hat = 0;
+  Random rng(2024);
+  for (int t = 0; t < trials; ++t) {
+    Measurements data = exact.calibration;
+    for (int j = 0; j < data.size(); ++j) data.readings(j, 0) += rng.symmetric(a);
+    CalibrationProblem problem(exact.model, data, exact.nominal, exact.free_indices);
+    VectorXd x = problem.initial_free_parameters();
+    const Summary summary = solver->solve(problem, x, solver_options);
+    ASSERT_TRUE(summary.converged()) << summary.message;
+    const CalibrationReport report = make_calibration_report(problem, x, summary, {});
+    estimates.row(t) = x.transpose();
+    mean_reported += report.uncertainty.std / trials;
+    mean_sigma_hat += report.uncertainty.sigma / trials;
+  }
+  EXPECT_NEAR(mean_sigma_hat, sigma, 0.05 * sigma);
+  const VectorXd truth_free = [&] {
+    VectorXd v(n);
+    for (int i = 0; i < n; ++i) v[i] = exact.truth[exact.free_indices[i]];
+    return v;
+  }();
+  for (int i = 0; i < n; ++i) {
+    const VectorXd col = estimates.col(i);
+    const double mean = col.mean();
+    const double spread = std::sqrt((col.array() - mean).square().sum() / (trials - 1));
+    // Sample std of 300 draws: relative standard error 1/sqrt(2 * 299) ~ 4%; allow 5 of them.
+    EXPECT_NEAR(spread / mean_reported[i], 1.0, 0.2)
+        << exact.model->parameters()[exact.free_indices[i]].name;
+    // Unbiased: the mean lies within 4 standard errors of the truth.
+    EXPECT_NEAR(mean, truth_free[i], 4 * spread / std::sqrt(double(trials)));
+  }
+}
+
+}  // namespace
+}  // namespace kincal

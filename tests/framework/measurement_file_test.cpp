@@ -1,0 +1,114 @@
+// Measurement CSV: columns by name, comments, notices, and every malformed-input error.
+
+#include "framework/measurement_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+const std::vector<std::string> kActuators = {"leg1", "leg2", "leg3", "leg4", "leg5", "leg6"};
+const std::vector<std::string> kReadings = {"gauge"};
+
+MeasurementTable parse(const std::string& text) {
+  std::istringstream in(text);
+  return parse_measurements(in, "D.csv", kActuators, kReadings);
+}
+
+// The message of the std::invalid_argument thrown by parse(text).
+std::string error_of(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(MeasurementFile, ReadsColumnsByNameSkippingCommentsAndIgnoringExtras) {
+  const auto t = parse(
+      "# recorded 2024-05-01\n"
+      "\n"
+      "gauge, temperature, leg6,leg5,leg4,leg3,leg2,leg1\r\n"
+      "300.5, 21.0, 6,5,4,3,2,1\n"
+      "# a comment between rows\n"
+      "301.5, 21.5, 16,15,14,13,12,11\n");
+  ASSERT_EQ(t.data.size(), 2);
+  EXPECT_EQ(t.data.actuators(0, 0), 1);
+  EXPECT_EQ(t.data.actuators(1, 5), 16);
+  EXPECT_EQ(t.data.readings(1, 0), 301.5);
+  EXPECT_EQ(t.line_numbers, (std::vector<int>{4, 6}));
+  ASSERT_EQ(t.notices.size(), 1u);
+  EXPECT_NE(t.notices[0].find("D.csv:3: ignoring column 'temperature'"), std::string::npos);
+}
+
+TEST(MeasurementFile, WrittenCsvReadsBackBitForBit) {
+  Measurements m;
+  m.actuators = MatrixXd::Random(5, 6) * 400;
+  m.readings = MatrixXd::Random(5, 1) * 300;
+  const std::string csv = measurements_to_csv(m, kActuators, kReadings, "two\nlines");
+  EXPECT_EQ(csv.rfind("# two\n# lines\nleg1,leg2,leg3,leg4,leg5,leg6,gauge\n", 0), 0u);
+  const auto t = parse(csv);
+  EXPECT_EQ(t.data.actuators, m.actuators);
+  EXPECT_EQ(t.data.readings, m.readings);
+}
+
+TEST(MeasurementFile, EveryMalformedInputNamesFileLineAndExpectation) {
+  const std::string header = "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"", "D.csv: no header row (expected columns leg1,leg2,leg3,leg4,leg5,leg6,gauge)"},
+      {"# only a comment\n", "D.csv: no header row"},
+      {header, "D.csv: no measurement rows"},
+      {"leg1,leg2,leg3,leg4,leg5,gauge\n1,2,3,4,5,6\n", "D.csv:1: header has no column 'leg6'"},
+      {"leg1,leg2,leg3,leg4,leg5,leg6,leg2,gauge\n",
+       "D.csv:1: column 'leg2' appears twice (fields 2 and 7)"},
+      {header + "1,2,3,4,5,6,7\n1,2,3,4,5,6\n", "D.csv:3: 6 fields, expected 7 as in the header"},
+      {header + "1,2,3,4,5,6,7,8\n", "D.csv:2: 8 fields, expected 7"},
+      {header + "1,2,abc,4,5,6,7\n", "D.csv:2: field 'leg3': 'abc' is not a number"},
+      {header + "1,2,3,4,5,6,12.5mm\n", "D.csv:2: field 'gauge': '12.5mm' is not a number"},
+      {header + "1,2,3,4,5,nan,7\n", "D.csv:2: field 'leg6': 'nan' is not a finite number"},
+      {header + "1,2,3,4,5,6,-inf\n", "D.csv:2: field 'gauge': '-inf' is not a finite number"},
+      {header + "1,2,3,4,5,6,1e999\n", "D.csv:2: field 'gauge': '1e999' is not a finite number"},
+      {header + "1,,3,4,5,6,7\n", "D.csv:2: field 'leg2' is empty, expected a number"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string what = error_of(text);
+    EXPECT_NE(what.find(expected), std::string::npos) << "got: " << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+TEST(MeasurementFile, MissingFileIsAnError) {
+  try {
+    read_measurements("/nonexistent/D.csv", kActuators, kReadings);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/D.csv: cannot open"), std::string::npos);
+  }
+}
+
+TEST(MeasurementFile, FindsUnreachableRowsAndDropsThem) {
+  const auto model = make_cube_hexapod();
+  const VectorXd p = model->parameters().nominal_values();
+  const auto t = parse(
+      "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n"
+      "354,354,354,354,354,382,300\n"
+      "-354,354,354,354,354,382,300\n"
+      "354,354,354,354,354,382,300\n"
+      "3540,10,10,354,354,382,300\n");
+  const auto bad = find_unreachable_rows(*model, p, t.data);
+  ASSERT_EQ(bad.size(), 2u);
+  EXPECT_EQ(bad[0].row, 1);
+  EXPECT_NE(bad[0].reason.find("negative leg length"), std::string::npos);
+  EXPECT_EQ(bad[1].row, 3);
+  const Measurements kept = drop_rows(t.data, {1, 3});
+  ASSERT_EQ(kept.size(), 2);
+  EXPECT_TRUE(find_unreachable_rows(*model, p, kept).empty());
+}
+
+}  // namespace
+}  // namespace kincal
