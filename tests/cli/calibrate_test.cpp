@@ -1,0 +1,285 @@
+// The file workflow through the real binary: model -> simulate --write-data -> calibrate,
+// fk/ik/observability, and every bad input of issue 5 giving one line and a non-zero exit.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_runner.hpp"
+
+namespace kincal {
+namespace {
+
+using kincal::testing::count_lines;
+using kincal::testing::read_text;
+using kincal::testing::run_cli;
+using kincal::testing::TempDir;
+using Json = nlohmann::json;
+
+// Value of parameter `name` ("leg4.base.x", "gauge.offset") in a model file.
+double model_value(const Json& model, const std::string& name) {
+  const auto dot = name.find('.');
+  const std::string owner = name.substr(0, dot), rest = name.substr(dot + 1);
+  const Json* part = nullptr;
+  if (owner.rfind("leg", 0) == 0) {
+    part = &model["mechanism"]["legs"][std::stoi(owner.substr(3)) - 1];
+  } else {
+    for (const auto& s : model["sensors"])
+      if (s["name"] == owner) part = &s;
+  }
+  if (rest == "offset") return (*part)["offset"].get<double>();
+  const std::string point = rest.substr(0, rest.find('.'));
+  const int axis = rest.back() - 'x';
+  return (*part)[point][axis].get<double>();
+}
+
+// Every free parameter's estimate lies within `k` of the tool's own standard deviations.
+void expect_within_reported_std(const Json& report, const Json& truth, double k) {
+  ASSERT_FALSE(report["parameters"].empty());
+  for (const auto& p : report["parameters"]) {
+    const double std = p["std"].get<double>();
+    EXPECT_GT(std, 0) << p["name"];
+    const double error = p["estimate"].get<double>() - model_value(truth, p["name"]);
+    EXPECT_LT(std::abs(error), k * std) << p["name"] << " error " << error << " std " << std;
+  }
+}
+
+void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+class CliCalibrate : public ::testing::Test {
+ protected:
+  // A model file and simulated data (60 configurations, paper's case 5 noise).
+  void SetUp() override {
+    ASSERT_EQ(run_cli("model --out " + m_).exit_code, 0);
+    const auto sim = run_cli("simulate --model " + m_ +
+                             " --poses 60 --noise 0.0125 --seed 5 --solver gn --validation 1 "
+                             "--write-data " +
+                             d_);
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  }
+  TempDir dir_{"calibrate"};
+  std::string m_ = dir_ / "M.json", d_ = dir_ / "D.csv";
+};
+
+TEST_F(CliCalibrate, RecoversTheTruthWithinTheReportedStd) {
+  const std::string c = dir_ / "C.json", r = dir_ / "R.json";
+  const auto run =
+      run_cli("calibrate --model " + m_ + " --data " + d_ + " --out " + c + " --report " + r);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("identifiability"), std::string::npos);
+  const Json report = Json::parse(read_text(r));
+  const Json truth = Json::parse(read_text(dir_ / "D.truth.json"));
+  EXPECT_EQ(report["termination"], "converged");
+  EXPECT_EQ(report["configurations"], 60);
+  EXPECT_EQ(report["degrees_of_freedom"], 36);
+  EXPECT_EQ(report["parameters"].size(), 24u);
+  EXPECT_EQ(report["correlation"].size(), 24u);
+  EXPECT_EQ(report["residuals"].size(), 60u);
+  EXPECT_TRUE(report["residuals"][0].contains("gauge"));
+  EXPECT_TRUE(report["residuals"][0]["outlier"].is_boolean());
+  EXPECT_EQ(report["residuals"][0]["line"], 4);  // two comment lines and the header first
+  EXPECT_LT(report["residual_rms"].get<double>(), 0.0125);
+  EXPECT_NEAR(report["sigma_hat"].get<double>(), 0.0125 / std::sqrt(3.0), 0.004);
+  EXPECT_EQ(report["identifiability"]["numerical_rank"], 24);
+  EXPECT_GT(report["identifiability"]["condition_number"].get<double>(), 1);
+  for (const char* key : {"O1", "O2", "O3", "O4", "O5", "singular_values", "rank_threshold"})
+    EXPECT_TRUE(report["identifiability"].contains(key)) << key;
+  expect_within_reported_std(report, truth, 4.5);
+
+  // The calibrated model is a valid input everywhere a model is accepted.
+  EXPECT_EQ(run_cli("fk --model " + c + " --legs 354,354,354,354,354,382").exit_code, 0);
+  EXPECT_EQ(run_cli("ik --model " + c + " --pose 0,0,410,0,0,0").exit_code, 0);
+  EXPECT_EQ(run_cli("observability --model " + c + " --poses 40").exit_code, 0);
+  const auto again = run_cli("calibrate --model " + c + " --data " + d_ + " --solver gn");
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(run_cli("simulate --model " + c + " --poses 30 --solver gn --validation 1").exit_code,
+            0);
+}
+
+TEST(CliCalibrateOffsets, GaugeAndLegOffsetsFreeAreRecovered) {
+  TempDir dir("calibrate-offsets");
+  const std::string m = dir / "M.json", d = dir / "D.csv", r = dir / "R.json";
+  ASSERT_EQ(run_cli("model --free 'leg*.offset' --free gauge.offset --out " + m).exit_code, 0);
+  // All 31 parameters are jointly identifiable on this hexapod: check before calibrating.
+  const auto obs = run_cli("observability --model " + m + " --poses 80 --seed 2 --json -");
+  ASSERT_EQ(obs.exit_code, 0) << obs.err;
+  const Json a = Json::parse(obs.out);
+  EXPECT_EQ(a["parameters"], 31);
+  EXPECT_EQ(a["numerical_rank"], 31);
+  ASSERT_EQ(run_cli("simulate --model " + m +
+                    " --poses 80 --noise 0.00125 --seed 2 --solver gn --validation 1 "
+                    "--write-data " +
+                    d)
+                .exit_code,
+            0);
+  const auto run = run_cli("calibrate --model " + m + " --data " + d + " --report " + r);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json report = Json::parse(read_text(r));
+  EXPECT_EQ(report["parameters"].size(), 31u);
+  expect_within_reported_std(report, Json::parse(read_text(dir / "D.truth.json")), 4.5);
+}
+
+TEST_F(CliCalibrate, RankDeficiencyStopsUnlessAllowed) {
+  // Every joint free: the base and platform frames themselves cannot be located.
+  const auto stop = run_cli("calibrate --model " + m_ + " --data " + d_ + " --free 'leg*'");
+  EXPECT_EQ(stop.exit_code, 2);
+  EXPECT_EQ(count_lines(stop.err), 1) << stop.err;
+  EXPECT_NE(stop.err.find("cannot separate"), std::string::npos) << stop.err;
+  EXPECT_NE(stop.err.find("--allow-rank-deficient"), std::string::npos);
+  const std::string r = dir_ / "R.json";
+  const auto go = run_cli("calibrate --model " + m_ + " --data " + d_ +
+                          " --free 'leg*' --allow-rank-deficient --report " + r);
+  ASSERT_EQ(go.exit_code, 0) << go.err;
+  const Json report = Json::parse(read_text(r));
+  EXPECT_FALSE(report["fixed_by_identifiability"].empty());
+  EXPECT_EQ(report["identifiability"]["numerical_rank"].get<int>(),
+            static_cast<int>(report["parameters"].size()));
+}
+
+TEST_F(CliCalibrate, RobustLossNeedsABackendThatTakesIt) {
+  const auto gn =
+      run_cli("calibrate --model " + m_ + " --data " + d_ + " --solver gn --loss huber:0.01");
+  EXPECT_EQ(gn.exit_code, 2);
+  EXPECT_EQ(count_lines(gn.err), 1) << gn.err;
+  EXPECT_NE(gn.err.find("--loss"), std::string::npos);
+  const auto bad = run_cli("calibrate --model " + m_ + " --data " + d_ + " --loss squared:1");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--loss 'squared:1'"), std::string::npos) << bad.err;
+  const auto lm = run_cli("list solvers");
+  if (lm.out.find("lm ") == std::string::npos) GTEST_SKIP() << "lm backend not built";
+  const auto ok = run_cli("calibrate --model " + m_ + " --data " + d_ +
+                          " --solver lm --loss cauchy:0.02 --report -");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(Json::parse(ok.out)["loss"], "cauchy:0.02");
+}
+
+TEST_F(CliCalibrate, UnreachableRowsAreNamedAndSkippedOnlyWhenAsked) {
+  std::string csv = read_text(d_);
+  // Line 6 (third data row) gets a negative leg length, line 9 an unreachable one.
+  std::vector<std::string> lines;
+  std::string::size_type start = 0;
+  while (start < csv.size()) {
+    const auto end = csv.find('\n', start);
+    lines.push_back(csv.substr(start, end - start));
+    start = end + 1;
+  }
+  lines[5] = "-10" + lines[5].substr(lines[5].find(','));
+  lines[8] = "5000" + lines[8].substr(lines[8].find(','));
+  std::string edited;
+  for (const auto& l : lines) edited += l + "\n";
+  const std::string bad = dir_ / "bad.csv";
+  write(bad, edited);
+  const auto stop = run_cli("calibrate --model " + m_ + " --data " + bad);
+  EXPECT_EQ(stop.exit_code, 2);
+  EXPECT_EQ(count_lines(stop.err), 1) << stop.err;
+  EXPECT_NE(stop.err.find("lines 6 ("), std::string::npos) << stop.err;
+  EXPECT_NE(stop.err.find(", 9 ("), std::string::npos) << stop.err;
+  EXPECT_NE(stop.err.find("--skip-bad-rows"), std::string::npos);
+  const std::string r = dir_ / "R.json";
+  const auto go =
+      run_cli("calibrate --model " + m_ + " --data " + bad + " --skip-bad-rows --report " + r);
+  ASSERT_EQ(go.exit_code, 0) << go.err;
+  const Json report = Json::parse(read_text(r));
+  EXPECT_EQ(report["skipped_lines"], Json::array({6, 9}));
+  EXPECT_EQ(report["configurations"], 58);
+}
+
+TEST_F(CliCalibrate, BadInputGivesOneLineNamingTheProblemAndExit2) {
+  const std::string header = "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n";
+  const std::string row = "354,354,354,354,354,382,310\n";
+  write(dir_ / "bad.json", "{\"format\": \"kincal-model\",, }");
+  write(dir_ / "missing_col.csv", "leg1,leg2,leg3,leg4,leg5,gauge\n354,354,354,354,354,310\n");
+  write(dir_ / "dup_col.csv", "leg1,leg2,leg3,leg4,leg5,leg6,leg6,gauge\n");
+  write(dir_ / "text.csv", header + row + "354,354,abc,354,354,382,310\n");
+  write(dir_ / "nan.csv", header + row + "354,354,354,354,354,382,nan\n");
+  write(dir_ / "inf.csv", header + row + "354,354,354,354,354,inf,310\n");
+  write(dir_ / "fields.csv", header + row + "354,354,354,354,354,382\n");
+  std::string few = header;
+  for (int i = 0; i < 10; ++i) few += row;
+  write(dir_ / "few.csv", few);
+  const std::string cal = "calibrate --model " + m_ + " --data ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {cal + dir_ / "none.csv", "none.csv: cannot open measurement file"},
+      {"calibrate --model " + dir_ / "none.json" + " --data " + d_,
+       "none.json: cannot open model file"},
+      {"calibrate --model " + dir_ / "bad.json" + " --data " + d_,
+       "bad.json: malformed JSON: parse error at line 1"},
+      {cal + dir_ / "missing_col.csv", "missing_col.csv:1: header has no column 'leg6'"},
+      {cal + dir_ / "dup_col.csv", "dup_col.csv:1: column 'leg6' appears twice"},
+      {cal + dir_ / "text.csv", "text.csv:3: field 'leg3': 'abc' is not a number"},
+      {cal + dir_ / "nan.csv", "nan.csv:3: field 'gauge': 'nan' is not a finite number"},
+      {cal + dir_ / "inf.csv", "inf.csv:3: field 'leg6': 'inf' is not a finite number"},
+      {cal + dir_ / "fields.csv", "fields.csv:3: 6 fields, expected 7"},
+      {cal + dir_ / "few.csv", "10 usable configurations give 10 readings for 24 free"},
+      {cal + d_ + " --free 'leg9.*'", "--free 'leg9.*': matches no parameter"},
+      {cal + d_ + " --fix nope", "--fix 'nope': matches no parameter"},
+      {cal + d_ + " --out /nonexistent-dir/C.json", "--out '/nonexistent-dir/C.json': cannot"},
+      {cal + d_ + " --report /nonexistent-dir/R.json", "--report '/nonexistent-dir/R.json'"},
+      {"calibrate --model " + m_, "--data FILE is required"},
+      {"fk --model " + m_ + " --legs 1,2,3", "--legs '1,2,3': 3 numbers, expected 6"},
+      {"fk --model " + m_ + " --legs -354,354,354,354,354,382", "forward kinematics"},
+      {"ik --model " + m_ + " --pose 0,0,410,0,0,x", "field 6 'x' is not a finite number"},
+      {"observability --model " + m_, "give exactly one of --data FILE and --poses M"},
+      {"model --preset nope", "--preset: unknown model preset 'nope'"},
+      {"simulate --model " + dir_ / "bad.json", "bad.json: malformed JSON"},
+      {"simulate --write-data /nonexistent-dir/D.csv", "--write-data '/nonexistent-dir/D.csv'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << args << "\n  got: " << r.err;
+  }
+}
+
+TEST_F(CliCalibrate, ExistingOutputsSurviveAFailedRun) {
+  const std::string c = dir_ / "C.json", r = dir_ / "R.json";
+  write(c, "precious model");
+  write(r, "precious report");
+  write(dir_ / "text.csv", "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n1,2,x,4,5,6,7\n");
+  const auto fail = run_cli("calibrate --model " + m_ + " --data " + dir_ / "text.csv" + " --out " +
+                            c + " --report " + r);
+  EXPECT_EQ(fail.exit_code, 2);
+  EXPECT_EQ(read_text(c), "precious model");
+  EXPECT_EQ(read_text(r), "precious report");
+  // A successful run replaces them whole, leaving no temporary files behind.
+  ASSERT_EQ(run_cli("calibrate --model " + m_ + " --data " + d_ + " --out " + c + " --report " + r)
+                .exit_code,
+            0);
+  EXPECT_NO_THROW(Json::parse(read_text(c)));
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_.path()))
+    files += entry.path().filename().string()[0] == '.';
+  EXPECT_EQ(files, 0);
+}
+
+TEST(CliKinematics, IkAndFkAreInverse) {
+  TempDir dir("kinematics");
+  const std::string m = dir / "M.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  const auto ik = run_cli("ik --model " + m + " --pose=-5,3,405,2,-1,10");
+  ASSERT_EQ(ik.exit_code, 0) << ik.err;
+  std::istringstream in(ik.out);
+  std::string name, legs;
+  double value;
+  for (int i = 0; i < 6 && in >> name >> value; ++i) legs += (i ? "," : "") + std::to_string(value);
+  const auto fk = run_cli("fk --model " + m + " --legs " + legs);
+  ASSERT_EQ(fk.exit_code, 0) << fk.err;
+  std::istringstream out(fk.out);
+  double x, y, z, rx, ry, rz;
+  out >> name >> x >> y >> z >> name >> rx >> ry >> rz;
+  EXPECT_NEAR(x, -5, 1e-4);
+  EXPECT_NEAR(y, 3, 1e-4);
+  EXPECT_NEAR(z, 405, 1e-4);
+  EXPECT_NEAR(rx, 2, 1e-4);
+  EXPECT_NEAR(ry, -1, 1e-4);
+  EXPECT_NEAR(rz, 10, 1e-4);
+  EXPECT_NE(run_cli("ik --help").out.find("R = Rz(rz) Ry(ry) Rx(rx)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace kincal

@@ -1,0 +1,122 @@
+// Model files: round trip, calibrated values as input, and malformed files.
+
+#include "models/model_io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+std::string load_error(const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / "kincal-model-io-test.json";
+  std::ofstream(path) << text;
+  try {
+    load_model(path.string());
+  } catch (const std::invalid_argument& e) {
+    std::filesystem::remove(path);
+    return std::string(e.what()).substr(path.string().size());
+  }
+  std::filesystem::remove(path);
+  return "(no error)";
+}
+
+TEST(ModelIo, PresetRoundTripsExactly) {
+  auto preset = make_cube_hexapod();
+  preset->parameters().set_free("gauge.offset", true);
+  const VectorXd values = preset->parameters().nominal_values();
+  const auto j = model_to_json(*preset, values);
+  EXPECT_EQ(j["format"], "kincal-model");
+  EXPECT_EQ(j["units"], "mm");
+  EXPECT_EQ(j["mechanism"]["legs"].size(), 6u);
+  EXPECT_EQ(j["free"].size(), 25u);
+  const auto back = model_from_json(nlohmann::ordered_json::parse(j.dump()), "M.json");
+  EXPECT_EQ(back->parameters().names(), preset->parameters().names());
+  EXPECT_EQ(back->parameters().nominal_values(), values);
+  EXPECT_EQ(back->parameters().free_indices(), preset->parameters().free_indices());
+  EXPECT_EQ(back->mechanism().home_pose().translation, Vector3d(0, 0, 410));
+  EXPECT_EQ(model_to_json(*back, values).dump(), j.dump());
+}
+
+TEST(ModelIo, CalibratedValuesAndARotatedHomePoseAreValidInput) {
+  auto preset = make_cube_hexapod();
+  VectorXd values = preset->parameters().nominal_values();
+  for (int i = 0; i < values.size(); ++i) values[i] += 0.001 * (i + 1);
+  auto j = model_to_json(*preset, values);
+  j["mechanism"]["home_pose"]["rotation_zyx_deg"] = {1.5, -2.0, 30.0};
+  const auto model = model_from_json(j, "C.json");
+  EXPECT_NEAR((model->parameters().nominal_values() - values).norm(), 0, 1e-12);
+  const Vector3d zyx = euler_zyx(model->mechanism().home_pose().rotation) * 180 / M_PI;
+  EXPECT_NEAR(zyx[0], 30.0, 1e-12);
+  EXPECT_NEAR(zyx[1], -2.0, 1e-12);
+  EXPECT_NEAR(zyx[2], 1.5, 1e-12);
+  const auto copy = model_with_values(*model, values);
+  EXPECT_EQ(copy->parameters().free_indices(), preset->parameters().free_indices());
+}
+
+TEST(ModelIo, HandWrittenFreeListMayUsePatterns) {
+  auto j = model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values());
+  j["free"] = {"leg?.offset", "gauge.*"};
+  const auto model = model_from_json(j, "M.json");
+  EXPECT_EQ(model->parameters().num_free(), 6 + 7);
+}
+
+TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
+  const auto good =
+      model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values());
+  auto edit = [&](auto change) {
+    auto j = good;
+    change(j);
+    return j.dump();
+  };
+  using J = nlohmann::ordered_json;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{\n  \"format\": \"kincal-model\",\n  oops\n}", ": malformed JSON: parse error at line 3"},
+      {"", ": malformed JSON"},
+      {"[1, 2]", ": expected a JSON object"},
+      {edit([](J& j) { j["format"] = "other"; }), ": format: expected \"kincal-model\""},
+      {edit([](J& j) { j["version"] = 2; }), ": version: expected 1, got 2"},
+      {edit([](J& j) { j["units"] = "inch"; }), ": units: expected \"mm\""},
+      {edit([](J& j) { j.erase("sensors"); }), ": missing key 'sensors'"},
+      {edit([](J& j) { j["fre"] = J::array(); }), ": unknown key 'fre'"},
+      {edit([](J& j) { j["mechanism"]["type"] = "delta"; }),
+       ": mechanism.type: expected \"hexapod-6ups\""},
+      {edit([](J& j) { j["mechanism"]["legs"].erase(5); }),
+       ": mechanism.legs: expected an array of 6 leg objects"},
+      {edit([](J& j) {
+         j["mechanism"]["legs"][2]["base"] = {1, 2};
+       }),
+       ": mechanism.legs[2].base: expected an array of 3 numbers"},
+      {edit([](J& j) { j["mechanism"]["legs"][2]["base"][1] = "x"; }),
+       ": mechanism.legs[2].base[1]: expected a number"},
+      {edit([](J& j) { j["mechanism"]["legs"][0]["ofset"] = 1; }),
+       ": mechanism.legs[0]: unknown key 'ofset'"},
+      {edit([](J& j) { j["mechanism"]["legs"][1]["name"] = "leg7"; }),
+       ": mechanism.legs[1].name: expected \"leg2\""},
+      {edit([](J& j) { j["mechanism"]["home_pose"].erase("position"); }),
+       ": mechanism.home_pose: missing key 'position'"},
+      {edit([](J& j) { j["sensors"][0]["type"] = "laser"; }),
+       ": sensors[0].type: expected \"length-gauge\""},
+      {edit([](J& j) { j["sensors"][0]["name"] = "a,b"; }), ": sensors[0].name: expected"},
+      {edit([](J& j) { j["free"].push_back("leg9.*"); }),
+       ": free[24]: parameter pattern 'leg9.*' matches no parameter"},
+      {edit([](J& j) { j["free"] = "all"; }), ": free: expected an array"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string what = load_error(text);
+    EXPECT_EQ(what.rfind(expected, 0), 0u) << "expected '" << expected << "', got '" << what << "'";
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+TEST(ModelIo, MissingFileIsAnError) {
+  EXPECT_THROW(load_model("/nonexistent/M.json"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace kincal
