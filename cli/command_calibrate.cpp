@@ -1,6 +1,7 @@
 // kincal calibrate: estimates a model's free parameters from a measurement file and writes
 // the calibrated model (same schema) and a report with uncertainty and identifiability.
 
+#include <cstdio>
 #include <iostream>
 
 #include "cli/model_args.hpp"
@@ -14,6 +15,8 @@ namespace {
 
 // One line naming what the data cannot determine, for the error before solving.
 std::string describe_deficiency(const Identifiability& a) {
+  char rcond[32];
+  std::snprintf(rcond, sizeof rcond, "%g", a.rcond);
   std::string text;
   if (!a.unseen.empty()) {
     text = "no reading depends on free parameter(s)";
@@ -22,7 +25,7 @@ std::string describe_deficiency(const Identifiability& a) {
   }
   text += "the data determine only " + std::to_string(a.numerical_rank) + " of " +
           std::to_string(a.num_parameters) + " free parameters (numerical rank, threshold " +
-          std::to_string(a.rcond) + " x largest scaled singular value)";
+          rcond + " x largest scaled singular value)";
   int shown = 0;
   for (const auto& c : a.combinations) {
     if (!c.null_space || shown == 3) continue;
