@@ -3,6 +3,7 @@
 
 #include "framework/solver_registry.hpp"
 #include "solvers/gauss_newton.hpp"
+#include "solvers/levenberg_marquardt.hpp"
 #ifdef KINCAL_WITH_CERES
 #include "solvers/ceres_solver.hpp"
 #endif
@@ -18,6 +19,9 @@ namespace kincal {
 void register_builtin_solvers(SolverRegistry& registry) {
   registry.add("gn", "Gauss-Newton as in the paper (undamped, QR-solved steps)",
                [](const std::string&) { return make_gauss_newton_solver(); });
+  registry.add("lm",
+               "Levenberg-Marquardt on Eigen (default): trust-region damping, Marquardt scaling",
+               [](const std::string&) { return make_levenberg_marquardt_solver(); });
 #ifdef KINCAL_WITH_CERES
   registry.add("ceres", "Ceres Solver, trust region (LM, dense QR by default)",
                [](const std::string&) { return make_ceres_solver(); });

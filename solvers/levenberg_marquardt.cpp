@@ -1,0 +1,450 @@
+#include "solvers/levenberg_marquardt.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "framework/robust_loss.hpp"
+#include "solvers/solver_common.hpp"
+
+namespace kincal {
+namespace {
+
+enum class LinearSolver { kCholesky, kQr };
+
+// Backend options, parsed and validated once (check_options and solve share this).
+struct LmSettings {
+  RobustLoss loss;
+  LinearSolver linear_solver = LinearSolver::kCholesky;
+  double initial_trust_radius = 1e4;  // Ceres' default: starts close to Gauss-Newton
+  double max_trust_radius = 1e16;
+  double min_trust_radius = 1e-32;
+  double min_relative_decrease = 1e-3;  // accept a step when rho exceeds this
+  double max_radius_growth = 10;  // cap on the radius increase per step (Nielsen: 3; measured)
+  int max_invalid_steps = 10;     // consecutive unusable trial points before giving up
+  double runaway_factor = 1e3;
+  bool geodesic_acceleration = true;
+  double geodesic_step = 0.1;      // h of the finite-difference second directional derivative
+  double max_acceleration = 0.75;  // use only when 2|a| <= this * |v| (Transtrum's alpha)
+};
+
+const char* const kSolverName = "lm";
+
+LmSettings parse_settings(const SolverOptions& options) {
+  using namespace solver_option;
+  require_known_keys(
+      kSolverName, options,
+      {"loss", "linear_solver", "initial_trust_radius", "max_trust_radius", "min_trust_radius",
+       "min_relative_decrease", "max_radius_growth", "max_invalid_steps", "runaway_factor",
+       "geodesic_acceleration", "geodesic_step", "max_acceleration"});
+  LmSettings s;
+  const auto loss = options.backend_options.find("loss");
+  if (loss != options.backend_options.end()) {
+    try {
+      s.loss = RobustLoss::parse(loss->second);
+    } catch (const std::invalid_argument& e) {
+      throw InvalidSolverOptions(std::string(kSolverName) + ": " + e.what());
+    }
+  }
+  s.linear_solver =
+      get_choice(kSolverName, options, "linear_solver", {"cholesky", "qr"}, "cholesky") == "qr"
+          ? LinearSolver::kQr
+          : LinearSolver::kCholesky;
+  s.initial_trust_radius =
+      get_double(kSolverName, options, "initial_trust_radius", s.initial_trust_radius);
+  s.max_trust_radius = get_double(kSolverName, options, "max_trust_radius", s.max_trust_radius);
+  s.min_trust_radius = get_double(kSolverName, options, "min_trust_radius", s.min_trust_radius);
+  s.min_relative_decrease =
+      get_double(kSolverName, options, "min_relative_decrease", s.min_relative_decrease);
+  s.max_radius_growth = get_double(kSolverName, options, "max_radius_growth", s.max_radius_growth);
+  s.max_invalid_steps = get_int(kSolverName, options, "max_invalid_steps", s.max_invalid_steps);
+  s.runaway_factor = get_double(kSolverName, options, "runaway_factor", s.runaway_factor);
+  s.geodesic_acceleration = get_choice(kSolverName, options, "geodesic_acceleration",
+                                       {"true", "false"}, "true") == "true";
+  s.geodesic_step = get_double(kSolverName, options, "geodesic_step", s.geodesic_step);
+  s.max_acceleration = get_double(kSolverName, options, "max_acceleration", s.max_acceleration);
+
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw InvalidSolverOptions(std::string(kSolverName) + ": " + what);
+  };
+  // Written as !(a > b) so that NaN is rejected too.
+  require(s.min_trust_radius > 0, "min_trust_radius must be > 0");
+  require(s.max_trust_radius >= s.min_trust_radius && std::isfinite(s.max_trust_radius),
+          "max_trust_radius must be finite and >= min_trust_radius");
+  require(
+      s.initial_trust_radius >= s.min_trust_radius && s.initial_trust_radius <= s.max_trust_radius,
+      "initial_trust_radius must lie in [min_trust_radius, max_trust_radius]");
+  require(s.min_relative_decrease >= 0 && s.min_relative_decrease < 1,
+          "min_relative_decrease must be in [0, 1)");
+  require(s.max_radius_growth > 1, "max_radius_growth must be > 1");
+  require(s.max_invalid_steps >= 1, "max_invalid_steps must be >= 1");
+  require(s.runaway_factor > 0, "runaway_factor must be > 0");
+  require(s.geodesic_step > 0 && s.geodesic_step <= 1, "geodesic_step must be in (0, 1]");
+  require(s.max_acceleration > 0, "max_acceleration must be > 0");
+  return s;
+}
+
+double max_norm(const VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
+
+class LevenbergMarquardtSolver final : public Solver {
+ public:
+  std::string name() const override { return kSolverName; }
+
+  void check_options(const SolverOptions& options) const override {
+    Solver::check_options(options);
+    parse_settings(options);
+  }
+
+  Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
+                const SolverOptions& options) const override;
+};
+
+// Everything one solve needs, sized once so that the iteration loop never allocates.
+class LmWorkspace {
+ public:
+  LmWorkspace(int m, int n, LinearSolver linear_solver)
+      : r(m),
+        r_raw(m),
+        r_trial(m),
+        row_scale(m),
+        residual_temp(m),
+        J(m, n),
+        J_trial(m, n),
+        B(m, n),
+        H(n, n),
+        M(n, n),
+        gradient(n),
+        column_scale(n),
+        velocity(n),
+        acceleration(n),
+        y(n),
+        dx(n),
+        dx_velocity(n),
+        x_trial(n),
+        active(n, 0),
+        llt(n) {
+    if (linear_solver == LinearSolver::kQr) {
+      qr = Eigen::HouseholderQR<MatrixXd>(m, n);
+      augmented = MatrixXd(2 * n, n);
+      augmented_qr = Eigen::HouseholderQR<MatrixXd>(2 * n, n);
+      rhs = VectorXd(2 * n);
+    }
+  }
+
+  VectorXd r;          // residuals at x, robust-corrected once the iterate is prepared
+  VectorXd r_raw;      // residuals at x as evaluated
+  VectorXd r_trial;    // residuals at a trial point
+  VectorXd row_scale;  // per-residual Jacobian rescaling of the robust correction
+  VectorXd residual_temp;
+  MatrixXd J, J_trial;
+  MatrixXd B;             // robust-corrected Jacobian in scaled variables, active columns zeroed
+  MatrixXd H, M;          // B^T B, and B^T B + lambda I
+  VectorXd gradient;      // J~^T r~ in x units
+  VectorXd column_scale;  // running max of the column norms of J~ (Marquardt diagonal)
+  VectorXd velocity, acceleration, y;  // in scaled variables
+  VectorXd dx, dx_velocity, x_trial;
+  std::vector<char> active;  // at a bound with the gradient pushing outwards
+  Eigen::LLT<MatrixXd> llt;
+  Eigen::HouseholderQR<MatrixXd> qr, augmented_qr;
+  MatrixXd augmented;
+  VectorXd rhs;
+};
+
+// 1/2 sum rho(r_i^2): the robustified cost.
+double robust_cost(const RobustLoss& loss, const VectorXd& r) {
+  if (loss.kind == RobustLoss::Kind::kNone) return 0.5 * r.squaredNorm();
+  double sum = 0;
+  for (Eigen::Index i = 0; i < r.size(); ++i) sum += loss.evaluate(r[i] * r[i])[0];
+  return 0.5 * sum;
+}
+
+// Ceres' Corrector, per scalar residual: rescales r and its Jacobian row so that the plain
+// Gauss-Newton model of the rescaled problem matches the robust cost to second order
+// (Triggs et al.). Where rho'' <= 0 (Huber, Cauchy: always) this is IRLS, sqrt(rho').
+void apply_loss_correction(const RobustLoss& loss, VectorXd& r, MatrixXd& J, VectorXd& row_scale) {
+  if (loss.kind == RobustLoss::Kind::kNone) {
+    row_scale.setOnes();
+    return;
+  }
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const double s = r[i] * r[i];
+    const auto rho = loss.evaluate(s);
+    const double sqrt_rho1 = std::sqrt(rho[1]);
+    double residual_scale = sqrt_rho1, jacobian_scale = sqrt_rho1;
+    if (s > 0 && rho[2] > 0) {
+      const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
+      residual_scale = sqrt_rho1 / (1.0 - alpha);
+      jacobian_scale = sqrt_rho1 * (1.0 - alpha);
+    }
+    r[i] *= residual_scale;
+    J.row(i) *= jacobian_scale;
+    row_scale[i] = jacobian_scale;
+  }
+}
+
+Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, VectorXd& x,
+                                        const SolverOptions& options) const {
+  Solver::check_options(options);
+  const LmSettings settings = parse_settings(options);
+  const int m = problem.num_residuals(), n = problem.num_parameters();
+  if (x.size() != n)
+    throw InvalidSolverOptions("lm: x has " + std::to_string(x.size()) + " entries, the problem " +
+                               std::to_string(n) + " parameters");
+  const bool bounded = options.lower_bounds.has_value();
+  if (bounded) {
+    const VectorXd &lo = *options.lower_bounds, &hi = *options.upper_bounds;
+    if (lo.size() != n || hi.size() != n)
+      throw InvalidSolverOptions("lm: bounds must have one entry per parameter (" +
+                                 std::to_string(n) + ")");
+    for (int i = 0; i < n; ++i)
+      if (!(lo[i] <= hi[i]))
+        throw InvalidSolverOptions("lm: lower bound above upper bound for parameter " +
+                                   std::to_string(i));
+  }
+  auto project = [&](VectorXd& v) {
+    if (bounded) v = v.cwiseMax(*options.lower_bounds).cwiseMin(*options.upper_bounds);
+  };
+
+  Summary summary;
+  summary.solver = name();
+  detail::SolveMonitor monitor(options, summary);
+  // The trace is the only growing container: reserve it so the loop does not allocate.
+  summary.trace.reserve(static_cast<std::size_t>(std::min(options.max_iterations, 10000)) + 1);
+
+  LmWorkspace ws(m, n, settings.linear_solver);
+  const RobustLoss& loss = settings.loss;
+  project(x);  // the box applies to the start too
+  const VectorXd x0 = x;
+  const double runaway = settings.runaway_factor * (1.0 + max_norm(x0));
+
+  std::string why;
+  ++summary.residual_evaluations;
+  ++summary.jacobian_evaluations;
+  if (!problem.evaluate(x, &ws.r, &ws.J, &why, options.num_threads)) {
+    summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+    monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " + why);
+    return summary;
+  }
+  double cost = robust_cost(loss, ws.r);
+  if (!std::isfinite(cost) || !ws.J.allFinite()) {
+    summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+    monitor.finish(TerminationType::kFailed, "residuals or Jacobian not finite at the start point");
+    return summary;
+  }
+  summary.initial_cost = summary.final_cost = cost;
+  ws.column_scale.setZero();
+
+  // Prepares the linear model at the current (accepted) iterate: robust correction,
+  // gradient, Marquardt scaling, active bounds, and what the trials factorise.
+  // Returns the projected-gradient max-norm (Ceres' gradient test quantity).
+  auto prepare_iterate = [&]() {
+    ws.r_raw = ws.r;
+    apply_loss_correction(loss, ws.r, ws.J, ws.row_scale);
+    ws.gradient.noalias() = ws.J.transpose() * ws.r;
+    for (int j = 0; j < n; ++j)
+      ws.column_scale[j] = std::max(ws.column_scale[j], ws.J.col(j).norm());
+    // A column that never moved the residuals gets a tiny positive scale: its damping row
+    // then pins that parameter (y_j = 0) instead of dividing by zero.
+    const double floor = 1e-12 * std::max(1.0, max_norm(ws.column_scale));
+    double gradient_norm = 0;
+    for (int j = 0; j < n; ++j) {
+      ws.column_scale[j] = std::max(ws.column_scale[j], floor);
+      double projected = ws.gradient[j];
+      ws.active[j] = 0;
+      if (bounded) {
+        const double lo = (*options.lower_bounds)[j], hi = (*options.upper_bounds)[j];
+        projected = x[j] - std::min(hi, std::max(lo, x[j] - ws.gradient[j]));
+        ws.active[j] = (x[j] <= lo && ws.gradient[j] > 0) || (x[j] >= hi && ws.gradient[j] < 0);
+      }
+      gradient_norm = std::max(gradient_norm, std::abs(projected));
+    }
+    // Scaled variables y = D^(1/2) dx: B's columns have norm <= 1, which keeps the damped
+    // system well conditioned even when cond(J) is ~1e5.
+    ws.B.noalias() = ws.J * ws.column_scale.cwiseInverse().asDiagonal();
+    for (int j = 0; j < n; ++j)
+      if (ws.active[j]) ws.B.col(j).setZero();
+    if (settings.linear_solver == LinearSolver::kCholesky) {
+      ws.H.setZero();
+      ws.H.selfadjointView<Eigen::Lower>().rankUpdate(ws.B.transpose());
+    } else {
+      ws.qr.compute(ws.B);
+    }
+    return gradient_norm;
+  };
+
+  // Factorises the damped system for lambda; false when that failed.
+  auto factorize = [&](double lambda) {
+    if (settings.linear_solver == LinearSolver::kCholesky) {
+      ws.M = ws.H;
+      ws.M.diagonal().array() += lambda;
+      ws.llt.compute(ws.M);
+      return ws.llt.info() == Eigen::Success;
+    }
+    // MINPACK's way: B = QR once per iterate, then only a 2n x n QR of [R; sqrt(lambda) I].
+    const int k = std::min(m, n);
+    ws.augmented.setZero();
+    ws.augmented.topRows(k) = ws.qr.matrixQR().topRows(k).triangularView<Eigen::Upper>();
+    ws.augmented.bottomRows(n).diagonal().setConstant(std::sqrt(lambda));
+    ws.augmented_qr.compute(ws.augmented);
+    return true;
+  };
+  // out = argmin |B out + z|^2 + lambda |out|^2 with the current factorisation; z is
+  // overwritten. False when the result is not finite.
+  auto damped_solve = [&](VectorXd& z, VectorXd& out) {
+    if (settings.linear_solver == LinearSolver::kCholesky) {
+      out.noalias() = -ws.B.transpose() * z;
+      ws.llt.solveInPlace(out);
+    } else {
+      const int k = std::min(m, n);
+      z.applyOnTheLeft(ws.qr.householderQ().transpose());
+      ws.rhs.setZero();
+      ws.rhs.head(k) = -z.head(k);
+      ws.rhs.applyOnTheLeft(ws.augmented_qr.householderQ().transpose());
+      out = ws.rhs.head(n);
+      ws.augmented_qr.matrixQR().topRows(n).triangularView<Eigen::Upper>().solveInPlace(out);
+    }
+    return out.allFinite();
+  };
+
+  double gradient_norm = prepare_iterate();
+  double radius = settings.initial_trust_radius;
+  double decrease_factor = 2;
+  if (!monitor.record({0, cost, gradient_norm, 0, 1.0 / radius, 0}, x)) {
+    monitor.finish(TerminationType::kUserStopped, "stopped by the callback");
+    return summary;
+  }
+  auto done = [&](TerminationType type, std::string message) {
+    summary.final_cost = cost;  // x is always the best point: only decreasing steps are taken
+    monitor.finish(type, std::move(message));
+    return summary;
+  };
+  // Ceres' (and Nielsen's) response to a bad trial: shrink ever faster.
+  auto reject = [&] {
+    radius /= decrease_factor;
+    decrease_factor *= 2;
+  };
+
+  int consecutive_invalid = 0;
+  for (int iteration = 1;; ++iteration) {
+    if (gradient_norm <= options.gradient_tolerance)
+      return done(TerminationType::kConverged, "gradient max-norm below tolerance");
+    if (radius < settings.min_trust_radius)
+      return done(TerminationType::kConverged, "trust region radius below min_trust_radius");
+    if (iteration > options.max_iterations)
+      return done(TerminationType::kMaxIterations, "reached max_iterations");
+    summary.iterations = iteration;
+
+    const double lambda = 1.0 / radius;
+    ws.residual_temp = ws.r;
+    if (!factorize(lambda) || !damped_solve(ws.residual_temp, ws.velocity)) {
+      if (++consecutive_invalid > settings.max_invalid_steps)
+        return done(TerminationType::kDiverged, "damped normal equations could not be solved");
+      reject();
+      continue;
+    }
+    ws.dx_velocity.noalias() = ws.column_scale.cwiseInverse().asDiagonal() * ws.velocity;
+    ws.y = ws.velocity;
+
+    // Geodesic acceleration (Transtrum & Sethna 2012): a second-order correction that lets
+    // the step follow the curved, flat valleys of this problem instead of crawling along
+    // them. Needs one residual evaluation at x + h v.
+    bool accelerated = false;
+    if (settings.geodesic_acceleration) {
+      const double h = settings.geodesic_step;
+      ws.x_trial = x + h * ws.dx_velocity;
+      project(ws.x_trial);
+      ++summary.residual_evaluations;
+      if (problem.evaluate(ws.x_trial, &ws.r_trial, nullptr, nullptr, options.num_threads) &&
+          ws.r_trial.allFinite()) {
+        // Directional second derivative of the corrected residuals along v.
+        ws.residual_temp.noalias() = ws.J * ws.dx_velocity;
+        ws.residual_temp =
+            (2.0 / h) * ((ws.row_scale.array() * (ws.r_trial - ws.r_raw).array() / h).matrix() -
+                         ws.residual_temp);
+        // Where the correction is large compared with the step (the valley bends sharply, or
+        // near convergence the difference is round-off) the plain step is used instead.
+        if (damped_solve(ws.residual_temp, ws.acceleration) &&
+            2.0 * ws.acceleration.norm() <= settings.max_acceleration * ws.velocity.norm()) {
+          ws.y += 0.5 * ws.acceleration;
+          accelerated = true;
+        }
+      }
+    }
+
+    ws.dx.noalias() = ws.column_scale.cwiseInverse().asDiagonal() * ws.y;
+    ws.x_trial = x + ws.dx;
+    project(ws.x_trial);
+    ws.dx = ws.x_trial - x;
+    // Not after unusable trials: a step shrunk to nothing because the residuals cannot be
+    // computed ahead says nothing about convergence.
+    if (consecutive_invalid == 0 && detail::small_step(ws.dx, x, options.parameter_tolerance))
+      return done(TerminationType::kConverged, "relative step below tolerance");
+    if ((ws.x_trial - x0).lpNorm<Eigen::Infinity>() > runaway)
+      return done(TerminationType::kDiverged, "parameters ran away (moved more than " +
+                                                  std::to_string(runaway) + " from the start)");
+
+    ++summary.residual_evaluations;
+    ++summary.jacobian_evaluations;
+    const bool evaluated =
+        problem.evaluate(ws.x_trial, &ws.r_trial, &ws.J_trial, &why, options.num_threads);
+    const double cost_trial =
+        evaluated ? robust_cost(loss, ws.r_trial) : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(cost_trial) || !ws.J_trial.allFinite()) {
+      // Forward kinematics failed (or produced garbage) at the trial point: a rejected step.
+      if (++consecutive_invalid > settings.max_invalid_steps)
+        return done(TerminationType::kDiverged,
+                    std::to_string(consecutive_invalid) +
+                        " consecutive trial points where residuals could not be computed" +
+                        (evaluated ? std::string(" (not finite)") : ": " + why));
+      reject();
+      continue;
+    }
+    consecutive_invalid = 0;
+
+    // Gain ratio rho = actual / predicted reduction of the (robust-corrected) linear model.
+    // With acceleration the prediction is that of the velocity alone: the correction is
+    // there to make the real step achieve what the linear model promised for v.
+    if (accelerated) {
+      ws.dx_velocity += x;
+      project(ws.dx_velocity);
+      ws.dx_velocity -= x;
+    }
+    const VectorXd& model_step = accelerated ? ws.dx_velocity : ws.dx;
+    ws.residual_temp.noalias() = ws.J * model_step;
+    const double predicted = -(ws.gradient.dot(model_step) + 0.5 * ws.residual_temp.squaredNorm());
+    const double actual = cost - cost_trial;
+    const double rho = predicted > 0 ? actual / predicted : -1.0;
+    const bool cost_flat = detail::small_cost_change(cost, cost_trial, options.function_tolerance);
+    if (options.verbosity > 1)
+      std::fprintf(stderr, "lm   trial %3d  cost %.9e  rho %+.3e  |dx| %.3e  lambda %.3e\n",
+                   iteration, cost_trial, rho, ws.dx.norm(), lambda);
+    if (actual > 0 && rho > settings.min_relative_decrease) {
+      x.swap(ws.x_trial);
+      ws.r.swap(ws.r_trial);
+      ws.J.swap(ws.J_trial);
+      cost = cost_trial;
+      radius = std::min(
+          settings.max_trust_radius,
+          radius / std::max(1.0 / settings.max_radius_growth, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
+      decrease_factor = 2;
+      gradient_norm = prepare_iterate();
+      if (!monitor.record({iteration, cost, gradient_norm, ws.dx.norm(), 1.0 / radius, 0}, x))
+        return done(TerminationType::kUserStopped, "stopped by the callback");
+    } else {
+      reject();
+    }
+    if (cost_flat) return done(TerminationType::kConverged, "relative cost change below tolerance");
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Solver> make_levenberg_marquardt_solver() {
+  return std::make_unique<LevenbergMarquardtSolver>();
+}
+
+}  // namespace kincal
