@@ -10,15 +10,34 @@ if(KINCAL_WITH_CERES)
 endif()
 
 if(KINCAL_WITH_NLOPT)
-  find_package(NLopt REQUIRED)
+  # Debian ships two configs that are both named NLoptConfig.cmake: cmake/nlopt (the C build,
+  # target NLopt::nlopt) and cmake/nlopt_cxx (the build with the C++ algorithms StoGO and
+  # AGS, target NLopt::nlopt_cxx). A plain find_package picks the C one; prefer the full one
+  # so that every algorithm name works. nlopt.hpp itself is header-only over the C API, so
+  # either target serves our code.
+  find_path(KINCAL_NLOPT_CXX_CONFIG_DIR NLoptConfig.cmake
+            PATHS ${CMAKE_PREFIX_PATH} ${CMAKE_SYSTEM_PREFIX_PATH}
+            PATH_SUFFIXES lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/nlopt_cxx lib64/cmake/nlopt_cxx
+                          lib/cmake/nlopt_cxx
+            NO_DEFAULT_PATH)
+  find_package(NLopt REQUIRED CONFIG HINTS ${KINCAL_NLOPT_CXX_CONFIG_DIR})
+  if(TARGET NLopt::nlopt_cxx)
+    set(KINCAL_NLOPT_TARGET NLopt::nlopt_cxx)
+  else()
+    set(KINCAL_NLOPT_TARGET NLopt::nlopt)
+  endif()
+  message(STATUS "NLopt ${NLOPT_VERSION}: ${KINCAL_NLOPT_TARGET} from ${NLopt_DIR}")
   target_sources(kincal PRIVATE solvers/nlopt_solver.cpp)
-  target_link_libraries(kincal PRIVATE NLopt::nlopt)
+  target_link_libraries(kincal PRIVATE ${KINCAL_NLOPT_TARGET})
   target_compile_definitions(kincal PUBLIC KINCAL_WITH_NLOPT=1)
 endif()
 
 if(KINCAL_WITH_IPOPT)
   find_package(PkgConfig REQUIRED)
   pkg_check_modules(IPOPT REQUIRED IMPORTED_TARGET ipopt)
+  # Include directories of imported targets are SYSTEM, so Ipopt's headers (coin/...) do not
+  # trip our -Werror. Debian's 3.11 has MUMPS as its only linear solver.
+  message(STATUS "Ipopt ${IPOPT_VERSION} (pkg-config)")
   target_sources(kincal PRIVATE solvers/ipopt_solver.cpp)
   target_link_libraries(kincal PRIVATE PkgConfig::IPOPT)
   target_compile_definitions(kincal PUBLIC KINCAL_WITH_IPOPT=1)

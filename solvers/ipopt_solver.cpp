@@ -1,0 +1,371 @@
+#include "solvers/ipopt_solver.hpp"
+
+#include <coin/IpIpoptApplication.hpp>
+#include <coin/IpIpoptCalculatedQuantities.hpp>
+#include <coin/IpIpoptData.hpp>
+#include <coin/IpOrigIpoptNLP.hpp>
+#include <coin/IpTNLP.hpp>
+#include <coin/IpTNLPAdapter.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "solvers/solver_common.hpp"
+
+namespace kincal {
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+// Ipopt reads bounds beyond +-1e19 as absent.
+constexpr double kNoBound = 2e19;
+
+const char* status_name(Ipopt::ApplicationReturnStatus status) {
+  switch (status) {
+    case Ipopt::Solve_Succeeded:
+      return "Solve_Succeeded";
+    case Ipopt::Solved_To_Acceptable_Level:
+      return "Solved_To_Acceptable_Level";
+    case Ipopt::Infeasible_Problem_Detected:
+      return "Infeasible_Problem_Detected";
+    case Ipopt::Search_Direction_Becomes_Too_Small:
+      return "Search_Direction_Becomes_Too_Small";
+    case Ipopt::Diverging_Iterates:
+      return "Diverging_Iterates";
+    case Ipopt::User_Requested_Stop:
+      return "User_Requested_Stop";
+    case Ipopt::Feasible_Point_Found:
+      return "Feasible_Point_Found";
+    case Ipopt::Maximum_Iterations_Exceeded:
+      return "Maximum_Iterations_Exceeded";
+    case Ipopt::Restoration_Failed:
+      return "Restoration_Failed";
+    case Ipopt::Error_In_Step_Computation:
+      return "Error_In_Step_Computation";
+    case Ipopt::Maximum_CpuTime_Exceeded:
+      return "Maximum_CpuTime_Exceeded";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom:
+      return "Not_Enough_Degrees_Of_Freedom";
+    case Ipopt::Invalid_Problem_Definition:
+      return "Invalid_Problem_Definition";
+    case Ipopt::Invalid_Option:
+      return "Invalid_Option";
+    case Ipopt::Invalid_Number_Detected:
+      return "Invalid_Number_Detected";
+    case Ipopt::Unrecoverable_Exception:
+      return "Unrecoverable_Exception";
+    case Ipopt::NonIpopt_Exception_Thrown:
+      return "NonIpopt_Exception_Thrown";
+    case Ipopt::Insufficient_Memory:
+      return "Insufficient_Memory";
+    case Ipopt::Internal_Error:
+      return "Internal_Error";
+  }
+  return "unknown status";
+}
+
+// The least-squares problem as an Ipopt NLP: variables x, no constraints, f = 1/2 |r|^2.
+// Residuals and Jacobian are cached per x: Ipopt asks for f, its gradient and the Hessian at
+// the same point in separate calls.
+class LeastSquaresNlp final : public Ipopt::TNLP {
+ public:
+  LeastSquaresNlp(const LeastSquaresProblem& problem, const SolverOptions& options,
+                  Summary& summary, detail::SolveMonitor& monitor, const VectorXd& x0,
+                  bool exact_hessian)
+      : problem_(problem),
+        options_(options),
+        summary_(summary),
+        monitor_(monitor),
+        x0_(x0),
+        exact_hessian_(exact_hessian),
+        n_(static_cast<int>(x0.size())) {}
+
+  // Evaluates at x (with the Jacobian when asked) unless the cache already holds it.
+  // Returns false when the residuals cannot be computed there; the reason is in why().
+  bool evaluate(const VectorXd& x, bool with_jacobian) {
+    if (cache_valid_ && x == cached_x_ && (has_jacobian_ || !with_jacobian)) return cache_ok_;
+    cached_x_ = x;
+    cache_valid_ = true;
+    has_jacobian_ = with_jacobian;
+    ++summary_.residual_evaluations;
+    if (with_jacobian) ++summary_.jacobian_evaluations;
+    cache_ok_ =
+        problem_.evaluate(x, &r_, with_jacobian ? &J_ : nullptr, &why_, options_.num_threads);
+    if (cache_ok_ && !r_.allFinite()) {
+      cache_ok_ = false;
+      why_ = "residuals are not finite";
+    }
+    if (cache_ok_ && with_jacobian) gradient_.noalias() = J_.transpose() * r_;
+    return cache_ok_;
+  }
+  double cost() const { return 0.5 * r_.squaredNorm(); }
+  const VectorXd& gradient() const { return gradient_; }
+  const std::string& why() const { return why_; }
+
+  bool stopped_by_callback() const { return stopped_by_callback_; }
+  int last_iteration() const { return last_iteration_; }
+  bool finalized() const { return finalized_; }
+  const VectorXd& final_x() const { return final_x_; }
+  double final_cost() const { return final_cost_; }
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag,
+                    IndexStyleEnum& index_style) override {
+    n = n_;
+    m = 0;
+    nnz_jac_g = 0;
+    nnz_h_lag = exact_hessian_ ? n_ * (n_ + 1) / 2 : 0;
+    index_style = C_STYLE;
+    return true;
+  }
+
+  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index, Number*, Number*) override {
+    for (Index i = 0; i < n; ++i) {
+      x_l[i] = options_.lower_bounds ? (*options_.lower_bounds)[i] : -kNoBound;
+      x_u[i] = options_.upper_bounds ? (*options_.upper_bounds)[i] : kNoBound;
+    }
+    return true;
+  }
+
+  bool get_starting_point(Index n, bool init_x, Number* x, bool, Number*, Number*, Index, bool,
+                          Number*) override {
+    if (init_x) Eigen::Map<VectorXd>(x, n) = x0_;
+    return true;
+  }
+
+  bool eval_f(Index n, const Number* x, bool, Number& obj_value) override {
+    // With the Gauss-Newton Hessian nearly every trial point is accepted, and Ipopt then
+    // asks for the gradient there: getting J now saves evaluating the residuals twice.
+    if (!evaluate(Eigen::Map<const VectorXd>(x, n), exact_hessian_)) return false;
+    obj_value = cost();
+    return true;
+  }
+
+  bool eval_grad_f(Index n, const Number* x, bool, Number* grad_f) override {
+    if (!evaluate(Eigen::Map<const VectorXd>(x, n), true)) return false;
+    Eigen::Map<VectorXd>(grad_f, n) = gradient_;
+    return true;
+  }
+
+  bool eval_g(Index, const Number*, bool, Index, Number*) override { return true; }
+
+  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index*, Index*, Number*) override {
+    return true;
+  }
+
+  // Hessian of the Lagrangian = obj_factor * J^T J (no constraints), dense lower triangle.
+  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index, const Number*, bool, Index,
+              Index* i_row, Index* j_col, Number* values) override {
+    if (values == nullptr) {
+      Index k = 0;
+      for (Index i = 0; i < n; ++i)
+        for (Index j = 0; j <= i; ++j, ++k) {
+          i_row[k] = i;
+          j_col[k] = j;
+        }
+      return true;
+    }
+    if (!evaluate(Eigen::Map<const VectorXd>(x, n), true)) return false;
+    jtj_.setZero(n, n);
+    jtj_.selfadjointView<Eigen::Lower>().rankUpdate(J_.transpose(), obj_factor);
+    Index k = 0;
+    for (Index i = 0; i < n; ++i)
+      for (Index j = 0; j <= i; ++j) values[k++] = jtj_(i, j);
+    return true;
+  }
+
+  bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number obj_value, Number,
+                             Number, Number mu, Number, Number, Number, Number, Index,
+                             const Ipopt::IpoptData* ip_data,
+                             Ipopt::IpoptCalculatedQuantities* ip_cq) override {
+    // Restoration-phase iterates belong to another problem; there are no constraints to
+    // restore here anyway.
+    if (mode != Ipopt::RegularMode || !current_x(ip_data, ip_cq)) return true;
+    last_iteration_ = iter;
+    const bool have_gradient = cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x_;
+    const double gradient_norm = have_gradient ? gradient_.lpNorm<Eigen::Infinity>() : 0.0;
+    const double step = previous_x_.size() == x_.size() ? (x_ - previous_x_).norm() : 0.0;
+    previous_x_ = x_;
+    if (!monitor_.record({iter, obj_value, gradient_norm, step, mu, 0}, x_)) {
+      stopped_by_callback_ = true;
+      return false;
+    }
+    return true;
+  }
+
+  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
+                         const Number*, Index, const Number*, const Number*, Number obj_value,
+                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    if (x == nullptr) return;
+    finalized_ = true;
+    final_x_ = Eigen::Map<const VectorXd>(x, n);
+    final_cost_ = obj_value;
+  }
+
+ private:
+  // Ipopt 3.11 does not hand the current iterate to the callback (3.14's GetCurrentIterate);
+  // the TNLPAdapter can map its internal vector back to ours.
+  bool current_x(const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) {
+    if (ip_data == nullptr || ip_cq == nullptr) return false;
+    auto* orig = dynamic_cast<Ipopt::OrigIpoptNLP*>(Ipopt::GetRawPtr(ip_cq->GetIpoptNLP()));
+    if (orig == nullptr) return false;
+    auto* adapter = dynamic_cast<Ipopt::TNLPAdapter*>(Ipopt::GetRawPtr(orig->nlp()));
+    if (adapter == nullptr) return false;
+    x_.resize(n_);
+    adapter->ResortX(*ip_data->curr()->x(), x_.data());
+    return true;
+  }
+
+  const LeastSquaresProblem& problem_;
+  const SolverOptions& options_;
+  Summary& summary_;
+  detail::SolveMonitor& monitor_;
+  const VectorXd x0_;
+  const bool exact_hessian_;
+  const int n_;
+
+  bool cache_valid_ = false, cache_ok_ = false, has_jacobian_ = false;
+  VectorXd cached_x_, r_, gradient_;
+  MatrixXd J_, jtj_;
+  std::string why_;
+
+  VectorXd x_, previous_x_;
+  int last_iteration_ = 0;
+  bool stopped_by_callback_ = false;
+  bool finalized_ = false;
+  VectorXd final_x_;
+  double final_cost_ = std::numeric_limits<double>::infinity();
+};
+
+class IpoptSolver final : public Solver {
+ public:
+  std::string name() const override { return "ipopt"; }
+
+  void check_options(const SolverOptions& options) const override {
+    Solver::check_options(options);
+    solver_option::require_known_keys(name(), options, {"hessian", "mu_strategy", "linear_solver"});
+    hessian(options);
+    mu_strategy(options);
+    linear_solver(options);
+  }
+
+  Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
+                const SolverOptions& options) const override {
+    check_options(options);
+    const int n = problem.num_parameters();
+    check_sizes(options, x, n);
+    Summary summary;
+    summary.solver = name();
+    detail::SolveMonitor monitor(options, summary);
+    if (options.lower_bounds) x = x.cwiseMax(*options.lower_bounds).cwiseMin(*options.upper_bounds);
+
+    const bool exact_hessian = hessian(options) == "gauss-newton";
+    Ipopt::SmartPtr<LeastSquaresNlp> nlp =
+        new LeastSquaresNlp(problem, options, summary, monitor, x, exact_hessian);
+    // Check the start ourselves: Ipopt would only say Invalid_Number_Detected.
+    if (!nlp->evaluate(x, true)) {
+      summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+      monitor.finish(TerminationType::kFailed,
+                     "residuals not computable at the start: " + nlp->why());
+      return summary;
+    }
+    summary.initial_cost = summary.final_cost = nlp->cost();
+
+    // Without a console journal Ipopt cannot print anything, banner included.
+    const bool ipopt_output = options.verbosity > 1;
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication(ipopt_output);
+    Ipopt::OptionsList& o = *app->Options();
+    o.SetStringValue("sb", "yes");  // the banner
+    o.SetIntegerValue("print_level", ipopt_output ? 5 : 0);
+    o.SetIntegerValue("max_iter", options.max_iterations);
+    // Unscaled, Ipopt's optimality error on an unconstrained, unbounded problem is max|J^T r|:
+    // the same test as the other backends.
+    o.SetStringValue("nlp_scaling_method", "none");
+    o.SetNumericValue("tol", std::max(options.gradient_tolerance, 1e-300));
+    // tol can be below the roundoff floor of J^T r on noisy data. Ipopt's "acceptable"
+    // termination then plays the part of our relative cost-change test: |f_old - f_new| <=
+    // function_tolerance * max(1, |f|) with max|J^T r| <= acceptable_tol (1e-6), for 3
+    // iterations in a row (Ipopt's default of 15 wastes a dozen line searches).
+    o.SetNumericValue("acceptable_obj_change_tol", std::max(options.function_tolerance, 0.0));
+    o.SetIntegerValue("acceptable_iter", 3);
+    o.SetStringValue("hessian_approximation", exact_hessian ? "exact" : "limited-memory");
+    o.SetStringValue("mu_strategy", mu_strategy(options));
+    o.SetStringValue("linear_solver", linear_solver(options));
+
+    // "" = do not read ./ipopt.opt: a stray file must not change our results.
+    Ipopt::ApplicationReturnStatus status = app->Initialize("");
+    if (status == Ipopt::Solve_Succeeded)
+      status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
+
+    summary.backend_code = static_cast<int>(status);
+    summary.iterations = nlp->last_iteration();
+    if (nlp->finalized() && nlp->final_x().allFinite()) {
+      x = nlp->final_x();
+      summary.final_cost = std::isfinite(nlp->final_cost()) ? nlp->final_cost() : problem.cost(x);
+    }
+    const auto [type, message] = termination(status, nlp->stopped_by_callback());
+    monitor.finish(type, message);
+    return summary;
+  }
+
+ private:
+  std::string hessian(const SolverOptions& options) const {
+    return solver_option::get_choice(name(), options, "hessian", {"gauss-newton", "limited-memory"},
+                                     "gauss-newton");
+  }
+  std::string mu_strategy(const SolverOptions& options) const {
+    return solver_option::get_choice(name(), options, "mu_strategy", {"monotone", "adaptive"},
+                                     "monotone");
+  }
+  // Debian's Ipopt has MUMPS only; the HSL and Pardiso solvers load at run time when present,
+  // otherwise the solve ends `failed`.
+  std::string linear_solver(const SolverOptions& options) const {
+    return solver_option::get_choice(name(), options, "linear_solver",
+                                     {"mumps", "ma27", "ma57", "ma77", "ma86", "ma97", "pardiso"},
+                                     "mumps");
+  }
+
+  void check_sizes(const SolverOptions& options, const VectorXd& x, int n) const {
+    if (x.size() != n)
+      throw InvalidSolverOptions(name() + ": x has " + std::to_string(x.size()) +
+                                 " entries, the problem " + std::to_string(n) + " parameters");
+    if (!options.lower_bounds) return;
+    if (options.lower_bounds->size() != n || options.upper_bounds->size() != n)
+      throw InvalidSolverOptions(name() + ": bounds must have " + std::to_string(n) + " entries");
+    if ((options.lower_bounds->array() > options.upper_bounds->array()).any())
+      throw InvalidSolverOptions(name() + ": a lower bound exceeds its upper bound");
+  }
+
+  static std::pair<TerminationType, std::string> termination(Ipopt::ApplicationReturnStatus status,
+                                                             bool stopped_by_callback) {
+    using T = TerminationType;
+    const std::string what = std::string("Ipopt ") + status_name(status);
+    switch (status) {
+      case Ipopt::Solve_Succeeded:
+        return {T::kConverged, what +
+                                   ": optimality error below tol (max|J^T r| for an "
+                                   "unbounded problem)"};
+      case Ipopt::Solved_To_Acceptable_Level:
+        return {T::kConverged, what +
+                                   ": acceptable_tol held for acceptable_iter iterations and "
+                                   "the cost stalled"};
+      case Ipopt::Maximum_Iterations_Exceeded:
+        return {T::kMaxIterations, "reached max_iterations (" + what + ")"};
+      case Ipopt::Maximum_CpuTime_Exceeded:
+        return {T::kMaxIterations, what};
+      case Ipopt::Diverging_Iterates:
+        return {T::kDiverged, what};
+      case Ipopt::User_Requested_Stop:
+        if (stopped_by_callback) return {T::kUserStopped, "stopped by the callback"};
+        return {T::kFailed, what};
+      default:
+        return {T::kFailed, what};
+    }
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_ipopt_solver() { return std::make_unique<IpoptSolver>(); }
+
+}  // namespace kincal

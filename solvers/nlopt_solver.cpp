@@ -1,0 +1,390 @@
+#include "solvers/nlopt_solver.hpp"
+
+#include <nlopt.hpp>
+
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include "solvers/solver_common.hpp"
+
+namespace kincal {
+namespace {
+
+// Every name NLopt knows, in enum order ("GN_DIRECT", ..., "LD_LBFGS", ...).
+std::vector<std::string> all_algorithm_names() {
+  std::vector<std::string> names;
+  for (int a = 0; a < NLOPT_NUM_ALGORITHMS; ++a)
+    names.emplace_back(nlopt_algorithm_to_string(static_cast<nlopt_algorithm>(a)));
+  return names;
+}
+
+// -1 when `name` is not an NLopt algorithm. Exact, case-sensitive match.
+int find_algorithm(const std::string& name) {
+  const auto names = all_algorithm_names();
+  for (int a = 0; a < static_cast<int>(names.size()); ++a)
+    if (names[a] == name) return a;
+  return -1;
+}
+
+// NLopt's naming: [G|L][N|D]_... = global/local, derivative-free/derivative-based.
+bool is_global(const std::string& name) { return name[0] == 'G'; }
+bool uses_derivatives(const std::string& name) { return name.size() > 1 && name[1] == 'D'; }
+// Algorithms that run a subsidiary optimiser; the un-prefixed ones require us to set it.
+bool takes_local_optimizer(const std::string& name) {
+  return name.find("AUGLAG") != std::string::npos || name.find("MLSL") != std::string::npos;
+}
+bool requires_local_optimizer(const std::string& name) {
+  return name == "AUGLAG" || name == "AUGLAG_EQ" || name == "G_MLSL" || name == "G_MLSL_LDS";
+}
+
+const char* kDefaultLocalAlgorithm = "LD_LBFGS";
+constexpr double kDefaultBoxHalfWidth = 10;
+// Cost reported at points where the residuals cannot be computed, times the worst cost seen.
+constexpr double kPenaltyFactor = 10;
+
+// Why we forced NLopt to stop from inside the objective.
+enum class ForcedStop { kNone, kCallback, kGradient };
+
+// Objective state: evaluation counts, the best point so far, the trace.
+struct Objective {
+  Objective(const LeastSquaresProblem& problem, const SolverOptions& options, Summary& summary,
+            detail::SolveMonitor& monitor)
+      : problem(problem), options(options), summary(summary), monitor(monitor) {}
+
+  const LeastSquaresProblem& problem;
+  const SolverOptions& options;
+  Summary& summary;
+  detail::SolveMonitor& monitor;
+  nlopt::opt* opt = nullptr;
+
+  VectorXd x, r, gradient;
+  MatrixXd J;
+  // NLopt works on z = scale .* x (see the "scaling" option); the rest of us on x.
+  VectorXd scale;
+  int evaluations = 0;  // calls from NLopt, which is what maxeval counts
+  int failures = 0;     // calls where the residuals could not be computed
+  std::string last_failure;
+  ForcedStop forced = ForcedStop::kNone;
+
+  VectorXd best_x;
+  double best_cost = std::numeric_limits<double>::infinity();
+  double worst_cost = 0;  // of the computable points: the scale of the failure penalty
+
+  // NLopt's first call is at x0, which we already evaluated to record iteration 0.
+  bool start_cached = false;
+  VectorXd start_z;
+  bool start_has_jacobian = false;
+
+  // Evaluates into r (and J when asked); false with last_failure set when not computable.
+  bool evaluate(const VectorXd& at, bool with_jacobian) {
+    ++summary.residual_evaluations;
+    if (with_jacobian) ++summary.jacobian_evaluations;
+    std::string why;
+    if (!problem.evaluate(at, &r, with_jacobian ? &J : nullptr, &why, options.num_threads)) {
+      last_failure = why;
+      return false;
+    }
+    if (!r.allFinite()) {
+      last_failure = "residuals are not finite";
+      return false;
+    }
+    if (with_jacobian) gradient.noalias() = J.transpose() * r;
+    return true;
+  }
+
+  double operator()(unsigned n, const double* x_in, double* grad) {
+    ++evaluations;
+    x = Eigen::Map<const VectorXd>(x_in, n).cwiseQuotient(scale);
+    const bool want_gradient = grad != nullptr;
+    bool ok = true;
+    if (start_cached && Eigen::Map<const VectorXd>(x_in, n) == start_z &&
+        (!want_gradient || start_has_jacobian)) {
+      x = best_x;
+      start_cached = false;  // r, J and gradient still hold the start's values
+    } else {
+      start_cached = false;
+      ok = x.allFinite() && evaluate(x, want_gradient);
+      if (!x.allFinite()) last_failure = "NLopt proposed a non-finite point";
+    }
+    if (!ok) {
+      // Tell NLopt the point is much worse than any seen, and let it step back. The value is
+      // finite on purpose: with +HUGE_VAL, NLopt 2.7's COBYLA loops forever, BOBYQA stops
+      // early claiming xtol and NEWUOA returns NaN. The gradient is zero: no direction to
+      // follow from there.
+      ++failures;
+      if (want_gradient) std::fill(grad, grad + n, 0.0);
+      return std::max(kPenaltyFactor * worst_cost, 1.0);
+    }
+    const double cost = 0.5 * r.squaredNorm();
+    worst_cost = std::max(worst_cost, cost);
+    if (want_gradient) Eigen::Map<VectorXd>(grad, n) = gradient.cwiseQuotient(scale);
+    if (cost < best_cost) {
+      const double step = (x - best_x).norm();
+      best_cost = cost;
+      best_x = x;
+      const double gradient_norm = want_gradient ? gradient.lpNorm<Eigen::Infinity>() : 0.0;
+      if (!monitor.record({evaluations, cost, gradient_norm, step, 0, 0}, x)) {
+        forced = ForcedStop::kCallback;
+        opt->force_stop();
+      } else if (want_gradient && gradient_norm <= options.gradient_tolerance) {
+        // NLopt has no gradient test; ours matches the other backends.
+        forced = ForcedStop::kGradient;
+        opt->force_stop();
+      }
+    }
+    return cost;
+  }
+
+  static double call(unsigned n, const double* x, double* grad, void* self) {
+    return (*static_cast<Objective*>(self))(n, x, grad);
+  }
+};
+
+class NloptSolver final : public Solver {
+ public:
+  explicit NloptSolver(int algorithm)
+      : algorithm_(static_cast<nlopt::algorithm>(algorithm)),
+        algorithm_name_(nlopt_algorithm_to_string(static_cast<nlopt_algorithm>(algorithm))) {}
+
+  std::string name() const override { return "nlopt:" + algorithm_name_; }
+
+  void check_options(const SolverOptions& options) const override {
+    Solver::check_options(options);
+    solver_option::require_known_keys(
+        name(), options, {"initial_step", "local_algorithm", "box_half_width", "seed", "scaling"});
+    if (solver_option::get_double(name(), options, "initial_step", 1) <= 0)
+      throw InvalidSolverOptions(name() + ": initial_step must be > 0");
+    if (solver_option::get_double(name(), options, "box_half_width", kDefaultBoxHalfWidth) <= 0)
+      throw InvalidSolverOptions(name() + ": box_half_width must be > 0");
+    scaling(options);
+    if (solver_option::get_int(name(), options, "seed", 1) < 0)
+      throw InvalidSolverOptions(name() + ": seed must be >= 0");
+    const auto it = options.backend_options.find("local_algorithm");
+    if (it != options.backend_options.end()) {
+      if (!takes_local_optimizer(algorithm_name_))
+        throw InvalidSolverOptions(name() +
+                                   ": local_algorithm applies only to the AUGLAG and MLSL "
+                                   "algorithms, which run a subsidiary optimiser");
+      const std::string& local = it->second;
+      if (find_algorithm(local) < 0 || local[0] != 'L')
+        throw InvalidSolverOptions(name() + ": local_algorithm='" + local +
+                                   "' is not a local NLopt algorithm (LD_* or LN_*)");
+    }
+  }
+
+  Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
+                const SolverOptions& options) const override {
+    check_options(options);
+    const int n = problem.num_parameters();
+    check_sizes(options, x, n);
+    const std::string local_name = local_algorithm(options);
+    const bool derivatives =
+        uses_derivatives(algorithm_name_) || (!local_name.empty() && uses_derivatives(local_name));
+
+    Summary summary;
+    summary.solver = name();
+    detail::SolveMonitor monitor(options, summary);
+    // NLopt rejects a start outside the box: project it, as Ipopt does.
+    if (options.lower_bounds) x = x.cwiseMax(*options.lower_bounds).cwiseMin(*options.upper_bounds);
+
+    Objective objective(problem, options, summary, monitor);
+    if (!objective.evaluate(x, derivatives)) {
+      summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+      monitor.finish(TerminationType::kFailed,
+                     "residuals not computable at the start: " + objective.last_failure);
+      return summary;
+    }
+    objective.best_x = x;
+    objective.scale = VectorXd::Ones(n);
+    if (scaling(options) == "jacobian" && derivatives)
+      for (int j = 0; j < n; ++j) {
+        const double norm = objective.J.col(j).norm();
+        if (norm > 0 && std::isfinite(norm)) objective.scale[j] = norm;
+      }
+    objective.best_cost = summary.initial_cost = summary.final_cost =
+        0.5 * objective.r.squaredNorm();
+    objective.start_cached = true;
+    objective.start_has_jacobian = derivatives;
+    const double gradient_norm = derivatives ? objective.gradient.lpNorm<Eigen::Infinity>() : 0.0;
+    if (!monitor.record({0, objective.best_cost, gradient_norm, 0, 0, 0}, x)) {
+      monitor.finish(TerminationType::kUserStopped, "stopped by the callback");
+      return summary;
+    }
+    if (derivatives && gradient_norm <= options.gradient_tolerance) {
+      monitor.finish(TerminationType::kConverged, "gradient max-norm below tolerance");
+      return summary;
+    }
+    // NLopt reads maxeval = 0 as "no limit".
+    if (options.max_iterations == 0) {
+      monitor.finish(TerminationType::kMaxIterations,
+                     "reached max_iterations (0 objective evaluations allowed)");
+      return summary;
+    }
+
+    nlopt::result result = nlopt::FAILURE;
+    std::string nlopt_error;
+    try {
+      nlopt::opt opt(algorithm_, static_cast<unsigned>(n));
+      objective.opt = &opt;
+      configure(opt, options, x, objective.scale, local_name);
+      opt.set_min_objective(&Objective::call, &objective);
+      // Stochastic algorithms draw from NLopt's (thread-local) generator: seed it so that a
+      // run is reproducible.
+      nlopt::srand(static_cast<unsigned long>(solver_option::get_int(name(), options, "seed", 1)));
+      objective.start_z = x.cwiseProduct(objective.scale);
+      std::vector<double> xv(objective.start_z.data(), objective.start_z.data() + n);
+      double f = 0;
+      try {
+        result = opt.optimize(xv, f);
+      } catch (const std::exception& e) {
+        // The C++ API throws for every negative result, after recording it.
+        result = opt.last_optimize_result();
+        nlopt_error = e.what();
+      }
+    } catch (const std::exception& e) {  // a setter refused (bad bounds, local optimiser, ...)
+      result = nlopt::INVALID_ARGS;
+      nlopt_error = e.what();
+    }
+
+    x = objective.best_x;
+    summary.final_cost = objective.best_cost;
+    summary.iterations = objective.evaluations;
+    summary.backend_code = static_cast<int>(result);
+    const auto [type, message] = termination(result, objective, nlopt_error);
+    monitor.finish(type, message);
+    return summary;
+  }
+
+ private:
+  std::string local_algorithm(const SolverOptions& options) const {
+    if (!takes_local_optimizer(algorithm_name_)) return "";
+    const auto it = options.backend_options.find("local_algorithm");
+    if (it != options.backend_options.end()) return it->second;
+    return requires_local_optimizer(algorithm_name_) ? kDefaultLocalAlgorithm : "";
+  }
+
+  void check_sizes(const SolverOptions& options, const VectorXd& x, int n) const {
+    if (x.size() != n)
+      throw InvalidSolverOptions(name() + ": x has " + std::to_string(x.size()) +
+                                 " entries, the problem " + std::to_string(n) + " parameters");
+    if (!options.lower_bounds) return;
+    if (options.lower_bounds->size() != n || options.upper_bounds->size() != n)
+      throw InvalidSolverOptions(name() + ": bounds must have " + std::to_string(n) + " entries");
+    if ((options.lower_bounds->array() > options.upper_bounds->array()).any())
+      throw InvalidSolverOptions(name() + ": a lower bound exceeds its upper bound");
+  }
+
+  std::string scaling(const SolverOptions& options) const {
+    return solver_option::get_choice(name(), options, "scaling", {"jacobian", "none"}, "none");
+  }
+
+  // Everything NLopt sees is in z = scale .* x.
+  void configure(nlopt::opt& opt, const SolverOptions& options, const VectorXd& x0,
+                 const VectorXd& scale, const std::string& local_name) const {
+    const int n = static_cast<int>(x0.size());
+    auto to_std = [&](const VectorXd& v) {
+      const VectorXd z = v.cwiseProduct(scale);
+      return std::vector<double>(z.data(), z.data() + z.size());
+    };
+    if (options.lower_bounds) {
+      opt.set_lower_bounds(to_std(*options.lower_bounds));
+      opt.set_upper_bounds(to_std(*options.upper_bounds));
+    } else if (is_global(algorithm_name_)) {
+      // Global algorithms search a finite box; without bounds from the caller, use x0 +- w.
+      const double w =
+          solver_option::get_double(name(), options, "box_half_width", kDefaultBoxHalfWidth);
+      opt.set_lower_bounds(to_std((x0.array() - w).matrix()));
+      opt.set_upper_bounds(to_std((x0.array() + w).matrix()));
+    }
+    opt.set_ftol_rel(options.function_tolerance);
+    opt.set_xtol_rel(options.parameter_tolerance);
+    opt.set_maxeval(options.max_iterations);
+    if (options.backend_options.count("initial_step"))
+      opt.set_initial_step(to_std(
+          VectorXd::Constant(n, solver_option::get_double(name(), options, "initial_step", 1))));
+    if (!local_name.empty()) {
+      nlopt::opt local(static_cast<nlopt::algorithm>(find_algorithm(local_name)),
+                       static_cast<unsigned>(n));
+      local.set_ftol_rel(options.function_tolerance);
+      local.set_xtol_rel(options.parameter_tolerance);
+      opt.set_local_optimizer(local);
+    }
+  }
+
+  std::pair<TerminationType, std::string> termination(nlopt::result result,
+                                                      const Objective& objective,
+                                                      const std::string& nlopt_error) const {
+    using T = TerminationType;
+    const std::string failures =
+        objective.failures == 0
+            ? ""
+            : "; the residuals failed at " + std::to_string(objective.failures) +
+                  " of the points NLopt tried (last: " + objective.last_failure + ")";
+    switch (result) {
+      case nlopt::SUCCESS:
+        return {T::kConverged, "NLopt reported success" + failures};
+      case nlopt::STOPVAL_REACHED:
+        return {T::kConverged, "cost reached stopval" + failures};
+      case nlopt::FTOL_REACHED:
+        return {T::kConverged, "relative cost change below tolerance (NLopt ftol_rel)" + failures};
+      case nlopt::XTOL_REACHED:
+        return {T::kConverged, "relative step below tolerance (NLopt xtol_rel)" + failures};
+      case nlopt::MAXEVAL_REACHED:
+        return {T::kMaxIterations, "reached max_iterations (" +
+                                       std::to_string(objective.evaluations) +
+                                       " objective evaluations, NLopt maxeval)" + failures};
+      case nlopt::MAXTIME_REACHED:
+        return {T::kMaxIterations, "reached NLopt maxtime" + failures};
+      case nlopt::ROUNDOFF_LIMITED:
+        // NLopt: "the optimization still typically returns a useful result". When points
+        // outside the valid region were involved, the line search more likely choked on them.
+        if (objective.failures > 0)
+          return {T::kDiverged,
+                  "NLopt stopped, roundoff-limited, after leaving the valid region" + failures};
+        return {T::kConverged,
+                "NLopt stopped: roundoff errors limited progress (the point is "
+                "usually still a good one)"};
+      case nlopt::FORCED_STOP:
+        if (objective.forced == ForcedStop::kCallback)
+          return {T::kUserStopped, "stopped by the callback"};
+        if (objective.forced == ForcedStop::kGradient)
+          return {T::kConverged, "gradient max-norm below tolerance"};
+        return {T::kFailed, "NLopt forced stop: " + nlopt_error};
+      case nlopt::FAILURE:
+        if (objective.failures > 0)
+          return {T::kDiverged, "NLopt failed after leaving the valid region" + failures};
+        return {T::kFailed, "NLopt failure: " + nlopt_error};
+      case nlopt::INVALID_ARGS:
+        return {T::kFailed, "NLopt rejected the arguments: " + nlopt_error};
+      case nlopt::OUT_OF_MEMORY:
+        return {T::kFailed, "NLopt ran out of memory"};
+      default:
+        return {T::kFailed, "unexpected NLopt result " + std::to_string(result)};
+    }
+  }
+
+  nlopt::algorithm algorithm_;
+  std::string algorithm_name_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_nlopt_solver(const std::string& algorithm) {
+  const int a = find_algorithm(algorithm);
+  if (a < 0) {
+    std::string list;
+    for (const auto& name : all_algorithm_names()) list += (list.empty() ? "" : ", ") + name;
+    throw InvalidSolverOptions("nlopt: unknown algorithm '" + algorithm + "' (valid: " + list +
+                               ")");
+  }
+  return std::make_unique<NloptSolver>(a);
+}
+
+std::vector<std::string> nlopt_featured_algorithms() {
+  return {"LD_LBFGS", "LD_SLSQP",  "LD_TNEWTON_PRECOND_RESTART",
+          "LD_MMA",   "LN_BOBYQA", "LN_NELDERMEAD",
+          "LN_SBPLX", "LN_COBYLA"};
+}
+
+}  // namespace kincal
