@@ -44,7 +44,7 @@ constexpr double kDefaultBoxHalfWidth = 10;
 constexpr double kPenaltyFactor = 10;
 
 // Why we forced NLopt to stop from inside the objective.
-enum class ForcedStop { kNone, kCallback, kGradient };
+enum class ForcedStop { kNone, kCallback, kGradient, kBudget, kNonFinite };
 
 // Objective state: evaluation counts, the best point so far, the trace.
 struct Objective {
@@ -94,6 +94,14 @@ struct Objective {
   }
 
   double operator()(unsigned n, const double* x_in, double* grad) {
+    if (evaluations >= options.max_iterations) {
+      // Some algorithms (Luksan's L-BFGS and truncated Newton) test maxeval only once per
+      // iteration and overshoot it; hold them to the budget without evaluating.
+      forced = ForcedStop::kBudget;
+      opt->force_stop();
+      if (grad != nullptr) std::fill(grad, grad + n, 0.0);
+      return std::max(kPenaltyFactor * worst_cost, 1.0);
+    }
     ++evaluations;
     x = Eigen::Map<const VectorXd>(x_in, n).cwiseQuotient(scale);
     const bool want_gradient = grad != nullptr;
@@ -104,8 +112,16 @@ struct Objective {
       start_cached = false;  // r, J and gradient still hold the start's values
     } else {
       start_cached = false;
-      ok = x.allFinite() && evaluate(x, want_gradient);
-      if (!x.allFinite()) last_failure = "NLopt proposed a non-finite point";
+      if (!x.allFinite()) {
+        // The algorithm's own state broke down (seen with LD_MMA after thousands of
+        // evaluations); every later point would be NaN too.
+        last_failure = "NLopt proposed a non-finite point";
+        forced = ForcedStop::kNonFinite;
+        opt->force_stop();
+        ok = false;
+      } else {
+        ok = evaluate(x, want_gradient);
+      }
     }
     if (!ok) {
       // Tell NLopt the point is much worse than any seen, and let it step back. The value is
@@ -321,6 +337,25 @@ class NloptSolver final : public Solver {
             ? ""
             : "; the residuals failed at " + std::to_string(objective.failures) +
                   " of the points NLopt tried (last: " + objective.last_failure + ")";
+    // Our own stops first: some algorithms (Luksan's) answer force_stop with FAILURE.
+    switch (objective.forced) {
+      case ForcedStop::kCallback:
+        return {T::kUserStopped, "stopped by the callback"};
+      case ForcedStop::kGradient:
+        return {T::kConverged, "gradient max-norm below tolerance"};
+      case ForcedStop::kBudget:
+        return {T::kMaxIterations, "reached max_iterations (" +
+                                       std::to_string(objective.evaluations) +
+                                       " objective evaluations; stopped by us, as NLopt "
+                                       "was going past maxeval)" +
+                                       failures};
+      case ForcedStop::kNonFinite:
+        return {T::kFailed, "NLopt proposed a non-finite point after " +
+                                std::to_string(objective.evaluations) +
+                                " evaluations; returning the best point seen"};
+      case ForcedStop::kNone:
+        break;
+    }
     switch (result) {
       case nlopt::SUCCESS:
         return {T::kConverged, "NLopt reported success" + failures};
@@ -346,10 +381,6 @@ class NloptSolver final : public Solver {
                 "NLopt stopped: roundoff errors limited progress (the point is "
                 "usually still a good one)"};
       case nlopt::FORCED_STOP:
-        if (objective.forced == ForcedStop::kCallback)
-          return {T::kUserStopped, "stopped by the callback"};
-        if (objective.forced == ForcedStop::kGradient)
-          return {T::kConverged, "gradient max-norm below tolerance"};
         return {T::kFailed, "NLopt forced stop: " + nlopt_error};
       case nlopt::FAILURE:
         if (objective.failures > 0)
