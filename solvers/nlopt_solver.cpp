@@ -62,8 +62,9 @@ struct Objective {
   MatrixXd J;
   // NLopt works on z = scale .* x (see the "scaling" option); the rest of us on x.
   VectorXd scale;
-  int evaluations = 0;  // calls from NLopt, which is what maxeval counts
-  int failures = 0;     // calls where the residuals could not be computed
+  int evaluations = 0;       // calls from NLopt, which is what maxeval counts
+  int failures = 0;          // calls where the residuals could not be computed
+  bool last_failed = false;  // the most recent call was one of them
   std::string last_failure;
   ForcedStop forced = ForcedStop::kNone;
 
@@ -123,6 +124,7 @@ struct Objective {
         ok = evaluate(x, want_gradient);
       }
     }
+    last_failed = !ok;
     if (!ok) {
       // Tell NLopt the point is much worse than any seen, and let it step back. The value is
       // finite on purpose: with +HUGE_VAL, NLopt 2.7's COBYLA loops forever, BOBYQA stops
@@ -374,7 +376,7 @@ class NloptSolver final : public Solver {
       case nlopt::ROUNDOFF_LIMITED:
         // NLopt: "the optimization still typically returns a useful result". When points
         // outside the valid region were involved, the line search more likely choked on them.
-        if (objective.failures > 0)
+        if (objective.last_failed)
           return {T::kDiverged,
                   "NLopt stopped, roundoff-limited, after leaving the valid region" + failures};
         return {T::kConverged,
@@ -383,9 +385,12 @@ class NloptSolver final : public Solver {
       case nlopt::FORCED_STOP:
         return {T::kFailed, "NLopt forced stop: " + nlopt_error};
       case nlopt::FAILURE:
-        if (objective.failures > 0)
+        if (objective.last_failed)
           return {T::kDiverged, "NLopt failed after leaving the valid region" + failures};
-        return {T::kFailed, "NLopt failure: " + nlopt_error};
+        // Luksan's methods (LD_LBFGS, LD_TNEWTON*, LD_VAR*) also say this when the line
+        // search stalls, often at the minimum: the cost tells.
+        return {T::kFailed, "NLopt failure (" + nlopt_error +
+                                "; from L-BFGS/TNEWTON usually a stalled line search)" + failures};
       case nlopt::INVALID_ARGS:
         return {T::kFailed, "NLopt rejected the arguments: " + nlopt_error};
       case nlopt::OUT_OF_MEMORY:
