@@ -1,0 +1,249 @@
+#include "solvers/ceres_solver.hpp"
+
+#include <ceres/ceres.h>
+#include <glog/logging.h>
+
+#include <mutex>
+
+#include "framework/robust_loss.hpp"
+#include "solvers/solver_common.hpp"
+
+namespace kincal {
+namespace {
+
+// Ceres logs through glog. Uninitialised glog writes to stderr only (never to files); raising
+// the threshold keeps Ceres' warnings off the terminal unless the user asks for detail.
+void quiet_glog(int verbosity) {
+  static std::once_flag once;
+  std::call_once(once, [] { FLAGS_logtostderr = true; });
+  FLAGS_minloglevel = verbosity > 1 ? google::GLOG_INFO : google::GLOG_FATAL;
+}
+
+// The first reason a block could not be evaluated, shared by all cost functions of a solve
+// (Ceres may call them from several threads).
+struct FailureLog {
+  std::mutex mutex;
+  std::string first;
+  int count = 0;
+  void add(const std::string& why) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (count++ == 0) first = why;
+  }
+};
+
+// One residual block of our problem as a Ceres cost function over the single parameter block
+// x. Our Jacobian rows are column-major; Ceres wants row-major, hence the scratch copy.
+class BlockCost final : public ceres::CostFunction {
+ public:
+  BlockCost(const LeastSquaresProblem& problem, int block, FailureLog& failures)
+      : problem_(problem), block_(block), failures_(failures) {
+    set_num_residuals(problem.residuals_per_block());
+    mutable_parameter_block_sizes()->push_back(problem.num_parameters());
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    struct Scratch {
+      VectorXd x;
+      MatrixXd J;
+    };
+    thread_local Scratch scratch;
+    const int n = problem_.num_parameters(), k = problem_.residuals_per_block();
+    scratch.x = Eigen::Map<const VectorXd>(parameters[0], n);
+    Eigen::Map<VectorXd> r(residuals, k);
+    std::string why;
+    bool ok;
+    if (jacobians && jacobians[0]) {
+      scratch.J.resize(k, n);
+      Eigen::Ref<MatrixXd> J(scratch.J);
+      ok = problem_.evaluate_block(block_, scratch.x, r, &J, &why);
+      if (ok)
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            jacobians[0], k, n) = scratch.J;
+    } else {
+      ok = problem_.evaluate_block(block_, scratch.x, r, nullptr, &why);
+    }
+    if (!ok) failures_.add(why);
+    return ok;
+  }
+
+ private:
+  const LeastSquaresProblem& problem_;
+  int block_;
+  FailureLog& failures_;
+};
+
+// Records accepted iterates in our trace and forwards them to the user's callback.
+class TraceCallback final : public ceres::IterationCallback {
+ public:
+  TraceCallback(detail::SolveMonitor& monitor, const double* x, int n)
+      : monitor_(monitor), x_(x), n_(n) {}
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (s.iteration > 0 && !s.step_is_successful) return ceres::SOLVER_CONTINUE;
+    IterationRecord record;
+    record.iteration = s.iteration;
+    record.cost = s.cost;
+    record.gradient_norm = s.gradient_max_norm;
+    record.step_norm = s.step_norm;
+    record.damping = s.trust_region_radius;
+    // update_state_every_iteration makes x the current iterate here.
+    current_ = Eigen::Map<const VectorXd>(x_, n_);
+    if (monitor_.record(record, current_)) return ceres::SOLVER_CONTINUE;
+    stopped_ = true;
+    return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+  }
+  bool stopped() const { return stopped_; }
+
+ private:
+  detail::SolveMonitor& monitor_;
+  const double* x_;
+  int n_;
+  VectorXd current_;
+  bool stopped_ = false;
+};
+
+const std::vector<std::string> kTrustRegions = {"levenberg_marquardt", "dogleg"};
+const std::vector<std::string> kDoglegTypes = {"traditional", "subspace"};
+const std::vector<std::string> kLinearSolvers = {"dense_qr",    "dense_normal_cholesky",
+                                                 "dense_schur", "sparse_normal_cholesky",
+                                                 "cgnr",        "iterative_schur"};
+
+class CeresSolver final : public Solver {
+ public:
+  std::string name() const override { return "ceres"; }
+
+  void check_options(const SolverOptions& options) const override {
+    Solver::check_options(options);
+    solver_option::require_known_keys(
+        name(), options,
+        {"trust_region", "dogleg_type", "linear_solver", "loss", "initial_trust_region_radius"});
+    std::string error;
+    if (!ceres_options(options, 1).IsValid(&error)) throw InvalidSolverOptions("ceres: " + error);
+    const auto it = options.backend_options.find("loss");
+    if (it != options.backend_options.end()) {
+      try {
+        RobustLoss::parse(it->second);
+      } catch (const std::invalid_argument& e) {
+        throw InvalidSolverOptions(std::string("ceres: ") + e.what());
+      }
+    }
+  }
+
+  Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
+                const SolverOptions& options) const override {
+    check_options(options);
+    quiet_glog(options.verbosity);
+    Summary summary;
+    summary.solver = name();
+    detail::SolveMonitor monitor(options, summary);
+
+    // Residuals that cannot be computed at the start are our failure, reported with our
+    // reason, before Ceres sees the problem.
+    std::string why;
+    ++summary.residual_evaluations;
+    const double start_cost = problem.cost(x, &why);
+    if (!std::isfinite(start_cost)) {
+      summary.initial_cost = summary.final_cost = start_cost;
+      monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " + why);
+      return summary;
+    }
+
+    const RobustLoss loss = RobustLoss::parse(backend_value(options, "loss", "none"));
+    ceres::Problem::Options problem_options;
+    // One loss object serves every block; the problem must not delete it per block.
+    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem ceres_problem(problem_options);
+    std::unique_ptr<ceres::LossFunction> loss_function;
+    if (loss.kind == RobustLoss::Kind::kHuber)
+      loss_function = std::make_unique<ceres::HuberLoss>(loss.delta);
+    else if (loss.kind == RobustLoss::Kind::kCauchy)
+      loss_function = std::make_unique<ceres::CauchyLoss>(loss.delta);
+
+    FailureLog failures;
+    const int n = problem.num_parameters();
+    for (int b = 0; b < problem.num_residual_blocks(); ++b)
+      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures), loss_function.get(),
+                                     x.data());
+    if (options.lower_bounds && options.upper_bounds) {
+      for (int i = 0; i < n; ++i) {
+        x[i] = std::clamp(x[i], (*options.lower_bounds)[i], (*options.upper_bounds)[i]);
+        ceres_problem.SetParameterLowerBound(x.data(), i, (*options.lower_bounds)[i]);
+        ceres_problem.SetParameterUpperBound(x.data(), i, (*options.upper_bounds)[i]);
+      }
+    }
+
+    ceres::Solver::Options ceres_opts = ceres_options(options, options.num_threads);
+    TraceCallback trace(monitor, x.data(), n);
+    ceres_opts.callbacks.push_back(&trace);
+    ceres_opts.update_state_every_iteration = true;
+    ceres::Solver::Summary ceres_summary;
+    ceres::Solve(ceres_opts, &ceres_problem, &ceres_summary);
+
+    summary.backend_code = static_cast<int>(ceres_summary.termination_type);
+    summary.initial_cost = ceres_summary.initial_cost;
+    summary.final_cost = ceres_summary.final_cost;
+    // Like lm: every trial step counts as an iteration, accepted or not.
+    summary.iterations = std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
+    summary.residual_evaluations += std::max(0, ceres_summary.num_residual_evaluations);
+    summary.jacobian_evaluations = std::max(0, ceres_summary.num_jacobian_evaluations);
+    std::string message = ceres_summary.message;
+    if (failures.count > 0)
+      message += " (residuals failed at " + std::to_string(failures.count) +
+                 " block evaluations; first: " + failures.first + ")";
+    monitor.finish(termination(ceres_summary, trace.stopped()), message);
+    return summary;
+  }
+
+ private:
+  static std::string backend_value(const SolverOptions& options, const std::string& key,
+                                   const std::string& fallback) {
+    const auto it = options.backend_options.find(key);
+    return it == options.backend_options.end() ? fallback : it->second;
+  }
+
+  ceres::Solver::Options ceres_options(const SolverOptions& options, int threads) const {
+    ceres::Solver::Options o;
+    o.max_num_iterations = options.max_iterations;
+    o.function_tolerance = options.function_tolerance;
+    o.parameter_tolerance = options.parameter_tolerance;
+    o.gradient_tolerance = options.gradient_tolerance;
+    o.num_threads = std::max(1, threads);
+    o.logging_type = ceres::SILENT;
+    o.minimizer_progress_to_stdout = false;
+    const std::string region = solver_option::get_choice(name(), options, "trust_region",
+                                                         kTrustRegions, "levenberg_marquardt");
+    o.trust_region_strategy_type = region == "dogleg" ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+    o.dogleg_type = solver_option::get_choice(name(), options, "dogleg_type", kDoglegTypes,
+                                              "traditional") == "subspace"
+                        ? ceres::SUBSPACE_DOGLEG
+                        : ceres::TRADITIONAL_DOGLEG;
+    const std::string linear =
+        solver_option::get_choice(name(), options, "linear_solver", kLinearSolvers, "dense_qr");
+    ceres::StringToLinearSolverType(linear, &o.linear_solver_type);
+    o.initial_trust_region_radius = solver_option::get_double(
+        name(), options, "initial_trust_region_radius", o.initial_trust_region_radius);
+    return o;
+  }
+
+  static TerminationType termination(const ceres::Solver::Summary& s, bool user_stopped) {
+    switch (s.termination_type) {
+      case ceres::CONVERGENCE:
+        return TerminationType::kConverged;
+      case ceres::NO_CONVERGENCE:
+        return TerminationType::kMaxIterations;
+      case ceres::USER_SUCCESS:
+        return user_stopped ? TerminationType::kUserStopped : TerminationType::kConverged;
+      case ceres::USER_FAILURE:
+      case ceres::FAILURE:
+        return TerminationType::kFailed;
+    }
+    return TerminationType::kFailed;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_ceres_solver() { return std::make_unique<CeresSolver>(); }
+
+}  // namespace kincal
