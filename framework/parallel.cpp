@@ -1,5 +1,6 @@
 #include "framework/parallel.hpp"
 
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -26,6 +27,9 @@ void parallel_for(int count, int threads, const std::function<void(int)>& body,
   const auto start = std::chrono::steady_clock::now();
   std::mutex progress_mutex;
   double last_report = 0;
+  // On a terminal one line is rewritten in place; in a log, a full line every few seconds.
+  const bool terminal = isatty(STDERR_FILENO);
+  const double report_interval = terminal ? 1.0 : 5.0;
 
   auto worker = [&] {
     for (;;) {
@@ -47,10 +51,10 @@ void parallel_for(int count, int threads, const std::function<void(int)>& body,
         const double t =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::lock_guard<std::mutex> lock(progress_mutex);
-        if (t > 2.0 && (t - last_report > 1.0 || finished == count)) {
+        if (t > 2.0 && (t - last_report > report_interval || finished == count)) {
           last_report = t;
-          std::fprintf(stderr, "\r%s: %d/%d (%.0f s)%s", progress_label, finished, count, t,
-                       finished == count ? "\n" : "");
+          std::fprintf(stderr, "%s%s: %d/%d (%.0f s)%s", terminal ? "\r" : "", progress_label,
+                       finished, count, t, terminal && finished != count ? "" : "\n");
           std::fflush(stderr);
         }
       }
