@@ -1,0 +1,152 @@
+// kincal-micro-benchmarks (Google Benchmark): the per-configuration kernels, one full
+// calibration of Table 2 case 5 per backend, and lm's scaling with the number of
+// configurations. Targets and results: docs/benchmarks.md.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "framework/parallel.hpp"
+#include "framework/simulation.hpp"
+#include "framework/solver_registry.hpp"
+#include "models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+// Scenarios are expensive to draw for large m: drawn once per size and kept.
+const Scenario& scenario_with(int num_configurations) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<Scenario>> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = cache[num_configurations];
+  if (!slot) {
+    ScenarioOptions o;
+    o.num_configurations = num_configurations;
+    o.noise_half_width = paper_case(5).noise_half_width;
+    o.num_validation = 0;
+    o.seed = 1;
+    slot = std::make_unique<Scenario>(make_scenario(make_cube_hexapod(), o));
+  }
+  return *slot;
+}
+
+const Scenario& case5() { return scenario_with(paper_case(5).num_configurations); }
+
+void BM_ForwardKinematics(benchmark::State& state) {
+  const Scenario& s = case5();
+  const Mechanism& mechanism = s.model->mechanism();
+  const VectorXd truth = s.truth.head(mechanism.num_parameters());
+  const auto& fk_options = s.model->forward_kinematics_options();
+  int j = 0;
+  for (auto _ : state) {
+    const ForwardKinematicsResult fk = mechanism.forward_kinematics(
+        truth, s.calibration.actuators.row(j).transpose(), mechanism.home_pose(), fk_options);
+    benchmark::DoNotOptimize(fk.pose.translation.data());
+    j = (j + 1) % s.calibration.size();
+  }
+}
+BENCHMARK(BM_ForwardKinematics);
+
+void BM_PredictWithJacobian(benchmark::State& state) {
+  const Scenario& s = case5();
+  const MeasurementModel& model = *s.model;
+  auto ws = model.make_workspace();
+  VectorXd readings(model.num_readings());
+  MatrixXd J(model.num_readings(), model.num_parameters());
+  Eigen::Ref<MatrixXd> J_ref(J);
+  int j = 0;
+  for (auto _ : state) {
+    const auto fk =
+        model.predict(s.nominal, s.calibration.actuators.row(j).transpose(), readings, &J_ref, ws);
+    benchmark::DoNotOptimize(fk.iterations);
+    benchmark::DoNotOptimize(J.data());
+    j = (j + 1) % s.calibration.size();
+  }
+}
+BENCHMARK(BM_PredictWithJacobian);
+
+void BM_ResidualsAndJacobian(benchmark::State& state) {
+  const Scenario& s = scenario_with(static_cast<int>(state.range(0)));
+  const auto problem = s.make_problem();
+  const VectorXd x = problem->initial_free_parameters();
+  VectorXd r;
+  MatrixXd J;
+  for (auto _ : state) {
+    if (!problem->evaluate(x, &r, &J)) state.SkipWithError("evaluation failed");
+    benchmark::DoNotOptimize(J.data());
+  }
+}
+BENCHMARK(BM_ResidualsAndJacobian)->Arg(60)->Unit(benchmark::kMicrosecond);
+
+SolverOptions calibration_options(const std::string& solver, int threads) {
+  SolverOptions o;
+  o.num_threads = threads;
+  // NLopt counts objective evaluations against max_iterations.
+  if (solver.rfind("nlopt:", 0) == 0) o.max_iterations = 2000;
+  return o;
+}
+
+// A full calibration from nominal. Counters let the reader check that the backends reach the
+// same solution: final cost, parameter RMS error against the truth, iterations.
+void calibrate(benchmark::State& state, const std::string& name, int num_configurations,
+               int threads) {
+  const Scenario& s = scenario_with(num_configurations);
+  const auto problem = s.make_problem();
+  const auto solver = SolverRegistry::global().create(name);
+  const SolverOptions options = calibration_options(name, threads);
+  Summary summary;
+  VectorXd x;
+  for (auto _ : state) {
+    x = problem->initial_free_parameters();
+    summary = solver->solve(*problem, x, options);
+    benchmark::DoNotOptimize(x.data());
+  }
+  const VectorXd error = x - problem->free_parameters(s.truth);
+  state.counters["iterations"] = summary.iterations;
+  state.counters["final_cost"] = summary.final_cost;
+  state.counters["param_rms_mm"] = std::sqrt(error.squaredNorm() / error.size());
+  state.counters["converged"] = summary.converged() ? 1 : 0;
+}
+
+bool is_derivative_free(const std::string& name) { return name.rfind("nlopt:LN_", 0) == 0; }
+
+void register_dynamic_benchmarks() {
+  const SolverRegistry& registry = SolverRegistry::global();
+  // Derivative-free NLopt needs thousands of evaluations: not a speed comparison.
+  for (const std::string& name : registry.featured_names()) {
+    if (is_derivative_free(name)) continue;
+    benchmark::RegisterBenchmark(("BM_CalibrateCase5/" + name).c_str(), [name](
+                                                                            benchmark::State& st) {
+      calibrate(st, name, 60, 1);
+    })->Unit(benchmark::kMillisecond);
+  }
+  const std::string scaling_solver = registry.contains("lm") ? "lm" : "gn";
+  for (int threads : {1, hardware_threads()}) {
+    for (int m : {60, 600, 6000, 60000}) {
+      benchmark::RegisterBenchmark(
+          ("BM_Scaling/" + scaling_solver + "/m:" + std::to_string(m) +
+           "/threads:" + std::to_string(threads))
+              .c_str(),
+          [=](benchmark::State& st) { calibrate(st, scaling_solver, m, threads); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+    if (hardware_threads() == 1) break;
+  }
+}
+
+}  // namespace
+}  // namespace kincal
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  kincal::register_dynamic_benchmarks();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
