@@ -46,6 +46,75 @@ std::string ForwardKinematicsResult::describe() const {
   return buf;
 }
 
+namespace {
+
+// LU with partial pivoting of a 6 x 6 matrix, with loops of fixed trip count the compiler
+// unrolls. Eigen's PartialPivLU<Matrix6d> runs its generic blocked code and was the largest
+// single cost of forward kinematics (see docs/benchmarks.md). No allocation.
+class Lu6 {
+ public:
+  explicit Lu6(const Matrix6d& a) : a_(a), lu_(a) {
+    for (int i = 0; i < 6; ++i) perm_[i] = i;
+    for (int k = 0; k < 6; ++k) {
+      int p = k;
+      for (int i = k + 1; i < 6; ++i)
+        if (std::abs(lu_(i, k)) > std::abs(lu_(p, k))) p = i;
+      if (p != k) {
+        lu_.row(k).swap(lu_.row(p));
+        std::swap(perm_[k], perm_[p]);
+      }
+      const double pivot = lu_(k, k);
+      inverse_pivots_[k] = 1.0 / pivot;
+      if (pivot == 0.0) continue;  // singular: near_singular() says so
+      for (int i = k + 1; i < 6; ++i) {
+        const double f = lu_(i, k) /= pivot;
+        for (int j = k + 1; j < 6; ++j) lu_(i, j) -= f * lu_(k, j);
+      }
+    }
+  }
+
+  Vector6d solve(const Vector6d& b) const {
+    Vector6d y;
+    for (int i = 0; i < 6; ++i) {
+      double sum = b[perm_[i]];
+      for (int j = 0; j < i; ++j) sum -= lu_(i, j) * y[j];
+      y[i] = sum;
+    }
+    for (int i = 5; i >= 0; --i) {
+      double sum = y[i];
+      for (int j = i + 1; j < 6; ++j) sum -= lu_(i, j) * y[j];
+      y[i] = sum * inverse_pivots_[i];
+    }
+    return y;
+  }
+
+  Matrix6d inverse() const {
+    Matrix6d inv;
+    for (int c = 0; c < 6; ++c) inv.col(c) = solve(Vector6d::Unit(c));
+    return inv;
+  }
+
+  // A tiny reciprocal condition number means a singular configuration. Eigen's L1 rcond
+  // estimate costs several solves, a third of a forward kinematics solve when asked every
+  // iteration: it is only asked when the pivots already spread over four decades (cond(A) is
+  // at least max|u_ii| / min|u_ii|, and partial pivoting does not hide an rcond near 1e-12
+  // behind well-spread pivots in the 6 x 6 Jacobians of real mechanisms).
+  bool near_singular() const {
+    const Vector6d pivots = lu_.diagonal().cwiseAbs();
+    if (!(pivots.prod() > 1e-300)) return true;
+    if (pivots.minCoeff() > 1e-4 * pivots.maxCoeff()) return false;
+    return Eigen::PartialPivLU<Matrix6d>(a_).rcond() < 1e-12;
+  }
+
+ private:
+  Matrix6d a_;
+  Matrix6d lu_;
+  Vector6d inverse_pivots_;
+  int perm_[6];
+};
+
+}  // namespace
+
 bool ClosedChainMechanism::actuators_valid(const ParamsRef&, const ActuatorsRef& q) const {
   return q.allFinite();
 }
@@ -77,9 +146,8 @@ ForwardKinematicsResult ClosedChainMechanism::forward_kinematics(
       result.status = ForwardKinematicsStatus::kMaxIterations;
       return result;
     }
-    const Eigen::PartialPivLU<Matrix6d> lu(J_g_pose);
-    // rcond from the LU's pivots is cheap; a tiny value means a singular configuration.
-    if (!(std::abs(lu.determinant()) > 1e-300) || lu.rcond() < 1e-12) {
+    const Lu6 lu(J_g_pose);
+    if (lu.near_singular()) {
       result.status = ForwardKinematicsStatus::kSingular;
       return result;
     }
@@ -95,11 +163,12 @@ void ClosedChainMechanism::pose_jacobian_params(const ParamsRef& params, const A
   Matrix6d J_g_pose;
   constraints(params, q, pose, g, &J_g_pose);
   constraint_jacobian_params(params, q, pose, J_pose_params);
-  const Eigen::PartialPivLU<Matrix6d> lu(J_g_pose);
-  // Column by column with a fixed-size temporary: no heap allocation.
+  // One inverse and fixed-size products beat a solve per parameter column (42 of them for a
+  // hexapod). Column by column with a fixed-size temporary: no heap allocation.
+  const Matrix6d minus_inverse = -Lu6(J_g_pose).inverse();
   for (Eigen::Index c = 0; c < J_pose_params.cols(); ++c) {
     const Vector6d column = J_pose_params.col(c);
-    J_pose_params.col(c).noalias() = -lu.solve(column);
+    J_pose_params.col(c).noalias() = minus_inverse * column;
   }
 }
 
