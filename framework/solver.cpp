@@ -40,6 +40,22 @@ void Solver::check_options(const SolverOptions& options) const {
     throw InvalidSolverOptions(name() + ": give both lower and upper bounds, or neither");
 }
 
+void Solver::check_sizes(const LeastSquaresProblem& problem, const VectorXd& x,
+                         const SolverOptions& options) const {
+  const int n = problem.num_parameters();
+  if (x.size() != n)
+    throw InvalidSolverOptions(name() + ": x has " + std::to_string(x.size()) +
+                               " entries, the problem " + std::to_string(n) + " parameters");
+  if (!options.lower_bounds || !options.upper_bounds) return;
+  if (options.lower_bounds->size() != n || options.upper_bounds->size() != n)
+    throw InvalidSolverOptions(name() + ": bounds must have one entry per parameter (" +
+                               std::to_string(n) + ")");
+  for (int i = 0; i < n; ++i)
+    if (!((*options.lower_bounds)[i] <= (*options.upper_bounds)[i]))
+      throw InvalidSolverOptions(name() + ": lower bound above upper bound for parameter " +
+                                 std::to_string(i));
+}
+
 namespace solver_option {
 
 void require_known_keys(const std::string& solver, const SolverOptions& options,

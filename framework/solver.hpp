@@ -95,6 +95,12 @@ class Solver {
   /// point the backend reached). Throws only InvalidSolverOptions.
   virtual Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                         const SolverOptions& options) const = 0;
+
+ protected:
+  /// Throws InvalidSolverOptions unless x has one entry per parameter of `problem` and the
+  /// bounds, when given, have that size too with lower <= upper everywhere.
+  void check_sizes(const LeastSquaresProblem& problem, const VectorXd& x,
+                   const SolverOptions& options) const;
 };
 
 /// Helpers for backends: validated parsing of backend_options values.

@@ -133,6 +133,7 @@ class CeresSolver final : public Solver {
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override {
     check_options(options);
+    check_sizes(problem, x, options);
     quiet_glog(options.verbosity);
     Summary summary;
     summary.solver = name();

@@ -23,6 +23,7 @@ class GaussNewtonSolver final : public Solver {
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override {
     check_options(options);
+    check_sizes(problem, x, options);
     // Parameters "run away" when they move further than this from the start.
     const double runaway_factor = solver_option::get_double(name(), options, "runaway_factor", 1e3);
     Summary summary;

@@ -252,8 +252,7 @@ class IpoptSolver final : public Solver {
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override {
     check_options(options);
-    const int n = problem.num_parameters();
-    check_sizes(options, x, n);
+    check_sizes(problem, x, options);
     Summary summary;
     summary.solver = name();
     detail::SolveMonitor monitor(options, summary);
@@ -323,17 +322,6 @@ class IpoptSolver final : public Solver {
     return solver_option::get_choice(name(), options, "linear_solver",
                                      {"mumps", "ma27", "ma57", "ma77", "ma86", "ma97", "pardiso"},
                                      "mumps");
-  }
-
-  void check_sizes(const SolverOptions& options, const VectorXd& x, int n) const {
-    if (x.size() != n)
-      throw InvalidSolverOptions(name() + ": x has " + std::to_string(x.size()) +
-                                 " entries, the problem " + std::to_string(n) + " parameters");
-    if (!options.lower_bounds) return;
-    if (options.lower_bounds->size() != n || options.upper_bounds->size() != n)
-      throw InvalidSolverOptions(name() + ": bounds must have " + std::to_string(n) + " entries");
-    if ((options.lower_bounds->array() > options.upper_bounds->array()).any())
-      throw InvalidSolverOptions(name() + ": a lower bound exceeds its upper bound");
   }
 
   static std::pair<TerminationType, std::string> termination(Ipopt::ApplicationReturnStatus status,

@@ -191,20 +191,8 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   Solver::check_options(options);
   const LmSettings settings = parse_settings(options);
   const int m = problem.num_residuals(), n = problem.num_parameters();
-  if (x.size() != n)
-    throw InvalidSolverOptions("lm: x has " + std::to_string(x.size()) + " entries, the problem " +
-                               std::to_string(n) + " parameters");
+  check_sizes(problem, x, options);
   const bool bounded = options.lower_bounds.has_value();
-  if (bounded) {
-    const VectorXd &lo = *options.lower_bounds, &hi = *options.upper_bounds;
-    if (lo.size() != n || hi.size() != n)
-      throw InvalidSolverOptions("lm: bounds must have one entry per parameter (" +
-                                 std::to_string(n) + ")");
-    for (int i = 0; i < n; ++i)
-      if (!(lo[i] <= hi[i]))
-        throw InvalidSolverOptions("lm: lower bound above upper bound for parameter " +
-                                   std::to_string(i));
-  }
   auto project = [&](VectorXd& v) {
     if (bounded) v = v.cwiseMax(*options.lower_bounds).cwiseMin(*options.upper_bounds);
   };

@@ -195,7 +195,7 @@ class NloptSolver final : public Solver {
                 const SolverOptions& options) const override {
     check_options(options);
     const int n = problem.num_parameters();
-    check_sizes(options, x, n);
+    check_sizes(problem, x, options);
     const std::string local_name = local_algorithm(options);
     const bool derivatives =
         uses_derivatives(algorithm_name_) || (!local_name.empty() && uses_derivatives(local_name));
@@ -280,17 +280,6 @@ class NloptSolver final : public Solver {
     const auto it = options.backend_options.find("local_algorithm");
     if (it != options.backend_options.end()) return it->second;
     return requires_local_optimizer(algorithm_name_) ? kDefaultLocalAlgorithm : "";
-  }
-
-  void check_sizes(const SolverOptions& options, const VectorXd& x, int n) const {
-    if (x.size() != n)
-      throw InvalidSolverOptions(name() + ": x has " + std::to_string(x.size()) +
-                                 " entries, the problem " + std::to_string(n) + " parameters");
-    if (!options.lower_bounds) return;
-    if (options.lower_bounds->size() != n || options.upper_bounds->size() != n)
-      throw InvalidSolverOptions(name() + ": bounds must have " + std::to_string(n) + " entries");
-    if ((options.lower_bounds->array() > options.upper_bounds->array()).any())
-      throw InvalidSolverOptions(name() + ": a lower bound exceeds its upper bound");
   }
 
   std::string scaling(const SolverOptions& options) const {

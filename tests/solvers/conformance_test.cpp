@@ -192,6 +192,19 @@ TEST_P(Conformance, UnknownBackendOptionIsRejected) {
   EXPECT_THROW(solver()->solve(*problem, x, options), InvalidSolverOptions);
 }
 
+// (d) Bounds that do not fit the problem, or cross, are rejected before any work.
+TEST_P(Conformance, MisfittingBoundsAreRejected) {
+  const auto problem = scenario_for(family()).make_problem();
+  VectorXd x = problem->initial_free_parameters();
+  SolverOptions options;
+  options.lower_bounds = VectorXd::Constant(x.size() + 1, -1e3);
+  options.upper_bounds = VectorXd::Constant(x.size() + 1, 1e3);
+  EXPECT_THROW(solver()->solve(*problem, x, options), InvalidSolverOptions);
+  options.lower_bounds = x.array() + 1.0;  // lower above upper
+  options.upper_bounds = x.array() - 1.0;
+  EXPECT_THROW(solver()->solve(*problem, x, options), InvalidSolverOptions);
+}
+
 // (e) The trace matches the callback, starts at iteration 0, and kStop stops.
 TEST_P(Conformance, CallbackAndTraceAgree) {
   const Scenario& scenario = scenario_for(family());

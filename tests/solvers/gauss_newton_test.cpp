@@ -5,18 +5,12 @@
 #include "framework/simulation.hpp"
 #include "framework/solver_registry.hpp"
 #include "models/presets.hpp"
+#include "solver_fixtures.hpp"
 
 namespace kincal {
 namespace {
 
-Scenario paper_scenario(int case_id, std::uint64_t seed) {
-  ScenarioOptions options;
-  options.num_configurations = paper_case(case_id).num_configurations;
-  options.noise_half_width = paper_case(case_id).noise_half_width;
-  options.num_validation = 20;
-  options.seed = seed;
-  return make_scenario(make_cube_hexapod(), options);
-}
+using kincal::testing::paper_scenario;
 
 class NoiseFreeCalibration : public ::testing::TestWithParam<std::uint64_t> {};
 

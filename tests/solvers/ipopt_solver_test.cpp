@@ -8,51 +8,21 @@
 #include "framework/simulation.hpp"
 #include "framework/solver_registry.hpp"
 #include "models/presets.hpp"
+#include "solver_fixtures.hpp"
 
 namespace kincal {
 namespace {
 
-Scenario case_one(std::uint64_t seed) {
-  ScenarioOptions options;
-  options.num_configurations = paper_case(1).num_configurations;
-  options.noise_half_width = paper_case(1).noise_half_width;
-  options.num_validation = 20;
-  options.seed = seed;
-  return make_scenario(make_cube_hexapod(), options);
-}
-
-// y = a exp(-b t) + c at 20 points, noise-free: minimum (2, 0.7, 0.3), cost 0.
-class ExponentialFit : public LeastSquaresProblem {
- public:
-  int num_parameters() const override { return 3; }
-  int num_residual_blocks() const override { return 20; }
-  int residuals_per_block() const override { return 1; }
-  bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
-                      Eigen::Ref<MatrixXd>* jacobian, std::string*) const override {
-    const double t = 0.25 * block, e = std::exp(-x[1] * t);
-    residuals[0] = x[0] * e + x[2] - (2 * std::exp(-0.7 * t) + 0.3);
-    if (jacobian) *jacobian << e, -x[0] * t * e, 1;
-    return true;
-  }
-  static VectorXd start() { return Eigen::Vector3d(1, 0.3, 0); }
-  static VectorXd solution() { return Eigen::Vector3d(2, 0.7, 0.3); }
-};
-
-class NowhereComputable : public ExponentialFit {
- public:
-  bool evaluate_block(int, const VectorXd&, Eigen::Ref<VectorXd>, Eigen::Ref<MatrixXd>*,
-                      std::string* why) const override {
-    if (why) *why = "forward kinematics failed";
-    return false;
-  }
-};
+using kincal::testing::ExponentialFit;
+using kincal::testing::NowhereComputable;
+using kincal::testing::paper_scenario;
 
 std::unique_ptr<Solver> ipopt() { return SolverRegistry::global().create("ipopt"); }
 
 class IpoptCaseOne : public ::testing::TestWithParam<std::uint64_t> {};
 
 TEST_P(IpoptCaseOne, GaussNewtonHessianRecoversTheTrueParameters) {
-  const Scenario scenario = case_one(GetParam());
+  const Scenario scenario = paper_scenario(1, GetParam());
   const CalibrationRun run = run_calibration(scenario, *ipopt(), {}, false);
   EXPECT_EQ(run.summary.termination, TerminationType::kConverged) << run.summary.brief_report();
   for (int i : scenario.free_indices)
@@ -78,7 +48,7 @@ TEST(Ipopt, LimitedMemoryConverges) {
 }
 
 TEST(Ipopt, BoundsAreHonoured) {
-  const Scenario scenario = case_one(2);
+  const Scenario scenario = paper_scenario(1, 2);
   const auto problem = scenario.make_problem();
   const VectorXd x0 = problem->initial_free_parameters();
   SolverOptions options;
@@ -97,19 +67,19 @@ TEST(Ipopt, BoundsAreHonoured) {
 }
 
 TEST(Ipopt, SilentUnlessVerbose) {
-  const Scenario scenario = case_one(1);
-  testing::internal::CaptureStdout();
-  testing::internal::CaptureStderr();
+  const Scenario scenario = paper_scenario(1, 1);
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
   const CalibrationRun run = run_calibration(scenario, *ipopt(), {}, false);
-  const std::string out = testing::internal::GetCapturedStdout();
-  const std::string err = testing::internal::GetCapturedStderr();
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  const std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_TRUE(run.summary.converged());
   EXPECT_EQ(out, "");
   EXPECT_EQ(err, "");
 }
 
 TEST(Ipopt, StopsAtTheIterationLimitAndSaysSo) {
-  const Scenario scenario = case_one(3);
+  const Scenario scenario = paper_scenario(1, 3);
   SolverOptions options;
   options.max_iterations = 2;
   const CalibrationRun run = run_calibration(scenario, *ipopt(), options, false);

@@ -11,6 +11,7 @@
 #include "framework/simulation.hpp"
 #include "framework/solver_registry.hpp"
 #include "models/presets.hpp"
+#include "solver_fixtures.hpp"
 
 // Counts heap allocations so that a test can check that the iteration loop makes none.
 // Replacing the global operator new is harmless for the rest of this test binary. GCC
@@ -33,15 +34,7 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 namespace kincal {
 namespace {
 
-Scenario paper_scenario(int case_id, std::uint64_t seed, double param_error = 5) {
-  ScenarioOptions options;
-  options.num_configurations = paper_case(case_id).num_configurations;
-  options.noise_half_width = paper_case(case_id).noise_half_width;
-  options.param_error_half_width = param_error;
-  options.num_validation = 20;
-  options.seed = seed;
-  return make_scenario(make_cube_hexapod(), options);
-}
+using kincal::testing::paper_scenario;
 
 std::unique_ptr<Solver> lm() { return SolverRegistry::global().create("lm"); }
 

@@ -8,52 +8,20 @@
 #include "framework/simulation.hpp"
 #include "framework/solver_registry.hpp"
 #include "models/presets.hpp"
+#include "solver_fixtures.hpp"
 #include "solvers/nlopt_solver.hpp"
 
 namespace kincal {
 namespace {
 
-Scenario case_one(std::uint64_t seed) {
-  ScenarioOptions options;
-  options.num_configurations = paper_case(1).num_configurations;
-  options.noise_half_width = paper_case(1).noise_half_width;
-  options.num_validation = 20;
-  options.seed = seed;
-  return make_scenario(make_cube_hexapod(), options);
-}
-
-// y = a exp(-b t) + c at 20 points, noise-free: 3 parameters, minimum (2, 0.7, 0.3), cost 0.
-// Small enough for the derivative-free algorithms to be tested for real.
-class ExponentialFit : public LeastSquaresProblem {
- public:
-  int num_parameters() const override { return 3; }
-  int num_residual_blocks() const override { return 20; }
-  int residuals_per_block() const override { return 1; }
-  bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
-                      Eigen::Ref<MatrixXd>* jacobian, std::string*) const override {
-    const double t = 0.25 * block, e = std::exp(-x[1] * t);
-    residuals[0] = x[0] * e + x[2] - (2 * std::exp(-0.7 * t) + 0.3);
-    if (jacobian) *jacobian << e, -x[0] * t * e, 1;
-    return true;
-  }
-  static VectorXd start() { return Eigen::Vector3d(1, 0.3, 0); }
-  static VectorXd solution() { return Eigen::Vector3d(2, 0.7, 0.3); }
-};
-
-// Residuals that cannot be computed anywhere, as when forward kinematics fails.
-class NowhereComputable : public ExponentialFit {
- public:
-  bool evaluate_block(int, const VectorXd&, Eigen::Ref<VectorXd>, Eigen::Ref<MatrixXd>*,
-                      std::string* why) const override {
-    if (why) *why = "forward kinematics failed";
-    return false;
-  }
-};
+using kincal::testing::ExponentialFit;
+using kincal::testing::NowhereComputable;
+using kincal::testing::paper_scenario;
 
 TEST(Nlopt, LbfgsRecoversCaseOneLoosely) {
   // First-order methods crawl on this problem (cond(J) ~ 1e5, so cond(J^T J) ~ 1e10): L-BFGS
   // stops on its own test with the cost down by 1e12 but the parameters only to ~0.1 mm.
-  const Scenario scenario = case_one(1);
+  const Scenario scenario = paper_scenario(1, 1);
   const auto solver = SolverRegistry::global().create("nlopt:LD_LBFGS");
   SolverOptions options;
   options.max_iterations = 5000;  // objective evaluations
@@ -67,7 +35,7 @@ TEST(Nlopt, LbfgsRecoversCaseOneLoosely) {
 }
 
 TEST(Nlopt, SlsqpWithJacobianScalingRecoversCaseOneTightly) {
-  const Scenario scenario = case_one(1);
+  const Scenario scenario = paper_scenario(1, 1);
   const auto solver = SolverRegistry::global().create("nlopt:LD_SLSQP");
   SolverOptions options;
   options.max_iterations = 5000;
@@ -135,7 +103,7 @@ TEST(Nlopt, GlobalAndAugmentedLagrangianAlgorithmsRunWithoutExtraSetup) {
 }
 
 TEST(Nlopt, MaxevalIsReportedAsTheIterationLimit) {
-  const Scenario scenario = case_one(3);
+  const Scenario scenario = paper_scenario(1, 3);
   const auto solver = SolverRegistry::global().create("nlopt:LD_LBFGS");
   SolverOptions options;
   options.max_iterations = 10;

@@ -1,0 +1,52 @@
+#pragma once
+// Problems shared by the solver tests: the paper's scenarios and a small generic curve fit.
+
+#include <cmath>
+#include <cstdint>
+
+#include "framework/simulation.hpp"
+#include "models/presets.hpp"
+
+namespace kincal::testing {
+
+/// The paper's Table 2 case `case_id` on the cube hexapod, drawn from `seed`.
+inline Scenario paper_scenario(int case_id, std::uint64_t seed, double param_error = 5,
+                               int validation = 20) {
+  ScenarioOptions options;
+  options.num_configurations = paper_case(case_id).num_configurations;
+  options.noise_half_width = paper_case(case_id).noise_half_width;
+  options.param_error_half_width = param_error;
+  options.num_validation = validation;
+  options.seed = seed;
+  return make_scenario(make_cube_hexapod(), options);
+}
+
+/// y = a exp(-b t) + c at 20 points, noise-free: 3 parameters, minimum (2, 0.7, 0.3), cost 0.
+/// Small enough for derivative-free algorithms to be tested for real.
+class ExponentialFit : public LeastSquaresProblem {
+ public:
+  int num_parameters() const override { return 3; }
+  int num_residual_blocks() const override { return 20; }
+  int residuals_per_block() const override { return 1; }
+  bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                      Eigen::Ref<MatrixXd>* jacobian, std::string*) const override {
+    const double t = 0.25 * block, e = std::exp(-x[1] * t);
+    residuals[0] = x[0] * e + x[2] - (2 * std::exp(-0.7 * t) + 0.3);
+    if (jacobian) *jacobian << e, -x[0] * t * e, 1;
+    return true;
+  }
+  static VectorXd start() { return Eigen::Vector3d(1, 0.3, 0); }
+  static VectorXd solution() { return Eigen::Vector3d(2, 0.7, 0.3); }
+};
+
+/// Residuals that cannot be computed anywhere, as when forward kinematics fails.
+class NowhereComputable : public ExponentialFit {
+ public:
+  bool evaluate_block(int, const VectorXd&, Eigen::Ref<VectorXd>, Eigen::Ref<MatrixXd>*,
+                      std::string* why) const override {
+    if (why) *why = "forward kinematics failed";
+    return false;
+  }
+};
+
+}  // namespace kincal::testing
