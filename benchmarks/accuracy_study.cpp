@@ -30,7 +30,8 @@ const char* const kUsage =
     "  --nlopt-evaluations N      evaluation limit of gradient-based NLopt (default 2000)\n"
     "  --nlopt-df-evaluations N   evaluation limit of derivative-free NLopt (default 10000)\n"
     "  --derivative-free-cases L  cases on which nlopt:LN_* run (default 1)\n"
-    "  --derivative-free-trials N trials on which nlopt:LN_* run (default 20)\n"
+    "  --nlopt-limited-cases L    cases on which nlopt:* run on fewer trials (default m300)\n"
+    "  --limited-trials N         trials of those cells and of nlopt:LN_* (default 20)\n"
     "  --out DIR                  output directory (default accuracy-results)\n"
     "  --quiet                    no progress on stderr, no table on stdout\n";
 
@@ -93,8 +94,10 @@ int main(int argc, char** argv) {
         options.nlopt_derivative_free_evaluations = to_int(arg, value);
       } else if (arg == "--derivative-free-cases") {
         options.derivative_free_cases = split(value);
-      } else if (arg == "--derivative-free-trials") {
-        options.derivative_free_trials = to_int(arg, value);
+      } else if (arg == "--nlopt-limited-cases") {
+        options.nlopt_limited_cases = split(value);
+      } else if (arg == "--limited-trials") {
+        options.limited_trials = to_int(arg, value);
       } else if (arg == "--out") {
         out_dir = value;
       } else {

@@ -106,7 +106,7 @@ void calibrate(benchmark::State& state, const std::string& name, int num_configu
     benchmark::DoNotOptimize(x.data());
   }
   const VectorXd error = x - problem->free_parameters(s.truth);
-  state.counters["iterations"] = summary.iterations;
+  state.counters["solver_iterations"] = summary.iterations;
   state.counters["final_cost"] = summary.final_cost;
   state.counters["param_rms_mm"] = std::sqrt(error.squaredNorm() / error.size());
   state.counters["converged"] = summary.converged() ? 1 : 0;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include "framework/parallel.hpp"
@@ -46,10 +47,14 @@ bool is_derivative_free(const std::string& solver) { return solver.rfind("nlopt:
 
 bool runs_on(const StudyOptions& options, const std::string& solver, const StudyCase& study_case,
              int trial) {
-  if (!is_derivative_free(solver)) return true;
-  if (trial >= options.derivative_free_trials) return false;
-  const auto& allowed = options.derivative_free_cases;
-  return std::find(allowed.begin(), allowed.end(), study_case.id) != allowed.end();
+  auto listed = [&](const std::vector<std::string>& ids) {
+    return std::find(ids.begin(), ids.end(), study_case.id) != ids.end();
+  };
+  if (is_derivative_free(solver))
+    return trial < options.limited_trials && listed(options.derivative_free_cases);
+  if (solver.rfind("nlopt:", 0) == 0 && listed(options.nlopt_limited_cases))
+    return trial < options.limited_trials;
+  return true;
 }
 
 namespace {
@@ -76,6 +81,11 @@ void validation_rms(const Scenario& scenario, const VectorXd& params, double& po
   position = count ? std::sqrt(sp / count) : 0.0;
   orientation = count ? std::sqrt(so / count) : 0.0;
 }
+
+// Debian's Ipopt 3.11 solves with sequential MUMPS, whose Fortran globals are not
+// thread-safe: two concurrent Ipopt solves abort ("Attempt to DEALLOCATE unallocated
+// 'load_flops'"). Such backends run one at a time; the solve time excludes the wait.
+bool thread_safe(const std::string& solver) { return solver != "ipopt"; }
 
 SolverOptions options_for(const StudyOptions& study, const std::string& solver) {
   SolverOptions o;
@@ -126,6 +136,7 @@ StudyResults run_study(const StudyOptions& options) {
   results.trials.assign(num_cases, std::vector<std::vector<TrialRecord>>(
                                        num_solvers, std::vector<TrialRecord>(trials)));
   const auto model = make_cube_hexapod();
+  std::mutex serial_mutex;
   const auto start = std::chrono::steady_clock::now();
 
   // One task per (case, trial): the scenario is drawn once and solved by every backend.
@@ -147,8 +158,11 @@ StudyResults run_study(const StudyOptions& options) {
           const bool track = study_case.paper && std::find(options.tracked_solvers.begin(),
                                                            options.tracked_solvers.end(),
                                                            name) != options.tracked_solvers.end();
+          std::unique_lock<std::mutex> lock(serial_mutex, std::defer_lock);
+          if (!thread_safe(name)) lock.lock();
           const CalibrationRun run =
               run_calibration(scenario, *solver, options_for(options, name), track);
+          if (lock.owns_lock()) lock.unlock();
           TrialRecord& r = results.trials[ci][si][trial];
           r.ran = true;
           r.termination = run.summary.termination;

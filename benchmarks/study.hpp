@@ -36,9 +36,12 @@ struct StudyOptions {
   int nlopt_gradient_evaluations = 2000;
   int nlopt_derivative_free_evaluations = 10000;
   /// Derivative-free NLopt algorithms ("nlopt:LN_*") need thousands of evaluations: they run
-  /// on these cases only, and on the first `derivative_free_trials` trials.
+  /// on these cases only, and on the first `limited_trials` trials.
   std::vector<std::string> derivative_free_cases = {"1"};
-  int derivative_free_trials = 20;
+  /// Gradient-based NLopt needs ~1000 evaluations: on these (large) cases it runs on the first
+  /// `limited_trials` trials only.
+  std::vector<std::string> nlopt_limited_cases = {"m300"};
+  int limited_trials = 20;
   /// Left out of the default solver list: NLopt's COBYLA does not return on this problem
   /// (spins inside cobyla() even with maxeval = 200); see docs/benchmarks.md.
   std::vector<std::string> excluded_solvers = {"nlopt:LN_COBYLA"};

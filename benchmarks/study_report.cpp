@@ -115,11 +115,19 @@ CellSummary summarize_cell(const StudyResults& results, int case_index, int solv
   s.mc_position_rms = rms(collect(trials, [](const TrialRecord& t) { return t.position_rms; }));
   s.mc_orientation_rms =
       rms(collect(trials, [](const TrialRecord& t) { return t.orientation_rms; }));
-  const bool noisy = results.cases[case_index].scenario.noise_half_width > 0;
-  const CaseBound bound = summarize_bound(results, case_index);
-  s.efficiency_parameters = noisy ? s.mc_parameter_rms / bound.parameter_rms : kNaN;
-  s.efficiency_position = noisy ? s.mc_position_rms / bound.position_rms : kNaN;
-  s.efficiency_orientation = noisy ? s.mc_orientation_rms / bound.orientation_rms : kNaN;
+  // The bound over the same trials (cells with fewer trials compare like with like).
+  double p = 0, t = 0, o = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    const CramerRaoPrediction& c = results.cramer_rao[case_index][i];
+    if (!trials[i].ran || !c.ok) continue;
+    p += c.parameter_mean_square, t += c.position_mean_square, o += c.orientation_mean_square;
+    ++n;
+  }
+  const bool noisy = results.cases[case_index].scenario.noise_half_width > 0 && n > 0;
+  s.efficiency_parameters = noisy ? s.mc_parameter_rms / std::sqrt(p / n) : kNaN;
+  s.efficiency_position = noisy ? s.mc_position_rms / std::sqrt(t / n) : kNaN;
+  s.efficiency_orientation = noisy ? s.mc_orientation_rms / std::sqrt(o / n) : kNaN;
   return s;
 }
 
@@ -252,7 +260,8 @@ void write_json(const StudyResults& results, const std::string& directory) {
                   {"nlopt_gradient_evaluations", o.nlopt_gradient_evaluations},
                   {"nlopt_derivative_free_evaluations", o.nlopt_derivative_free_evaluations},
                   {"derivative_free_cases", o.derivative_free_cases},
-                  {"derivative_free_trials", o.derivative_free_trials},
+                  {"nlopt_limited_cases", o.nlopt_limited_cases},
+                  {"limited_trials", o.limited_trials},
                   {"excluded_solvers", o.excluded_solvers},
                   {"tracked_solvers", o.tracked_solvers}};
   j["wall_seconds"] = results.wall_seconds;
@@ -303,14 +312,14 @@ void write_markdown(const StudyResults& results, const std::string& directory) {
   out << "\n**Per case and backend**: median (p90) over trials; position and orientation are "
          "means over the validation poses; eff. = Monte Carlo RMS / Cramér-Rao RMS (parameters, "
          "position); outcome = converged / max_iterations / diverged / failed.\n\n";
-  out << "| case | backend | param. RMS (mm) | position (mm) | orientation (mrad) | iter. | "
-         "evals r/J | time (ms) | outcome | eff. param. | eff. position |\n";
-  out << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  out << "| case | backend | trials | param. RMS (mm) | position (mm) | orientation (mrad) | "
+         "iter. | evals r/J | time (ms) | outcome | eff. param. | eff. position |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t c = 0; c < results.cases.size(); ++c)
     for (std::size_t k = 0; k < results.solvers.size(); ++k) {
       const CellSummary s = summarize_cell(results, c, k);
       if (s.trials == 0) continue;
-      out << "| " << s.case_id << " | " << s.solver << " | "
+      out << "| " << s.case_id << " | " << s.solver << " | " << s.trials << " | "
           << format("%.3g", s.parameter_rms_median) << " (" << format("%.3g", s.parameter_rms_p90)
           << ") | " << format("%.3g", s.position_mean_median) << " ("
           << format("%.3g", s.position_mean_p90) << ") | "
