@@ -53,7 +53,7 @@ namespace {
 // single cost of forward kinematics (see docs/benchmarks.md). No allocation.
 class Lu6 {
  public:
-  explicit Lu6(const Matrix6d& a) : a_(a), lu_(a) {
+  explicit Lu6(const Matrix6d& a) : lu_(a) {
     for (int i = 0; i < 6; ++i) perm_[i] = i;
     for (int k = 0; k < 6; ++k) {
       int p = k;
@@ -94,20 +94,19 @@ class Lu6 {
     return inv;
   }
 
-  // A tiny reciprocal condition number means a singular configuration. Eigen's L1 rcond
-  // estimate costs several solves, a third of a forward kinematics solve when asked every
+  // Whether `a`, the matrix factored, is singular: a tiny reciprocal condition number. Eigen's L1
+  // rcond estimate costs several solves, a third of a forward kinematics solve when asked every
   // iteration: it is only asked when the pivots already spread over four decades (cond(A) is
   // at least max|u_ii| / min|u_ii|, and partial pivoting does not hide an rcond near 1e-12
   // behind well-spread pivots in the 6 x 6 Jacobians of real mechanisms).
-  bool near_singular() const {
+  bool near_singular(const Matrix6d& a) const {
     const Vector6d pivots = lu_.diagonal().cwiseAbs();
     if (!(pivots.prod() > 1e-300)) return true;
     if (pivots.minCoeff() > 1e-4 * pivots.maxCoeff()) return false;
-    return Eigen::PartialPivLU<Matrix6d>(a_).rcond() < 1e-12;
+    return Eigen::PartialPivLU<Matrix6d>(a).rcond() < 1e-12;
   }
 
  private:
-  Matrix6d a_;
   Matrix6d lu_;
   Vector6d inverse_pivots_;
   int perm_[6];
@@ -147,7 +146,7 @@ ForwardKinematicsResult ClosedChainMechanism::forward_kinematics(
       return result;
     }
     const Lu6 lu(J_g_pose);
-    if (lu.near_singular()) {
+    if (lu.near_singular(J_g_pose)) {
       result.status = ForwardKinematicsStatus::kSingular;
       return result;
     }
