@@ -42,12 +42,15 @@ void BM_ForwardKinematics(benchmark::State& state) {
   const VectorXd truth = s.truth.head(mechanism.num_parameters());
   const auto& fk_options = s.model->forward_kinematics_options();
   int j = 0;
+  double newton_steps = 0;
   for (auto _ : state) {
     const ForwardKinematicsResult fk = mechanism.forward_kinematics(
         truth, s.calibration.actuators.row(j).transpose(), mechanism.home_pose(), fk_options);
     benchmark::DoNotOptimize(fk.pose.translation.data());
+    newton_steps += fk.iterations;
     j = (j + 1) % s.calibration.size();
   }
+  state.counters["newton_steps"] = newton_steps / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_ForwardKinematics);
 
