@@ -22,8 +22,8 @@ const char* const kUsage =
     "  --threads N                worker threads, 0 = all cores (default 0)\n"
     "  --validation N             validation poses per trial (default 50)\n"
     "  --cases LIST               comma-separated ids among 1,2,3,4,5,3e20,m300 (default all)\n"
-    "  --solvers LIST             registry names (default: every featured backend but\n"
-    "                             nlopt:LN_COBYLA, which does not return on this problem)\n"
+    "  --solvers LIST             registry names (default: every featured backend)\n"
+    "  --exclude LIST             featured backends to leave out of the default list\n"
     "  --track LIST               solvers with per-iteration validation errors on cases 1-5\n"
     "                             (default gn,lm)\n"
     "  --max-iterations N         iteration limit of gn, lm, ceres, ipopt (default 100)\n"
@@ -84,6 +84,8 @@ int main(int argc, char** argv) {
         options.cases = split(value);
       } else if (arg == "--solvers") {
         options.solvers = split(value);
+      } else if (arg == "--exclude") {
+        options.excluded_solvers = split(value);
       } else if (arg == "--track") {
         options.tracked_solvers = split(value);
       } else if (arg == "--max-iterations") {
