@@ -67,7 +67,7 @@ class Lu6 {
       inverse_pivots_[k] = 1.0 / pivot;
       if (pivot == 0.0) continue;  // singular: near_singular() says so
       for (int i = k + 1; i < 6; ++i) {
-        const double f = lu_(i, k) /= pivot;
+        const double f = lu_(i, k) *= inverse_pivots_[k];
         for (int j = k + 1; j < 6; ++j) lu_(i, j) -= f * lu_(k, j);
       }
     }
@@ -107,7 +107,8 @@ class Lu6 {
   }
 
  private:
-  Matrix6d lu_;
+  // Row-major: pivoting swaps and eliminates rows, which are then contiguous.
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> lu_;
   Vector6d inverse_pivots_;
   int perm_[6];
 };
