@@ -225,7 +225,7 @@ void write_trials_csv(const StudyResults& results, const std::string& directory)
 // earlier contributes its final value (its model no longer changes).
 void write_traces_csv(const StudyResults& results, const std::string& directory) {
   auto out = open(directory, "traces.csv");
-  out << "case,solver,iteration,trials,position_p10_mm,position_p25_mm,position_median_mm,"
+  out << "case,solver,iteration,trials,running,position_p10_mm,position_p25_mm,position_median_mm,"
          "position_p75_mm,position_p90_mm,orientation_p10_rad,orientation_p25_rad,"
          "orientation_median_rad,orientation_p75_rad,orientation_p90_rad\n";
   const double qs[5] = {0.1, 0.25, 0.5, 0.75, 0.9};
@@ -236,13 +236,16 @@ void write_traces_csv(const StudyResults& results, const std::string& directory)
       for (const auto& t : trials) length = std::max(length, t.trace.size());
       for (std::size_t i = 0; i < length; ++i) {
         std::vector<double> pos, ori;
+        int running = 0;  // trials still iterating at this iteration
         for (const auto& t : trials) {
           if (t.trace.empty()) continue;
+          running += i < t.trace.size();
           const PoseErrorStats& e = t.trace[std::min(i, t.trace.size() - 1)];
           pos.push_back(e.position_mean_mm);
           ori.push_back(e.orientation_mean_rad);
         }
-        out << results.cases[c].id << ',' << results.solvers[k] << ',' << i << ',' << pos.size();
+        out << results.cases[c].id << ',' << results.solvers[k] << ',' << i << ',' << pos.size()
+            << ',' << running;
         for (double q : qs) out << ',' << quantile(pos, q);
         for (double q : qs) out << ',' << quantile(ori, q);
         out << '\n';
