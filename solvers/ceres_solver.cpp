@@ -3,7 +3,12 @@
 #include <ceres/ceres.h>
 #include <glog/logging.h>
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "framework/robust_loss.hpp"
 #include "solvers/solver_common.hpp"
@@ -13,10 +18,13 @@ namespace {
 
 // Ceres logs through glog. Uninitialised glog writes to stderr only (never to files); raising
 // the threshold keeps Ceres' warnings off the terminal unless the user asks for detail.
+// The flags are plain globals: written only when they change, so that concurrent solves
+// with the same verbosity only read them.
 void quiet_glog(int verbosity) {
   static std::once_flag once;
   std::call_once(once, [] { FLAGS_logtostderr = true; });
-  FLAGS_minloglevel = verbosity > 1 ? google::GLOG_INFO : google::GLOG_FATAL;
+  const int level = verbosity > 1 ? google::GLOG_INFO : google::GLOG_FATAL;
+  if (FLAGS_minloglevel != level) FLAGS_minloglevel = level;
 }
 
 // The first reason a block could not be evaluated, shared by all cost functions of a solve
@@ -28,6 +36,10 @@ struct FailureLog {
   void add(const std::string& why) {
     std::lock_guard<std::mutex> lock(mutex);
     if (count++ == 0) first = why;
+  }
+  int total() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return count;
   }
 };
 
@@ -73,13 +85,19 @@ class BlockCost final : public ceres::CostFunction {
   FailureLog& failures_;
 };
 
-// Records accepted iterates in our trace and forwards them to the user's callback.
+// Records accepted iterates in our trace and forwards them to the user's callback. Ceres
+// calls it after every iteration, so it also counts the trailing run of trial points whose
+// residuals could not be computed (Ceres treats them as rejected steps).
 class TraceCallback final : public ceres::IterationCallback {
  public:
-  TraceCallback(detail::SolveMonitor& monitor, const double* x, int n)
-      : monitor_(monitor), x_(x), n_(n) {}
+  TraceCallback(detail::SolveMonitor& monitor, FailureLog& failures, const double* x, int n)
+      : monitor_(monitor), failures_(failures), x_(x), n_(n) {}
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    const int failed = failures_.total();
+    uncomputable_trials_ =
+        failed > failures_seen_ && !s.step_is_successful ? uncomputable_trials_ + 1 : 0;
+    failures_seen_ = failed;
     if (s.iteration > 0 && !s.step_is_successful) return ceres::SOLVER_CONTINUE;
     IterationRecord record;
     record.iteration = s.iteration;
@@ -94,9 +112,18 @@ class TraceCallback final : public ceres::IterationCallback {
     return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
   }
   bool stopped() const { return stopped_; }
+  /// Trial points at the end of the solve whose residuals could not be computed, including
+  /// a last one Ceres evaluated without reporting the iteration (its step tests end the
+  /// solve before the callbacks run).
+  int trailing_uncomputable_trials() {
+    return failures_.total() > failures_seen_ ? uncomputable_trials_ + 1 : uncomputable_trials_;
+  }
 
  private:
   detail::SolveMonitor& monitor_;
+  FailureLog& failures_;
+  int failures_seen_ = 0;
+  int uncomputable_trials_ = 0;
   const double* x_;
   int n_;
   VectorXd current_;
@@ -139,6 +166,11 @@ class CeresSolver final : public Solver {
     summary.solver = name();
     detail::SolveMonitor monitor(options, summary);
 
+    const int n = problem.num_parameters();
+    // Ceres requires a feasible start; the check below must see the point Ceres starts from.
+    if (options.lower_bounds && options.upper_bounds)
+      x = x.cwiseMax(*options.lower_bounds).cwiseMin(*options.upper_bounds);
+
     // Residuals that cannot be computed at the start are our failure, reported with our
     // reason, before Ceres sees the problem.
     std::string why;
@@ -146,7 +178,8 @@ class CeresSolver final : public Solver {
     const double start_cost = problem.cost(x, &why);
     if (!std::isfinite(start_cost)) {
       summary.initial_cost = summary.final_cost = start_cost;
-      monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " + why);
+      monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " +
+                                                   (why.empty() ? "not finite" : why));
       return summary;
     }
 
@@ -162,20 +195,18 @@ class CeresSolver final : public Solver {
       loss_function = std::make_unique<ceres::CauchyLoss>(loss.delta);
 
     FailureLog failures;
-    const int n = problem.num_parameters();
     for (int b = 0; b < problem.num_residual_blocks(); ++b)
       ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures), loss_function.get(),
                                      x.data());
     if (options.lower_bounds && options.upper_bounds) {
       for (int i = 0; i < n; ++i) {
-        x[i] = std::clamp(x[i], (*options.lower_bounds)[i], (*options.upper_bounds)[i]);
         ceres_problem.SetParameterLowerBound(x.data(), i, (*options.lower_bounds)[i]);
         ceres_problem.SetParameterUpperBound(x.data(), i, (*options.upper_bounds)[i]);
       }
     }
 
     ceres::Solver::Options ceres_opts = ceres_options(options, options.num_threads);
-    TraceCallback trace(monitor, x.data(), n);
+    TraceCallback trace(monitor, failures, x.data(), n);
     ceres_opts.callbacks.push_back(&trace);
     ceres_opts.update_state_every_iteration = true;
     ceres::Solver::Summary ceres_summary;
@@ -188,11 +219,25 @@ class CeresSolver final : public Solver {
     summary.iterations = std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
     summary.residual_evaluations += std::max(0, ceres_summary.num_residual_evaluations);
     summary.jacobian_evaluations = std::max(0, ceres_summary.num_jacobian_evaluations);
+    TerminationType type = termination(ceres_summary, trace.stopped());
     std::string message = ceres_summary.message;
-    if (failures.count > 0)
+    if (failures.count > 0) {
       message += " (residuals failed at " + std::to_string(failures.count) +
                  " block evaluations; first: " + failures.first + ")";
-    monitor.finish(termination(ceres_summary, trace.stopped()), message);
+      // Ceres shrinks the trust region around uncomputable trial points until its step or
+      // radius test fires and calls that convergence; like lm, we call it leaving the region
+      // where the residuals exist. So is a Ceres FAILURE caused by them after the start.
+      const int trailing = trace.trailing_uncomputable_trials();
+      if ((type == TerminationType::kConverged && trailing > 0) ||
+          (type == TerminationType::kFailed && trailing > 0 && !ceres_summary.iterations.empty())) {
+        type = TerminationType::kDiverged;
+        message = std::to_string(trailing) +
+                  " consecutive trial points at the end where residuals could not be computed; "
+                  "Ceres: " +
+                  message;
+      }
+    }
+    monitor.finish(type, message);
     return summary;
   }
 
