@@ -31,7 +31,7 @@ MeasurementModel::Workspace MeasurementModel::make_workspace() const {
 }
 
 void MeasurementModel::prepare(Workspace& ws) const {
-  ws.J_pose_params.resize(6, mechanism_->num_parameters());
+  ws.J_readings_pose.resize(num_readings_, 6);
   ws.J_reading_pose.resize(sensors_.size());
   ws.J_reading_params.resize(sensors_.size());
   for (std::size_t s = 0; s < sensors_.size(); ++s) {
@@ -46,15 +46,11 @@ ForwardKinematicsResult MeasurementModel::predict(const Eigen::Ref<const VectorX
                                                   Eigen::Ref<MatrixXd>* J, Workspace& ws) const {
   const int n_mech = mechanism_->num_parameters();
   const auto mech_params = params.head(n_mech);
-  ForwardKinematicsResult fk =
+  const ForwardKinematicsResult fk =
       mechanism_->forward_kinematics(mech_params, q, mechanism_->home_pose(), fk_options_);
   if (!fk.ok()) return fk;
 
-  if (J) {
-    prepare(ws);
-    mechanism_->pose_jacobian_params(mech_params, q, fk.pose, ws.J_pose_params);
-    J->setZero();
-  }
+  if (J) prepare(ws);
   int row = 0;
   for (std::size_t s = 0; s < sensors_.size(); ++s) {
     const Sensor& sensor = *sensors_[s];
@@ -63,16 +59,17 @@ ForwardKinematicsResult MeasurementModel::predict(const Eigen::Ref<const VectorX
     sensor.predict(sensor_params, fk.pose, readings.segment(row, k),
                    J ? &ws.J_reading_pose[s] : nullptr, J ? &ws.J_reading_params[s] : nullptr);
     if (J) {
-      // Row by row with a fixed inner size of 6: Eigen's dynamic-size product was a tenth of
-      // predict() for these 1 x 6 times 6 x n shapes.
-      for (int r = 0; r < k; ++r) {
-        const Vector6d J_r_pose = ws.J_reading_pose[s].row(r).transpose();
-        for (int c = 0; c < n_mech; ++c) (*J)(row + r, c) = J_r_pose.dot(ws.J_pose_params.col(c));
-      }
+      ws.J_readings_pose.middleRows(row, k) = ws.J_reading_pose[s];
+      J->middleCols(n_mech, J->cols() - n_mech).middleRows(row, k).setZero();
       J->block(row, sensor_offsets_[s], k, sensor.num_parameters()) = ws.J_reading_params[s];
     }
     row += k;
   }
+  // Chain rule through the mechanism: J_readings_pose * J_pose_params, which a closed chain
+  // forms without J_pose_params (adjoint form, see ClosedChainMechanism).
+  if (J)
+    mechanism_->output_jacobian_params(mech_params, q, fk.pose, ws.J_readings_pose,
+                                       J->leftCols(n_mech));
   return fk;
 }
 

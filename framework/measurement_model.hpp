@@ -34,7 +34,7 @@ class MeasurementModel {
 
   /// Scratch space for predict(); one per thread, reused across calls.
   struct Workspace {
-    Matrix6Xd J_pose_params;
+    MatrixX6d J_readings_pose;  ///< every sensor's J_reading_pose, stacked
     std::vector<MatrixXd> J_reading_pose;
     std::vector<MatrixXd> J_reading_params;
   };

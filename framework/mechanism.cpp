@@ -1,8 +1,9 @@
 #include "framework/mechanism.hpp"
 
-#include <Eigen/LU>
 #include <cmath>
 #include <cstdio>
+
+#include "framework/lu6.hpp"
 
 namespace kincal {
 
@@ -46,75 +47,6 @@ std::string ForwardKinematicsResult::describe() const {
   return buf;
 }
 
-namespace {
-
-// LU with partial pivoting of a 6 x 6 matrix, with loops of fixed trip count the compiler
-// unrolls. Eigen's PartialPivLU<Matrix6d> runs its generic blocked code and was the largest
-// single cost of forward kinematics (see docs/benchmarks.md). No allocation.
-class Lu6 {
- public:
-  explicit Lu6(const Matrix6d& a) : lu_(a) {
-    for (int i = 0; i < 6; ++i) perm_[i] = i;
-    for (int k = 0; k < 6; ++k) {
-      int p = k;
-      for (int i = k + 1; i < 6; ++i)
-        if (std::abs(lu_(i, k)) > std::abs(lu_(p, k))) p = i;
-      if (p != k) {
-        lu_.row(k).swap(lu_.row(p));
-        std::swap(perm_[k], perm_[p]);
-      }
-      const double pivot = lu_(k, k);
-      inverse_pivots_[k] = 1.0 / pivot;
-      if (pivot == 0.0) continue;  // singular: near_singular() says so
-      for (int i = k + 1; i < 6; ++i) {
-        const double f = lu_(i, k) *= inverse_pivots_[k];
-        for (int j = k + 1; j < 6; ++j) lu_(i, j) -= f * lu_(k, j);
-      }
-    }
-  }
-
-  Vector6d solve(const Vector6d& b) const {
-    Vector6d y;
-    for (int i = 0; i < 6; ++i) {
-      double sum = b[perm_[i]];
-      for (int j = 0; j < i; ++j) sum -= lu_(i, j) * y[j];
-      y[i] = sum;
-    }
-    for (int i = 5; i >= 0; --i) {
-      double sum = y[i];
-      for (int j = i + 1; j < 6; ++j) sum -= lu_(i, j) * y[j];
-      y[i] = sum * inverse_pivots_[i];
-    }
-    return y;
-  }
-
-  Matrix6d inverse() const {
-    Matrix6d inv;
-    for (int c = 0; c < 6; ++c) inv.col(c) = solve(Vector6d::Unit(c));
-    return inv;
-  }
-
-  // Whether `a`, the matrix factored, is singular: a tiny reciprocal condition number. Eigen's L1
-  // rcond estimate costs several solves, a third of a forward kinematics solve when asked every
-  // iteration: it is only asked when the pivots already spread over four decades (cond(A) is
-  // at least max|u_ii| / min|u_ii|, and partial pivoting does not hide an rcond near 1e-12
-  // behind well-spread pivots in the 6 x 6 Jacobians of real mechanisms).
-  bool near_singular(const Matrix6d& a) const {
-    const Vector6d pivots = lu_.diagonal().cwiseAbs();
-    if (!(pivots.prod() > 1e-300)) return true;
-    if (pivots.minCoeff() > 1e-4 * pivots.maxCoeff()) return false;
-    return Eigen::PartialPivLU<Matrix6d>(a).rcond() < 1e-12;
-  }
-
- private:
-  // Row-major: pivoting swaps and eliminates rows, which are then contiguous.
-  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> lu_;
-  Vector6d inverse_pivots_;
-  int perm_[6];
-};
-
-}  // namespace
-
 bool ClosedChainMechanism::actuators_valid(const ParamsRef&, const ActuatorsRef& q) const {
   return q.allFinite();
 }
@@ -138,17 +70,24 @@ ForwardKinematicsResult ClosedChainMechanism::forward_kinematics(
       result.status = ForwardKinematicsStatus::kNonFinite;
       return result;
     }
-    if (result.residual_norm <= options.tolerance) {
-      result.status = ForwardKinematicsStatus::kConverged;
-      return result;
-    }
-    if (it >= options.max_iterations) {
+    const bool converged = result.residual_norm <= options.tolerance;
+    if (!converged && it >= options.max_iterations) {
       result.status = ForwardKinematicsStatus::kMaxIterations;
       return result;
     }
     const Lu6 lu(J_g_pose);
     if (lu.near_singular(J_g_pose)) {
       result.status = ForwardKinematicsStatus::kSingular;
+      return result;
+    }
+    if (converged) {
+      // One last full Newton step, not checked: it takes the residual from the tolerance to
+      // the rounding level (quadratic convergence). Without it the pose, hence every
+      // predicted reading, jumps by up to the tolerance whenever the number of Newton steps
+      // changes between two nearby parameter vectors: noise of ~1e-8 relative in the cost,
+      // which stalled the solvers' end game far above their tolerances.
+      if (result.residual_norm > 0) result.pose = perturb(result.pose, -lu.solve(g));
+      result.status = ForwardKinematicsStatus::kConverged;
       return result;
     }
     const Vector6d step = -options.step_gain * lu.solve(g);
@@ -169,6 +108,40 @@ void ClosedChainMechanism::pose_jacobian_params(const ParamsRef& params, const A
   for (Eigen::Index c = 0; c < J_pose_params.cols(); ++c) {
     const Vector6d column = J_pose_params.col(c);
     J_pose_params.col(c).noalias() = minus_inverse * column;
+  }
+}
+
+void Mechanism::output_jacobian_params(const ParamsRef& params, const ActuatorsRef& q,
+                                       const Pose& pose,
+                                       const Eigen::Ref<const MatrixX6d>& J_out_pose,
+                                       Eigen::Ref<MatrixXd> J_out_params) const {
+  Matrix6Xd J_pose_params(6, num_parameters());
+  pose_jacobian_params(params, q, pose, J_pose_params);
+  J_out_params.noalias() = J_out_pose * J_pose_params;
+}
+
+void ClosedChainMechanism::constraint_jacobian_params_left(
+    const ParamsRef& params, const ActuatorsRef& q, const Pose& pose, const Vector6d& lambda,
+    Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> out) const {
+  thread_local Matrix6Xd J_g_params;
+  J_g_params.resize(6, num_parameters());  // no reallocation once the size is right
+  constraint_jacobian_params(params, q, pose, J_g_params);
+  out.noalias() = lambda.transpose() * J_g_params;
+}
+
+void ClosedChainMechanism::output_jacobian_params(const ParamsRef& params, const ActuatorsRef& q,
+                                                  const Pose& pose,
+                                                  const Eigen::Ref<const MatrixX6d>& J_out_pose,
+                                                  Eigen::Ref<MatrixXd> J_out_params) const {
+  Vector6d g;
+  Matrix6d J_g_pose;
+  constraints(params, q, pose, g, &J_g_pose);
+  // Row r: J_out_pose.row(r) * J_pose_params = -lambda^T J_g_params with
+  // J_g_pose^T lambda = J_out_pose.row(r)^T.
+  const Lu6 lu(J_g_pose);
+  for (Eigen::Index r = 0; r < J_out_pose.rows(); ++r) {
+    const Vector6d lambda = -lu.solve_transposed(J_out_pose.row(r).transpose());
+    constraint_jacobian_params_left(params, q, pose, lambda, J_out_params.row(r));
   }
 }
 

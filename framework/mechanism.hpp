@@ -73,6 +73,15 @@ class Mechanism {
   virtual void pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q,
                                     const Pose& pose,
                                     Eigen::Ref<Matrix6Xd> J_pose_params) const = 0;
+
+  /// J_out_params = J_out_pose * J_pose_params (k x num_parameters()) for an output of k
+  /// values that depends on the pose alone, with J_out_pose (k x 6): how a sensor reading
+  /// moves when the parameters move at fixed q. The default forms J_pose_params (and
+  /// allocates); closed chains override it with the cheaper adjoint form.
+  virtual void output_jacobian_params(const ParamsRef& params, const ActuatorsRef& q,
+                                      const Pose& pose,
+                                      const Eigen::Ref<const MatrixX6d>& J_out_pose,
+                                      Eigen::Ref<MatrixXd> J_out_params) const;
 };
 
 /// A mechanism whose pose is defined implicitly by six constraints g(params, q, pose) = 0
@@ -87,6 +96,13 @@ class ClosedChainMechanism : public Mechanism {
   virtual void constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef& q,
                                           const Pose& pose,
                                           Eigen::Ref<Matrix6Xd> J_g_params) const = 0;
+  /// lambda^T J_g_params (1 x num_parameters()) for a weight vector lambda over the six
+  /// constraints, written into `out`. The default forms J_g_params in a per-thread scratch;
+  /// a mechanism whose constraint i involves only a few parameters (a hexapod's leg i)
+  /// should override it: this is the inner product of output_jacobian_params.
+  virtual void constraint_jacobian_params_left(
+      const ParamsRef& params, const ActuatorsRef& q, const Pose& pose, const Vector6d& lambda,
+      Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> out) const;
   /// Cheap validity test of q before iterating (e.g. leg lengths > 0). Default: finite.
   virtual bool actuators_valid(const ParamsRef& params, const ActuatorsRef& q) const;
 
@@ -96,6 +112,12 @@ class ClosedChainMechanism : public Mechanism {
 
   void pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                             Eigen::Ref<Matrix6Xd> J_pose_params) const override;
+
+  /// Adjoint form: J_out_params = -(J_out_pose J_g_pose^-1) J_g_params, one transposed
+  /// 6 x 6 solve per output row instead of the 6 x num_parameters() J_pose_params.
+  void output_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
+                              const Eigen::Ref<const MatrixX6d>& J_out_pose,
+                              Eigen::Ref<MatrixXd> J_out_params) const override;
 };
 
 }  // namespace kincal

@@ -67,17 +67,38 @@ void Hexapod::constraints(const ParamsRef& params, const ActuatorsRef& q, const 
   }
 }
 
+namespace {
+
+// Unit vector along leg `leg` at `pose`: the direction in which its length grows.
+Vector3d leg_direction(const ParamsRef& params, const Pose& pose, int leg) {
+  const Vector3d leg_vector = pose.translation +
+                              pose.rotation * params.segment<3>(Hexapod::platform_index(leg)) -
+                              params.segment<3>(Hexapod::base_index(leg));
+  return leg_vector.normalized();
+}
+
+}  // namespace
+
 void Hexapod::constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef&,
                                          const Pose& pose, Eigen::Ref<Matrix6Xd> J_g_params) const {
   J_g_params.setZero();
   for (int leg = 0; leg < kLegs; ++leg) {
-    const Vector3d b = params.segment<3>(base_index(leg));
-    const Vector3d leg_vector =
-        pose.translation + pose.rotation * params.segment<3>(platform_index(leg)) - b;
-    const Vector3d n = leg_vector.normalized();
+    const Vector3d n = leg_direction(params, pose, leg);
     J_g_params.block<1, 3>(leg, base_index(leg)) = -n.transpose();
     J_g_params.block<1, 3>(leg, platform_index(leg)) = n.transpose() * pose.rotation;
     J_g_params(leg, offset_index(leg)) = -1.0;
+  }
+}
+
+void Hexapod::constraint_jacobian_params_left(
+    const ParamsRef& params, const ActuatorsRef&, const Pose& pose, const Vector6d& lambda,
+    Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> out) const {
+  // Every parameter belongs to exactly one leg, so every entry of `out` is written.
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const Vector3d weighted = lambda[leg] * leg_direction(params, pose, leg);
+    out.segment<3>(base_index(leg)) = -weighted.transpose();
+    out.segment<3>(platform_index(leg)) = weighted.transpose() * pose.rotation;
+    out[offset_index(leg)] = -lambda[leg];
   }
 }
 

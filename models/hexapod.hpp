@@ -42,6 +42,10 @@ class Hexapod final : public ClosedChainMechanism {
                    Matrix6d* J_g_pose) const override;
   void constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                                   Eigen::Ref<Matrix6Xd> J_g_params) const override;
+  /// Leg i's constraint involves only leg i's seven parameters: 6 x 7 entries, no product.
+  void constraint_jacobian_params_left(
+      const ParamsRef& params, const ActuatorsRef& q, const Pose& pose, const Vector6d& lambda,
+      Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> out) const override;
   bool actuators_valid(const ParamsRef& params, const ActuatorsRef& q) const override;
 
   static int base_index(int leg) { return kParametersPerLeg * leg; }

@@ -151,5 +151,45 @@ TEST(Hexapod, PoseJacobianWrtParamsMatchesFiniteDifferencesOfForwardKinematics) 
   }
 }
 
+TEST(Hexapod, SparseWeightedConstraintJacobianEqualsTheDenseProduct) {
+  Fixture f;
+  Random rng(8);
+  const Pose pose = random_pose(rng, f.mechanism.home_pose());
+  VectorXd q(6);
+  f.mechanism.inverse_kinematics(f.params, random_pose(rng, f.mechanism.home_pose()), q);
+  Matrix6Xd J_g_params(6, f.params.size());
+  f.hexapod().constraint_jacobian_params(f.params, q, pose, J_g_params);
+  Vector6d lambda;
+  for (int i = 0; i < 6; ++i) lambda[i] = rng.symmetric(2.0);
+  Eigen::RowVectorXd sparse = Eigen::RowVectorXd::Constant(f.params.size(), 1e300);
+  f.hexapod().constraint_jacobian_params_left(f.params, q, pose, lambda, sparse);
+  // The base class's dense default, for comparison.
+  Eigen::RowVectorXd dense(f.params.size());
+  f.hexapod().ClosedChainMechanism::constraint_jacobian_params_left(f.params, q, pose, lambda,
+                                                                    dense);
+  EXPECT_TRUE(jacobians_match(sparse, lambda.transpose() * J_g_params, 1e-14));
+  EXPECT_TRUE(jacobians_match(dense, lambda.transpose() * J_g_params, 1e-14));
+}
+
+TEST(Hexapod, AdjointOutputJacobianEqualsTheChainRule) {
+  Fixture f;
+  Random rng(9);
+  for (int trial = 0; trial < 5; ++trial) {
+    VectorXd q(6);
+    f.mechanism.inverse_kinematics(f.params, random_pose(rng, f.mechanism.home_pose()), q);
+    const auto fk = f.mechanism.forward_kinematics(f.params, q, f.mechanism.home_pose());
+    ASSERT_TRUE(fk.ok());
+    MatrixX6d J_out_pose(2, 6);
+    for (int i = 0; i < J_out_pose.size(); ++i) J_out_pose.data()[i] = rng.symmetric(1.0);
+    Matrix6Xd J_pose_params(6, f.params.size());
+    f.mechanism.pose_jacobian_params(f.params, q, fk.pose, J_pose_params);
+    MatrixXd adjoint(2, f.params.size()), chained(2, f.params.size());
+    f.mechanism.output_jacobian_params(f.params, q, fk.pose, J_out_pose, adjoint);
+    f.mechanism.Mechanism::output_jacobian_params(f.params, q, fk.pose, J_out_pose, chained);
+    EXPECT_TRUE(jacobians_match(adjoint, J_out_pose * J_pose_params, 1e-12)) << "trial " << trial;
+    EXPECT_TRUE(jacobians_match(chained, J_out_pose * J_pose_params, 1e-12)) << "trial " << trial;
+  }
+}
+
 }  // namespace
 }  // namespace kincal
