@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -60,10 +61,18 @@ double parse_value(const std::string& field, const std::string& where) {
 MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& actuator_names,
                                    const std::vector<std::string>& reading_names) {
+  // An ifstream opens a directory and then reads nothing, which would read as "no header".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::invalid_argument(path + ": is a directory, expected a measurement file (CSV)");
   std::ifstream in(path);
   if (!in)
     throw std::invalid_argument(path + ": cannot open measurement file (missing or unreadable)");
-  return parse_measurements(in, path, actuator_names, reading_names);
+  try {
+    return parse_measurements(in, path, actuator_names, reading_names);
+  } catch (const std::ios_base::failure& e) {
+    throw std::invalid_argument(path + ": cannot read measurement file (" + e.what() + ")");
+  }
 }
 
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,
@@ -85,6 +94,7 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
     header_line = line_number;
     break;
   }
+  if (in.bad()) throw std::invalid_argument(source + ": read error before the header row");
   if (header.empty()) throw std::invalid_argument(source + ": no header row (" + expected + ")");
 
   // Column of each wanted name; every other column is ignored.
@@ -129,6 +139,9 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
     rows.push_back(std::move(values));
     table.line_numbers.push_back(line_number);
   }
+  // getline stops at a read error as at the end of the file: tell them apart.
+  if (in.bad())
+    throw std::invalid_argument(source + ": read error after line " + std::to_string(line_number));
   if (rows.empty()) throw std::invalid_argument(source + ": no measurement rows after the header");
 
   const int m = static_cast<int>(rows.size());

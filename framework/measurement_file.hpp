@@ -22,8 +22,8 @@ struct MeasurementTable {
 };
 
 /// Reads `path`. Throws std::invalid_argument with "<path>:<line>: <what was expected>" for a
-/// missing file, a missing or duplicated column, a row with the wrong number of fields, a
-/// non-numeric, NaN or infinite value, or a file without data rows.
+/// missing file or a directory, a missing or duplicated column, a row with the wrong number of
+/// fields, a non-numeric, NaN or infinite value, a read error, or a file without data rows.
 MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& actuator_names,
                                    const std::vector<std::string>& reading_names);

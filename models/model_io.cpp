@@ -1,6 +1,7 @@
 #include "models/model_io.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -111,10 +112,12 @@ std::shared_ptr<LengthGauge> gauge_from_json(const Json& j, const std::string& s
                                              const std::string& at) {
   check_keys(j, source, at, {"type", "name", "base", "platform", "offset"});
   const Json& name = member(j, "name", source, at);
+  // A CSV column, and the prefix of parameter names that "free" matches with globs.
   if (!name.is_string() || name.get<std::string>().empty() ||
-      name.get<std::string>().find_first_of(", \t#\"") != std::string::npos)
+      name.get<std::string>().find_first_of(", \t#\"*?") != std::string::npos)
     fail(source, at + ".name",
-         "expected a non-empty name without commas, spaces, '#' or quotes (it is a CSV column)");
+         "expected a non-empty name without commas, spaces, '#', quotes, '*' or '?' (it is a "
+         "CSV column and part of parameter names)");
   const double offset = j.contains("offset") ? number(j["offset"], source, at + ".offset") : 0.0;
   return std::make_shared<LengthGauge>(
       name.get<std::string>(), vector3(member(j, "base", source, at), source, at + ".base"),
@@ -204,8 +207,16 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     if (sensor_type != "length-gauge")
       fail(source, at + ".type", "expected \"length-gauge\", got \"" + sensor_type + "\"");
     auto gauge = gauge_from_json(sensors_json[s], source, at);
-    if (!names.insert(gauge->name()).second || gauge->name().rfind("leg", 0) == 0)
-      fail(source, at + ".name", "'" + gauge->name() + "' is already used");
+    // The hexapod's actuators are columns leg1..leg6 and its parameters leg<i>.*: a sensor
+    // named leg... could collide with either.
+    if (gauge->name().rfind("leg", 0) == 0)
+      fail(source, at + ".name",
+           "'" + gauge->name() +
+               "': names starting with 'leg' are reserved for the hexapod's legs; expected "
+               "another name (e.g. gauge)");
+    if (!names.insert(gauge->name()).second)
+      fail(source, at + ".name",
+           "'" + gauge->name() + "' is already used by another sensor; expected unique names");
     sensors.push_back(gauge);
   }
   auto model = std::make_shared<MeasurementModel>(hexapod, sensors);
@@ -224,20 +235,42 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
   return model;
 }
 
+namespace {
+
+// nlohmann's what() starts with "[json.exception.parse_error.101] "; the reader needs only
+// the rest ("parse error at line 3, column 5: ...").
+std::string without_json_tag(const std::string& what) {
+  const auto pos = what.find("] ");
+  return pos == std::string::npos ? what : what.substr(pos + 2);
+}
+
+}  // namespace
+
 std::shared_ptr<MeasurementModel> load_model(const std::string& path) {
+  // An ifstream opens a directory fine and fails only on the first read, with a message
+  // that does not name the file.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::invalid_argument(path + ": is a directory, expected a model file (JSON)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot open model file (missing or unreadable)");
   Json j;
   try {
     j = Json::parse(in);
   } catch (const nlohmann::json::parse_error& e) {
-    // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
-    std::string what = e.what();
-    const auto pos = what.find("] ");
-    if (pos != std::string::npos) what = what.substr(pos + 2);
-    throw std::invalid_argument(path + ": malformed JSON: " + what);
+    throw std::invalid_argument(path + ": malformed JSON: " + without_json_tag(e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    // e.g. out_of_range.406 "number overflow parsing '1e999'".
+    throw std::invalid_argument(path + ": unreadable JSON: " + without_json_tag(e.what()));
+  } catch (const std::ios_base::failure& e) {
+    throw std::invalid_argument(path + ": cannot read model file (" + e.what() + ")");
   }
-  return model_from_json(j, path);
+  try {
+    return model_from_json(j, path);
+  } catch (const nlohmann::json::exception& e) {
+    // model_from_json checks types before reading them; this is the net under that.
+    throw std::invalid_argument(path + ": unexpected value: " + without_json_tag(e.what()));
+  }
 }
 
 std::shared_ptr<MeasurementModel> model_with_values(const MeasurementModel& model,

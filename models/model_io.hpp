@@ -35,7 +35,9 @@ nlohmann::ordered_json model_to_json(const MeasurementModel& model, const Vector
 std::shared_ptr<MeasurementModel> model_from_json(const nlohmann::ordered_json& j,
                                                   const std::string& source);
 
-/// Reads and parses `path`; errors name the file (and line/column for malformed JSON).
+/// Reads and parses `path`. Every error is a one-line std::invalid_argument starting with
+/// "<path>: " (with line/column for malformed JSON): a missing file, a directory, a read
+/// error, a number out of range (1e999), or any schema violation of model_from_json.
 std::shared_ptr<MeasurementModel> load_model(const std::string& path);
 
 /// A copy of `model` whose nominal values are `values`, same free mask.

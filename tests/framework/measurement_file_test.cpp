@@ -3,7 +3,9 @@
 #include "framework/measurement_file.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <sstream>
 
 #include "models/presets.hpp"
@@ -89,6 +91,21 @@ TEST(MeasurementFile, MissingFileIsAnError) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/D.csv: cannot open"), std::string::npos);
   }
+}
+
+// An ifstream opens a directory and reads nothing: that must not read as "no header row".
+TEST(MeasurementFile, DirectoryIsNamedAsSuch) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("kincal-measurement-dir-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::string what = "(no error)";
+  try {
+    read_measurements(dir.string(), kActuators, kReadings);
+  } catch (const std::invalid_argument& e) {
+    what = e.what();
+  }
+  std::filesystem::remove(dir);
+  EXPECT_EQ(what, dir.string() + ": is a directory, expected a measurement file (CSV)");
 }
 
 TEST(MeasurementFile, FindsUnreachableRowsAndDropsThem) {

@@ -3,6 +3,7 @@
 #include "models/model_io.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -106,6 +107,15 @@ TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
       {edit([](J& j) { j["free"].push_back("leg9.*"); }),
        ": free[24]: parameter pattern 'leg9.*' matches no parameter"},
       {edit([](J& j) { j["free"] = "all"; }), ": free: expected an array"},
+      {edit([](J& j) { j["sensors"][0]["name"] = "legacy"; }),
+       ": sensors[0].name: 'legacy': names starting with 'leg' are reserved for the hexapod's "
+       "legs"},
+      {edit([](J& j) { j["sensors"].push_back(j["sensors"][0]); }),
+       ": sensors[1].name: 'gauge' is already used by another sensor"},
+      {edit([](J& j) { j["sensors"][0]["name"] = "g*"; }), ": sensors[0].name: expected"},
+      // nlohmann reports an out-of-range number as its own exception, not a parse error.
+      {"{\"format\": \"kincal-model\", \"version\": 1, \"units\": \"mm\", \"x\": 1e999}",
+       ": unreadable JSON: number overflow parsing '1e999'"},
   };
   for (const auto& [text, expected] : cases) {
     const std::string what = load_error(text);
@@ -116,6 +126,21 @@ TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
 
 TEST(ModelIo, MissingFileIsAnError) {
   EXPECT_THROW(load_model("/nonexistent/M.json"), std::invalid_argument);
+}
+
+// An ifstream opens a directory and fails on the first read with a message naming no file.
+TEST(ModelIo, DirectoryIsNamedAsSuch) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("kincal-model-dir-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::string what = "(no error)";
+  try {
+    load_model(dir.string());
+  } catch (const std::invalid_argument& e) {
+    what = e.what();
+  }
+  std::filesystem::remove(dir);
+  EXPECT_EQ(what, dir.string() + ": is a directory, expected a model file (JSON)");
 }
 
 }  // namespace
