@@ -67,12 +67,16 @@ int run_simulate(const Args& args) {
   const ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
   SolverChoice choice = make_solver_choice(vm);
 
+  // Every output path is checked before the run, so a typo does not cost a solve.
+  for (const char* option : {"json", "trace"})
+    if (vm.count(option)) check_writable(vm[option].as<std::string>(), option);
   std::string truth_file;
   if (vm.count("write-data")) {
     const std::string data_file = vm["write-data"].as<std::string>();
     if (data_file == "-") throw CliError("--write-data needs a file name (it writes two files)");
     truth_file = std::filesystem::path(data_file).replace_extension(".truth.json").string();
     check_writable(data_file, "write-data");
+    check_writable(truth_file, "write-data");
   }
   const Scenario scenario = make_scenario(
       vm.count("model") ? load_model_option(vm) : make_cube_hexapod(), scenario_options);
@@ -80,10 +84,12 @@ int run_simulate(const Args& args) {
 
   const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";
   if (!json_to_stdout) print_report(scenario, run, case_id);
+  // All outputs or none (write_files_atomically): data without its truth file is useless.
+  std::vector<OutputFile> outputs;
   if (vm.count("json"))
-    write_file_atomically(vm["json"].as<std::string>(),
-                          to_json(scenario, run, case_id).dump(2) + "\n");
-  if (vm.count("trace")) write_file_atomically(vm["trace"].as<std::string>(), trace_csv(run));
+    outputs.push_back(
+        {vm["json"].as<std::string>(), to_json(scenario, run, case_id).dump(2) + "\n"});
+  if (vm.count("trace")) outputs.push_back({vm["trace"].as<std::string>(), trace_csv(run)});
   if (vm.count("write-data")) {
     const MeasurementModel& model = *scenario.model;
     const std::string comment =
@@ -91,12 +97,12 @@ int run_simulate(const Args& args) {
         " configurations, gauge noise U[-a, a] with a = " +
         std::to_string(scenario_options.noise_half_width) + " mm, seed " +
         std::to_string(scenario_options.seed) + "\ntrue model: " + truth_file;
-    write_file_atomically(truth_file, model_to_json(model, scenario.truth).dump(2) + "\n");
-    write_file_atomically(
-        vm["write-data"].as<std::string>(),
-        measurements_to_csv(scenario.calibration, model.mechanism().actuator_names(),
-                            model.reading_names(), comment));
+    outputs.push_back({truth_file, model_to_json(model, scenario.truth).dump(2) + "\n"});
+    outputs.push_back({vm["write-data"].as<std::string>(),
+                       measurements_to_csv(scenario.calibration, model.mechanism().actuator_names(),
+                                           model.reading_names(), comment)});
   }
+  write_files_atomically(outputs);
   return 0;
 }
 

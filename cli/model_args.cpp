@@ -1,9 +1,12 @@
 #include "cli/model_args.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "framework/measurement_file.hpp"
@@ -63,21 +66,19 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 }
 
 void check_writable(const std::string& path, const std::string& option) {
-  if (path == "-") return;
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (fs::is_directory(target))
-    throw CliError("--" + option + " '" + path + "': is a directory, expected a file path");
-  const fs::path probe = dir / (".kincal-write-check-" + target.filename().string());
-  {
-    std::ofstream out(probe);
-    if (!out)
-      throw CliError("--" + option + " '" + path +
-                     "': cannot write there (directory missing or not writable)");
-  }
-  std::error_code ec;
-  fs::remove(probe, ec);
+  const std::string what = "--" + option + " '" + path + "'";
+  const OutputTarget target = resolve_output(path, what);
+  if (target.kind != OutputTarget::Kind::kFile) return;  // stdout, a device or a pipe
+  // Probe with the same kind of file the write will create: a new one beside the target.
+  const std::filesystem::path real(target.real);
+  const std::string probe =
+      (real.parent_path() / (".kincal-write-check-" + std::to_string(::getpid()))).string();
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0)
+    throw CliError(what + ": cannot create a file in '" + real.parent_path().string() + "' (" +
+                   std::error_code(errno, std::generic_category()).message() + ")");
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 void note(const std::string& command, const std::string& text) {

@@ -2,6 +2,7 @@
 // Runs the real kincal binary (KINCAL_CLI_PATH) and captures stdout, stderr and the exit code.
 
 #include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -42,15 +43,16 @@ inline std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-/// `args` is appended to the binary's path as is (quote what needs quoting).
-inline CliResult run_cli(const std::string& args) {
+/// `args` is appended to the binary's path as is (quote what needs quoting). `shell_prefix`
+/// runs first in the same /bin/sh, e.g. with_file_size_limit().
+inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
   static int counter = 0;
   const auto dir = std::filesystem::temp_directory_path();
   const std::string tag = std::to_string(::getpid()) + "-" + std::to_string(counter++);
   const std::string out_file = (dir / ("kincal-cli-out-" + tag)).string();
   const std::string err_file = (dir / ("kincal-cli-err-" + tag)).string();
-  const std::string command = std::string(KINCAL_CLI_PATH) + " " + args + " >" + out_file + " 2>" +
-                              err_file + " </dev/null";
+  const std::string command = shell_prefix + std::string(KINCAL_CLI_PATH) + " " + args + " >" +
+                              out_file + " 2>" + err_file + " </dev/null";
   const int status = std::system(command.c_str());
   CliResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -59,6 +61,23 @@ inline CliResult run_cli(const std::string& args) {
   std::filesystem::remove(out_file);
   std::filesystem::remove(err_file);
   return result;
+}
+
+/// Shell prefix for run_cli: no file the program writes may grow beyond `blocks` blocks of
+/// 512 bytes (1024 when /bin/sh is bash), so writing a larger file fails with EFBIG ("File
+/// too large") once it is under way. Unlike permission bits this also stops root. SIGXFSZ
+/// is ignored so that the write fails instead of killing the program. The captured stdout
+/// and stderr are limited too.
+inline std::string with_file_size_limit(int blocks) {
+  return "trap '' XFSZ; ulimit -f " + std::to_string(blocks) + "; ";
+}
+
+/// Names in `dir` starting with '.': the temporary files of an atomic write.
+inline int count_hidden_files(const std::filesystem::path& dir) {
+  int n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    n += entry.path().filename().string()[0] == '.';
+  return n;
 }
 
 inline int count_lines(const std::string& text) {
