@@ -34,6 +34,64 @@ std::string describe_deficiency(const Identifiability& a) {
   return text;
 }
 
+// The loss must reach the report (its name and the standard deviations depend on it), so it
+// has one way in: --loss. A backend option would solve with it behind the report's back.
+void reject_loss_as_solver_option(const po::variables_map& vm) {
+  if (!vm.count("solver-option")) return;
+  for (const auto& entry : vm["solver-option"].as<std::vector<std::string>>())
+    if (entry.rfind("loss=", 0) == 0)
+      throw CliError("--solver-option '" + entry + "': give the robust loss as --loss " +
+                     entry.substr(5) +
+                     " (calibrate reports the loss and uses it for the standard deviations)");
+}
+
+// --loss, validated against the chosen backend and added to its options.
+RobustLoss loss_option(const po::variables_map& vm, SolverChoice& choice) {
+  if (!vm.count("loss")) return {};
+  const std::string text = vm["loss"].as<std::string>();
+  RobustLoss loss;
+  try {
+    loss = RobustLoss::parse(text);
+  } catch (const std::invalid_argument& e) {
+    throw CliError("--loss '" + text + "': " + e.what());
+  }
+  choice.options.backend_options["loss"] = text;
+  try {
+    choice.solver->check_options(choice.options);
+  } catch (const InvalidSolverOptions& e) {
+    throw CliError("--loss: solver '" + choice.name + "' does not take a robust loss (" + e.what() +
+                   "); use --solver lm");
+  }
+  return loss;
+}
+
+// Output paths are checked before the data is read, so a typo does not cost a solve.
+void check_outputs(const po::variables_map& vm) {
+  for (const char* option : {"out", "report"})
+    if (vm.count(option)) check_writable(vm[option].as<std::string>(), option);
+  if (vm.count("out") && vm.count("report")) {
+    const std::string out = vm["out"].as<std::string>(), report = vm["report"].as<std::string>();
+    const OutputTarget a = resolve_output(out, "--out '" + out + "'");
+    const OutputTarget b = resolve_output(report, "--report '" + report + "'");
+    if (a.kind == OutputTarget::Kind::kFile && b.kind == OutputTarget::Kind::kFile &&
+        a.real == b.real)
+      throw CliError("--out '" + out + "' and --report '" + report +
+                     "' are the same file; expected two different files");
+  }
+}
+
+// The calibrated model file. It lists what this run estimated as free: a model written after
+// --allow-rank-deficient must not stop again on the parameters that had to be fixed.
+OutputFile calibrated_model_file(const std::string& path, MeasurementModel& model,
+                                 const VectorXd& values, const std::vector<std::string>& fixed) {
+  for (const auto& name : fixed) model.parameters().set_free(name, false);
+  if (!fixed.empty())
+    note("calibrate", path + ": lists only the " + std::to_string(model.parameters().num_free()) +
+                          " estimated parameters as free (the " + std::to_string(fixed.size()) +
+                          " fixed above are fixed there)");
+  return {path, model_to_json(model, values).dump(2) + "\n"};
+}
+
 }  // namespace
 
 int run_calibrate(const Args& args) {
@@ -60,25 +118,10 @@ int run_calibrate(const Args& args) {
   if (!(id_options.rcond > 0 && id_options.rcond < 1)) throw CliError("--rcond must be in (0, 1)");
 
   // Every check that does not need the data comes first, so a typo costs nothing.
+  reject_loss_as_solver_option(vm);
   SolverChoice choice = make_solver_choice(vm);
-  std::string loss = "none";
-  if (vm.count("loss")) {
-    loss = vm["loss"].as<std::string>();
-    try {
-      RobustLoss::parse(loss);
-    } catch (const std::invalid_argument& e) {
-      throw CliError("--loss '" + loss + "': " + e.what());
-    }
-    choice.options.backend_options["loss"] = loss;
-    try {
-      choice.solver->check_options(choice.options);
-    } catch (const InvalidSolverOptions& e) {
-      throw CliError("--loss: solver '" + choice.name + "' does not take a robust loss (" +
-                     e.what() + "); use --solver lm");
-    }
-  }
-  for (const char* option : {"out", "report"})
-    if (vm.count(option)) check_writable(vm[option].as<std::string>(), option);
+  const RobustLoss loss = loss_option(vm, choice);
+  check_outputs(vm);
 
   const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
   const std::string data_file = vm["data"].as<std::string>();
@@ -136,10 +179,10 @@ int run_calibrate(const Args& args) {
   VectorXd x = problem.initial_free_parameters();
   const Summary summary = choice.solver->solve(problem, x, choice.options);
 
-  CalibrationReport report = make_calibration_report(problem, x, summary, loaded.lines, id_options);
+  CalibrationReport report =
+      make_calibration_report(problem, x, summary, loaded.lines, loss, id_options);
   report.model_file = model_file;
   report.data_file = data_file;
-  report.loss = loss;
   report.fixed_by_identifiability = fixed_by_identifiability;
   report.skipped_lines = loaded.skipped_lines;
 
@@ -147,8 +190,15 @@ int run_calibrate(const Args& args) {
                       summary.termination == TerminationType::kMaxIterations;
   const bool report_to_stdout = vm.count("report") && vm["report"].as<std::string>() == "-";
   if (!report_to_stdout) std::cout << to_text(report);
+  // Model and report are written together or not at all (write_files_atomically), so a
+  // failure cannot leave a new report beside an old model or the reverse.
+  std::vector<OutputFile> outputs;
+  if (solved && vm.count("out"))
+    outputs.push_back(calibrated_model_file(vm["out"].as<std::string>(), *model,
+                                            problem.full_parameters(x), fixed_by_identifiability));
   if (vm.count("report"))
-    write_file_atomically(vm["report"].as<std::string>(), to_json(report).dump(2) + "\n");
+    outputs.push_back({vm["report"].as<std::string>(), to_json(report).dump(2) + "\n"});
+  write_files_atomically(outputs);
   if (!solved) {
     std::cerr << "kincal calibrate: error: the solver did not reach a solution ("
               << to_string(summary.termination) << ": " << summary.message
@@ -157,10 +207,7 @@ int run_calibrate(const Args& args) {
   }
   if (summary.termination == TerminationType::kMaxIterations)
     note("calibrate", "iteration limit reached before convergence; consider --max-iterations");
-  if (vm.count("out"))
-    write_file_atomically(vm["out"].as<std::string>(),
-                          model_to_json(*model, problem.full_parameters(x)).dump(2) + "\n");
-  else if (!report_to_stdout)
+  if (!vm.count("out") && !report_to_stdout)
     note("calibrate", "no --out given: the calibrated model was not saved");
   return 0;
 }

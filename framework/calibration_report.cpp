@@ -37,9 +37,11 @@ double median(std::vector<double> values) {
 
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
+                                          const RobustLoss& loss,
                                           const IdentifiabilityOptions& options) {
   CalibrationReport r;
   r.summary = summary;
+  r.loss = loss.to_string();
   r.names = problem.parameter_names();
   r.nominal = problem.initial_free_parameters();
   r.estimate = x;
@@ -60,7 +62,7 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   for (int c = 0; c < r.num_configurations; ++c)
     r.outlier.push_back(r.residuals.row(c).cwiseAbs().maxCoeff() > r.outlier_threshold);
 
-  r.uncertainty = estimate_uncertainty(J, residuals);
+  r.uncertainty = estimate_uncertainty(J, residuals, loss);
   r.identifiability = analyze_identifiability(J, r.names, options);
   return r;
 }
@@ -114,6 +116,7 @@ Json to_json(const CalibrationReport& r) {
   out["residual_max"] = r.residual_max;
   out["sigma_hat"] = number(r.uncertainty.sigma);
   out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
+  out["robust_std_factor"] = number(r.uncertainty.robust_factor);
   out["parameters"] = Json::array();
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const double std = r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN;
@@ -151,7 +154,12 @@ std::string to_text(const Identifiability& a) {
   out << "  singular values " << format("%.4g", a.singular_values.size() ? a.singular_values[0] : 0)
       << " .. "
       << format("%.4g", a.singular_values.size() ? a.singular_values[a.num_parameters - 1] : 0)
-      << ", condition number " << format("%.4g", a.condition_number) << "\n";
+      << ", condition number " << format("%.4g", a.condition_number);
+  if (std::isinf(a.condition_number) && a.num_parameters > 0)
+    out << " (rank deficient: " << std::min(a.rank, a.numerical_rank) << " of " << a.num_parameters
+        << " directions determined; singular values below the threshold count as 0, so "
+           "O1..O5 are 0)";
+  out << "\n";
   out << "  O1 " << format("%.4g", a.o1) << "  O2 " << format("%.4g", a.o2) << "  O3 "
       << format("%.4g", a.o3) << "  O4 " << format("%.4g", a.o4) << "  O5 " << format("%.4g", a.o5)
       << "\n";
@@ -173,7 +181,15 @@ std::string to_text(const CalibrationReport& r) {
   out << "\n" << r.summary.brief_report() << "\n";
   out << "residuals: RMS " << format("%.4g", r.residual_rms) << " mm, max "
       << format("%.4g", r.residual_max) << " mm, sigma_hat " << format("%.4g", r.uncertainty.sigma)
-      << " mm (" << r.uncertainty.degrees_of_freedom << " degrees of freedom)\n";
+      << " mm (" << r.uncertainty.degrees_of_freedom << " degrees of freedom";
+  if (r.loss != "none")
+    out << "; from the residuals as the " << r.loss
+        << " loss sees them, std scaled by Huber's factor "
+        << format("%.3g", r.uncertainty.robust_factor);
+  out << ")\n";
+  if (r.loss != "none" && std::isnan(r.uncertainty.robust_factor))
+    out << "no standard deviations: the " << r.loss
+        << " loss rejects most residuals (its delta is too small for this data)\n";
   int outliers = 0;
   for (bool o : r.outlier) outliers += o;
   if (outliers) {

@@ -8,13 +8,15 @@
 
 #include "framework/calibration_problem.hpp"
 #include "framework/identifiability.hpp"
+#include "framework/robust_loss.hpp"
 #include "framework/solver.hpp"
 #include "framework/uncertainty.hpp"
 
 namespace kincal {
 
 struct CalibrationReport {
-  std::string model_file, data_file, loss = "none";
+  std::string model_file, data_file;
+  std::string loss = "none";  ///< the robust loss the fit used and the uncertainty accounts for
   Summary summary;
   std::vector<std::string> names;  ///< free parameters, problem order
   VectorXd nominal, estimate;      ///< free parameters (mm)
@@ -34,10 +36,13 @@ struct CalibrationReport {
   std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)
 };
 
-/// Fills everything but the file names, loss and the two lists above from the solved
-/// problem at x. Returns with empty residuals when they cannot be computed at x.
+/// Fills everything but the file names and the two lists above from the problem solved at x
+/// with the robust loss `loss` (none: plain least squares); the standard deviations then use
+/// that loss's IRLS weights (estimate_uncertainty). Returns with empty residuals when they
+/// cannot be computed at x.
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
+                                          const RobustLoss& loss = {},
                                           const IdentifiabilityOptions& options = {});
 
 nlohmann::ordered_json to_json(const Identifiability& a);

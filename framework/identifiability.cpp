@@ -83,9 +83,15 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
     a.numerical_rank += s[i] > a.numerical_threshold;
   }
 
+  // Singular values below the numerical-rank threshold are treated as zero everywhere else
+  // (the rank, calibrate's refusal to solve, the null-space combinations); when they come
+  // from an exact deficiency they are rounding noise of the SVD (1e-17), so ratios built
+  // from them would be random numbers, not measures. A rank-deficient problem therefore
+  // gets an infinite condition number and indices of 0, as if they were exactly 0.
   const double s_min = s[n - 1];
-  a.condition_number = s_min > 0 ? s_max / s_min : std::numeric_limits<double>::infinity();
-  if (s_min > 0) {
+  a.condition_number = std::numeric_limits<double>::infinity();
+  if (!a.rank_deficient() && a.rank == n && s_min > 0) {
+    a.condition_number = s_max / s_min;
     double log_product = 0, inverse_squares = 0;
     for (int i = 0; i < n; ++i) {
       log_product += std::log(s[i]);

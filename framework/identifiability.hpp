@@ -6,13 +6,15 @@
 // parameter's column has unit norm, so a parameter with a long lever arm does not look
 // better determined merely because of its units or scale (Hollerbach & Wampler).
 // With s_1 >= ... >= s_n its singular values and m the number of residuals:
-//   condition number  s_1 / s_n                            (infinite when s_n = 0)
+//   condition number  s_1 / s_n
 //   O1  (s_1 s_2 ... s_n)^(1/n) / sqrt(m)                  Borm & Menq, 1991
 //   O2  s_n / s_1, the inverse condition number            Driels & Pathre, 1990
 //   O3  s_n, the smallest singular value                   Nahvi, Hollerbach & Hayward, 1994
 //   O4  s_n^2 / s_1, the noise amplification index          Nahvi & Hollerbach, 1996
 //   O5  1 / sum_i (1 / s_i^2) = 1 / trace((D^-T J^T J D^-1)^-1)   A-optimality
-// For each larger is better; all but the condition number are 0 for a rank-deficient J.
+// For each index larger is better. When J is rank deficient (numerical rank or rank below n,
+// e.g. s_n = 1e-17, zero up to rounding), the condition number is infinite and all five
+// indices are 0, whatever the SVD left in s_n.
 
 #include <string>
 #include <vector>
@@ -55,13 +57,14 @@ struct Identifiability {
   int numerical_rank = 0;          ///< singular values above numerical_threshold
   double numerical_threshold = 0;  ///< rcond * s_1
   double rcond = 0;
-  double condition_number = 0;  ///< s_1 / s_n; +infinity when s_n = 0
+  double condition_number = 0;  ///< s_1 / s_n; +infinity when rank deficient
   double o1 = 0, o2 = 0, o3 = 0, o4 = 0, o5 = 0;
   /// Parameters whose column is zero: no reading depends on them.
   std::vector<std::string> unseen;
   /// Null-space directions, then weak ones, weakest first.
   std::vector<ParameterCombination> combinations;
 
+  /// The data cannot determine every free parameter (numerical rank below n).
   bool rank_deficient() const { return numerical_rank < num_parameters; }
 };
 

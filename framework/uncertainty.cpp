@@ -6,6 +6,30 @@
 
 namespace kincal {
 
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Huber's kappa / mean(psi') for the residuals of an M-estimate with n parameters; exactly 1
+// without a loss (psi' = 1 everywhere).
+double robust_factor(const VectorXd& residuals, const RobustLoss& loss, int n) {
+  const int m = static_cast<int>(residuals.size());
+  if (loss.kind == RobustLoss::Kind::kNone || m == 0) return 1.0;
+  VectorXd psi_prime(m);
+  for (int i = 0; i < m; ++i) {
+    const double s = residuals[i] * residuals[i];
+    const auto rho = loss.evaluate(s);
+    psi_prime[i] = rho[1] + 2 * s * rho[2];  // d/dr (rho'(r^2) r)
+  }
+  const double mean = psi_prime.mean();
+  if (!(mean > 0)) return kNaN;
+  const double variance = m > 1 ? (psi_prime.array() - mean).square().sum() / (m - 1) : 0.0;
+  const double kappa = 1 + static_cast<double>(n) / m * variance / (mean * mean);
+  return kappa / mean;
+}
+
+}  // namespace
+
 MatrixXd parameter_covariance(const MatrixXd& J, double sigma, double rcond) {
   const Eigen::JacobiSVD<MatrixXd> svd(J, Eigen::ComputeThinV);
   const VectorXd& s = svd.singularValues();
@@ -18,14 +42,17 @@ MatrixXd parameter_covariance(const MatrixXd& J, double sigma, double rcond) {
 }
 
 ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& residuals,
-                                          double rcond) {
+                                          const RobustLoss& loss, double rcond) {
   ParameterUncertainty u;
   const int m = static_cast<int>(J.rows());
   const int n = static_cast<int>(J.cols());
+  // psi_i = rho'(r_i^2) r_i: the residual as the loss sees it (r_i itself without a loss).
+  VectorXd psi(m);
+  for (int i = 0; i < m; ++i) psi[i] = loss.evaluate(residuals[i] * residuals[i])[1] * residuals[i];
   u.degrees_of_freedom = m - n;
-  u.sigma = u.degrees_of_freedom > 0 ? std::sqrt(residuals.squaredNorm() / u.degrees_of_freedom)
-                                     : std::numeric_limits<double>::quiet_NaN();
-  u.covariance = parameter_covariance(J, u.sigma, rcond);
+  u.sigma = u.degrees_of_freedom > 0 ? std::sqrt(psi.squaredNorm() / u.degrees_of_freedom) : kNaN;
+  u.robust_factor = robust_factor(residuals, loss, n);
+  u.covariance = parameter_covariance(J, u.robust_factor * u.sigma, rcond);
   u.std = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   // The correlation does not depend on sigma: take it from (J^T J)^-1, defined even for m = n.
   const MatrixXd unit = parameter_covariance(J, 1.0, rcond);

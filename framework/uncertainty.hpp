@@ -1,6 +1,7 @@
 #pragma once
 // Parameter uncertainty of a least-squares fit from its Jacobian.
 
+#include "framework/robust_loss.hpp"
 #include "framework/types.hpp"
 
 namespace kincal {
@@ -13,17 +14,32 @@ MatrixXd parameter_covariance(const MatrixXd& J, double sigma, double rcond = 1e
 /// Uncertainty of a least-squares estimate with the noise level estimated from the fit.
 struct ParameterUncertainty {
   int degrees_of_freedom = 0;  ///< m - n
-  /// sigma_hat = sqrt(|r|^2 / (m - n)), the residual standard deviation (mm); NaN when
-  /// m <= n (an exact fit says nothing about the noise).
+  /// sigma_hat = sqrt(sum psi_i^2 / (m - n)) (mm), psi_i the residual after the robust loss
+  /// (= r_i without one); NaN when m <= n (an exact fit says nothing about the noise).
   double sigma = 0;
-  MatrixXd covariance;   ///< sigma_hat^2 (J^T J)^-1 (n x n); NaN when sigma is
+  /// Huber's correction kappa / mean(psi'): 1 without a robust loss; NaN when mean(psi')
+  /// <= 0 (the loss rejects most residuals: its delta is too small for this data).
+  double robust_factor = 1;
+  MatrixXd covariance;   ///< (robust_factor sigma_hat)^2 (J^T J)^-1 (n x n); NaN when either is
   VectorXd std;          ///< sqrt of its diagonal
   MatrixXd correlation;  ///< covariance_ij / (std_i std_j); 0 where a std is 0
 };
 
-/// From the Jacobian J (m x n) and residuals r (m) at the estimate. With a plain
-/// least-squares fit |r|^2 = 2 * final cost.
+/// From the Jacobian J (m x n) and residuals r (m) at the estimate, for a fit that
+/// minimised 1/2 sum rho(r_i^2) (`loss`; none = plain least squares, where this is the
+/// ordinary sigma_hat^2 (J^T J)^-1 with sigma_hat^2 = |r|^2 / (m - n)).
+///
+/// With a robust loss the estimate is an M-estimator with psi(r) = rho'(r^2) r = w r (w the
+/// IRLS weight). Its covariance is Huber's (Robust Statistics, 1981, sec. 7.6; the form of
+/// R's MASS::rlm):
+///   K^2 [sum psi_i^2 / (m - n)] / mean(psi')^2 (J^T J)^-1,
+///   K = 1 + (n / m) var(psi') / mean(psi')^2.
+/// psi is bounded (|psi| <= delta for Huber), so a gross outlier adds at most delta^2 to the
+/// noise estimate, and psi' (0 beyond delta for Huber) removes the outliers' share of the
+/// information. Compared over simulated outlier data with the IRLS-weighted alternative
+/// sigma_hat^2 (J^T W J)^-1 this tracks the scatter of the estimates more closely; see
+/// docs/calibrating-a-machine.md, section 5.
 ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& residuals,
-                                          double rcond = 1e-12);
+                                          const RobustLoss& loss = {}, double rcond = 1e-12);
 
 }  // namespace kincal

@@ -83,6 +83,37 @@ TEST(Identifiability, NamesTheCombinationThatCannotBeSeparated) {
   EXPECT_TRUE(keep[1] == 1 || keep[1] == 2);
 }
 
+// An exact dependency leaves s_n at rounding level (1e-17), not 0: the figures must not be
+// ratios of that noise, and a weak but real direction just above the threshold must not be
+// swallowed.
+TEST(Identifiability, NumericallyRankDeficientGivesZeroIndicesAndInfiniteCondition) {
+  Random rng(5);
+  MatrixXd J(30, 3);
+  for (int i = 0; i < 30; ++i) {
+    J(i, 0) = rng.symmetric(1);
+    J(i, 1) = rng.symmetric(1);
+    J(i, 2) = 0.3 * J(i, 0) - 0.7 * J(i, 1);  // dependent, up to rounding
+  }
+  const Identifiability a = analyze_identifiability(J, {"a", "b", "c"});
+  ASSERT_GT(a.singular_values[2], 0.0);  // the SVD leaves rounding noise
+  EXPECT_LT(a.singular_values[2], a.numerical_threshold);
+  EXPECT_EQ(a.numerical_rank, 2);
+  EXPECT_TRUE(a.rank_deficient());
+  EXPECT_TRUE(std::isinf(a.condition_number));
+  for (const double index : {a.o1, a.o2, a.o3, a.o4, a.o5}) EXPECT_EQ(index, 0.0);
+  EXPECT_TRUE(to_json(a)["condition_number"].is_null());
+  EXPECT_NE(to_text(a).find("rank deficient: 2 of 3 directions determined"), std::string::npos)
+      << to_text(a);
+
+  // Perturbed to s_3 / s_1 ~ 1e-3, above rcond = 1e-6: full rank, finite figures.
+  for (int i = 0; i < 30; ++i) J(i, 2) += 1e-3 * rng.symmetric(1);
+  const Identifiability b = analyze_identifiability(J, {"a", "b", "c"});
+  EXPECT_EQ(b.numerical_rank, 3);
+  EXPECT_TRUE(std::isfinite(b.condition_number));
+  EXPECT_GT(b.o3, 0.0);
+  EXPECT_NEAR(b.o2, 1 / b.condition_number, 1e-15);
+}
+
 TEST(Identifiability, FewerResidualsThanParametersIsRankDeficient) {
   const MatrixXd J = MatrixXd::Random(3, 5);
   const Identifiability a = analyze_identifiability(J, {"a", "b", "c", "d", "e"});
