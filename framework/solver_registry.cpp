@@ -13,19 +13,40 @@ SolverRegistry& SolverRegistry::global() {
   return registry;
 }
 
-void SolverRegistry::add(const std::string& name, const std::string& description, Factory factory,
-                         std::vector<std::string> featured_variants, bool is_family) {
+void SolverRegistry::require_new_name(const std::string& name) const {
+  if (name.empty() || name.find(':') != std::string::npos)
+    throw std::logic_error("solver name '" + name + "' must be non-empty, without a colon");
   for (const auto& info : infos_)
     if (info.name == name || info.name == name + ":<ALGORITHM>")
       throw std::logic_error("solver '" + name + "' registered twice");
-  SolverInfo info;
-  info.name = is_family ? name + ":<ALGORITHM>" : name;
-  info.description = description;
-  info.variants = is_family ? std::move(featured_variants) : std::vector<std::string>{name};
-  if (is_family)
-    for (auto& v : info.variants) v = name + ":" + v;
+  for (const auto& missing : unavailable_)
+    if (missing.name == name) throw std::logic_error("solver '" + name + "' registered twice");
+}
+
+void SolverRegistry::add_entry(SolverInfo info, bool is_family, Factory factory) {
   infos_.push_back(std::move(info));
   entries_.push_back({is_family, std::move(factory)});
+}
+
+void SolverRegistry::add(const std::string& name, const std::string& description, SolverKind kind,
+                         Factory factory) {
+  require_new_name(name);
+  add_entry({name, description, kind, {name}}, false, std::move(factory));
+}
+
+void SolverRegistry::add_family(const std::string& family, const std::string& description,
+                                SolverKind kind, Factory factory,
+                                std::vector<std::string> featured_variants) {
+  require_new_name(family);
+  for (auto& v : featured_variants) v = family + ":" + v;
+  add_entry({family + ":<ALGORITHM>", description, kind, std::move(featured_variants)}, true,
+            std::move(factory));
+}
+
+void SolverRegistry::add_unavailable(const std::string& name, SolverKind kind,
+                                     const std::string& reason) {
+  require_new_name(name);
+  unavailable_.push_back({name, kind, reason});
 }
 
 bool SolverRegistry::contains(const std::string& name) const {
@@ -35,6 +56,12 @@ bool SolverRegistry::contains(const std::string& name) const {
   } catch (const InvalidSolverOptions&) {
     return false;
   }
+}
+
+std::string SolverRegistry::available_names() const {
+  std::string known;
+  for (const auto& info : infos_) known += (known.empty() ? "" : ", ") + info.name;
+  return known;
 }
 
 std::unique_ptr<Solver> SolverRegistry::create(const std::string& name) const {
@@ -48,9 +75,12 @@ std::unique_ptr<Solver> SolverRegistry::create(const std::string& name) const {
       return entries_[i].factory("");
     }
   }
-  std::string known;
-  for (const auto& info : infos_) known += (known.empty() ? "" : ", ") + info.name;
-  throw InvalidSolverOptions("unknown solver '" + name + "' (available: " + known + ")");
+  for (const auto& missing : unavailable_)
+    if (missing.name == family)
+      throw InvalidSolverOptions("solver '" + name + "' is not in this build: " + missing.reason +
+                                 " (available: " + available_names() + ")");
+  throw InvalidSolverOptions("unknown solver '" + name + "' (available: " + available_names() +
+                             ")");
 }
 
 std::vector<std::string> SolverRegistry::featured_names() const {

@@ -1,5 +1,7 @@
 // The one place that knows which backends are built: one registration line per backend.
-// Optional backends are compiled in when their CMake option (KINCAL_WITH_<NAME>) is ON.
+// Optional backends are compiled in when their CMake option (KINCAL_WITH_<NAME>) is ON; when
+// it is OFF they are registered as unavailable, so that `--solver ceres` says how to get it
+// and the tests skip them with that reason.
 
 #include "framework/solver_registry.hpp"
 #include "solvers/gauss_newton.hpp"
@@ -17,24 +19,35 @@
 namespace kincal {
 
 void register_builtin_solvers(SolverRegistry& registry) {
-  registry.add("gn", "Gauss-Newton as in the paper (undamped, QR-solved steps)",
+  using K = SolverKind;
+  registry.add("gn", "Gauss-Newton as in the paper (undamped, QR-solved steps)", K::kLeastSquares,
                [](const std::string&) { return make_gauss_newton_solver(); });
-  registry.add("lm",
-               "Levenberg-Marquardt on Eigen (default): trust-region damping, Marquardt scaling",
-               [](const std::string&) { return make_levenberg_marquardt_solver(); });
+  registry.add(
+      "lm", "Levenberg-Marquardt on Eigen (default): trust-region damping, Marquardt scaling",
+      K::kLeastSquares, [](const std::string&) { return make_levenberg_marquardt_solver(); });
 #ifdef KINCAL_WITH_CERES
-  registry.add("ceres", "Ceres Solver, trust region (LM, dense QR by default)",
+  registry.add("ceres", "Ceres Solver, trust region (LM, dense QR by default)", K::kLeastSquares,
                [](const std::string&) { return make_ceres_solver(); });
+#else
+  registry.add_unavailable("ceres", K::kLeastSquares,
+                           "built with KINCAL_WITH_CERES=OFF (reconfigure with it ON)");
 #endif
 #ifdef KINCAL_WITH_NLOPT
-  registry.add(
+  registry.add_family(
       "nlopt", "NLopt minimising the sum of squares (any NLopt algorithm name)",
+      K::kGeneralMinimizer,
       [](const std::string& algorithm) { return make_nlopt_solver(algorithm); },
-      nlopt_featured_algorithms(), /*is_family=*/true);
+      nlopt_featured_algorithms());
+#else
+  registry.add_unavailable("nlopt", K::kGeneralMinimizer,
+                           "built with KINCAL_WITH_NLOPT=OFF (reconfigure with it ON)");
 #endif
 #ifdef KINCAL_WITH_IPOPT
   registry.add("ipopt", "Ipopt interior point with the Gauss-Newton Hessian J^T J",
-               [](const std::string&) { return make_ipopt_solver(); });
+               K::kLeastSquares, [](const std::string&) { return make_ipopt_solver(); });
+#else
+  registry.add_unavailable("ipopt", K::kLeastSquares,
+                           "built with KINCAL_WITH_IPOPT=OFF (reconfigure with it ON)");
 #endif
 }
 
