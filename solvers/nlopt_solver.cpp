@@ -5,6 +5,8 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <map>
+#include <mutex>
 
 #include "solvers/solver_common.hpp"
 
@@ -39,6 +41,51 @@ bool requires_local_optimizer(const std::string& name) {
 }
 
 const char* kDefaultLocalAlgorithm = "LD_LBFGS";
+
+// f = |x|^2 on [-1, 1]^2, for the probe below.
+double probe_objective(unsigned n, const double* x, double* grad, void*) {
+  double f = 0;
+  for (unsigned i = 0; i < n; ++i) {
+    f += x[i] * x[i];
+    if (grad != nullptr) grad[i] = 2 * x[i];
+  }
+  return f;
+}
+
+// One short run of `algorithm` on the probe objective, set up as configure() would (bounds,
+// subsidiary optimiser, xtol_abs).
+nlopt_result probe(nlopt_algorithm algorithm) {
+  nlopt_opt opt = nlopt_create(algorithm, 2);
+  const double lower[2] = {-1, -1}, upper[2] = {1, 1};
+  nlopt_set_lower_bounds(opt, lower);
+  nlopt_set_upper_bounds(opt, upper);
+  nlopt_set_min_objective(opt, probe_objective, nullptr);
+  nlopt_set_maxeval(opt, 20);
+  nlopt_set_xtol_abs1(opt, 0);  // see configure(): MLSL crashes without it
+  if (requires_local_optimizer(nlopt_algorithm_to_string(algorithm))) {
+    nlopt_opt local = nlopt_create(NLOPT_LD_LBFGS, 2);
+    nlopt_set_local_optimizer(opt, local);  // copies it
+    nlopt_destroy(local);
+  }
+  double x[2] = {0.5, -0.5}, f = 0;
+  const nlopt_result result = nlopt_optimize(opt, x, &f);
+  nlopt_destroy(opt);
+  return result;
+}
+
+// Whether this NLopt library can run `algorithm` at all. NLopt lists names it was built
+// without and answers NLOPT_INVALID_ARGS for them on any problem: LD_LBFGS_NOCEDAL always
+// (NLopt does not ship Nocedal's code), StoGO and AGS in a build without C++. Probed once per
+// algorithm and process.
+bool runs_in_this_build(int algorithm) {
+  static std::mutex mutex;
+  static std::map<int, bool> known;
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto it = known.find(algorithm);
+  if (it != known.end()) return it->second;
+  return known[algorithm] = probe(static_cast<nlopt_algorithm>(algorithm)) != NLOPT_INVALID_ARGS;
+}
+
 constexpr double kDefaultBoxHalfWidth = 10;
 // Cost reported at points where the residuals cannot be computed, times the worst cost seen.
 constexpr double kPenaltyFactor = 10;
@@ -306,6 +353,10 @@ class NloptSolver final : public Solver {
     }
     opt.set_ftol_rel(options.function_tolerance);
     opt.set_xtol_rel(options.parameter_tolerance);
+    // 0 is NLopt's default (no absolute test), but setting it allocates the array: NLopt
+    // 2.7.1 copies it, unallocated, into the default local optimiser of GN_MLSL/GD_MLSL and
+    // their _LDS variants, and crashes (memcpy from null in nlopt_set_xtol_abs).
+    opt.set_xtol_abs(0.0);
     opt.set_maxeval(options.max_iterations);
     if (options.backend_options.count("initial_step"))
       opt.set_initial_step(to_std(
@@ -403,6 +454,13 @@ std::unique_ptr<Solver> make_nlopt_solver(const std::string& algorithm) {
     throw InvalidSolverOptions("nlopt: unknown algorithm '" + algorithm + "' (valid: " + list +
                                ")");
   }
+  if (!runs_in_this_build(a))
+    throw InvalidSolverOptions(
+        "nlopt: algorithm '" + algorithm +
+        "' is not available in this NLopt library, which rejects it on any problem" +
+        (algorithm == "LD_LBFGS_NOCEDAL"
+             ? " (NLopt does not ship Nocedal's L-BFGS code; use LD_LBFGS)"
+             : " (built without it)"));
   return std::make_unique<NloptSolver>(a);
 }
 

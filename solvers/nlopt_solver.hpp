@@ -11,7 +11,8 @@
 namespace kincal {
 
 /// `algorithm` is an NLopt name such as "LD_LBFGS". Throws InvalidSolverOptions listing the
-/// valid names when it is not one.
+/// valid names when it is not one, and saying so when this NLopt library cannot run it
+/// (LD_LBFGS_NOCEDAL, which NLopt lists but never ships).
 std::unique_ptr<Solver> make_nlopt_solver(const std::string& algorithm);
 
 /// The algorithms worth testing and benchmarking on our problems.

@@ -3,8 +3,10 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "framework/simulation.hpp"
+#include "framework/solver_registry.hpp"
 #include "models/presets.hpp"
 
 namespace kincal::testing {
@@ -38,6 +40,35 @@ class ExponentialFit : public LeastSquaresProblem {
   static VectorXd start() { return Eigen::Vector3d(1, 0.3, 0); }
   static VectorXd solution() { return Eigen::Vector3d(2, 0.7, 0.3); }
 };
+
+/// The same fit whose residuals exist only for a <= 1.5, like forward kinematics that works in
+/// part of the parameter space: the minimum (a = 2) is beyond the fence, so every backend
+/// meets uncomputable trial points in the middle of the solve.
+class FencedFit : public ExponentialFit {
+ public:
+  static constexpr double kFence = 1.5;
+  static constexpr const char* kReason = "beyond the fence (test problem)";
+  bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                      Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override {
+    if (x[0] > kFence) {
+      if (why) *why = kReason;
+      return false;
+    }
+    return ExponentialFit::evaluate_block(block, x, residuals, jacobian, why);
+  }
+};
+
+/// Empty when `name` can be created in this build; otherwise why not, in the registry's words
+/// (for a backend left out of the build they name its KINCAL_WITH_<NAME> option). Tests of a
+/// backend skip with this reason.
+inline std::string why_not_built(const std::string& name) {
+  try {
+    SolverRegistry::global().create(name);
+    return "";
+  } catch (const InvalidSolverOptions& e) {
+    return e.what();
+  }
+}
 
 /// Residuals that cannot be computed anywhere, as when forward kinematics fails.
 class NowhereComputable : public ExponentialFit {
