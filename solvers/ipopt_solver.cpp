@@ -6,9 +6,17 @@
 #include <coin/IpOrigIpoptNLP.hpp>
 #include <coin/IpTNLP.hpp>
 #include <coin/IpTNLPAdapter.hpp>
+// Ipopt 3.11 loads the HSL solvers from libhsl.so and Pardiso from libpardiso.so at run time
+// (Debian's build has only MUMPS inside); these loaders let us check before solving.
+#if __has_include(<coin/HSLLoader.h>) && __has_include(<coin/PardisoLoader.h>)
+#include <coin/HSLLoader.h>
+#include <coin/PardisoLoader.h>
+#define KINCAL_IPOPT_HAS_SOLVER_LOADERS 1
+#endif
 
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include "solvers/solver_common.hpp"
 
@@ -65,6 +73,48 @@ const char* status_name(Ipopt::ApplicationReturnStatus status) {
   return "unknown status";
 }
 
+// Statuses with which Ipopt gives up on finding a step: at the edge of the region where the
+// residuals exist (trial points failing) that means the iterates kept leaving it.
+bool gave_up_on_the_step(Ipopt::ApplicationReturnStatus status) {
+  return status == Ipopt::Restoration_Failed || status == Ipopt::Error_In_Step_Computation ||
+         status == Ipopt::Search_Direction_Becomes_Too_Small ||
+         status == Ipopt::Invalid_Number_Detected;
+}
+
+// Empty when Ipopt can use `linear_solver`, else why not. MUMPS is linked in; the others
+// need a library Ipopt loads at run time, and without it Ipopt only says Invalid_Option
+// (and for ma97 prints to stdout). Loading is process-wide, hence the lock.
+std::string linear_solver_unavailable(const std::string& linear_solver) {
+  if (linear_solver == "mumps") return "";
+#ifdef KINCAL_IPOPT_HAS_SOLVER_LOADERS
+  static std::mutex mutex;
+  std::lock_guard<std::mutex> lock(mutex);
+  char message[512] = "";
+  if (linear_solver == "pardiso") {
+    if (LSL_isPardisoLoaded() || LSL_loadPardisoLib(nullptr, message, sizeof message) == 0)
+      return "";
+    return std::string("Ipopt could not load ") + LSL_PardisoLibraryName() + ": " + message;
+  }
+  if (!LSL_isHSLLoaded() && LSL_loadHSL(nullptr, message, sizeof message) != 0)
+    return std::string("Ipopt could not load ") + LSL_HSLLibraryName() + ": " + message;
+  const bool found = (linear_solver == "ma27" && LSL_isMA27available()) ||
+                     (linear_solver == "ma57" && LSL_isMA57available()) ||
+                     (linear_solver == "ma77" && LSL_isMA77available()) ||
+                     (linear_solver == "ma86" && LSL_isMA86available()) ||
+                     (linear_solver == "ma97" && LSL_isMA97available());
+  return found ? "" : std::string(LSL_HSLLibraryName()) + " does not provide it";
+#else
+  return "";  // no loader API to ask: Ipopt will end Invalid_Option if it cannot load it
+#endif
+}
+
+// Against the edge of the region where the residuals exist, Ipopt cuts every step back to
+// ~1e-16 and repeats until max_iter (measured on a fenced curve fit: ~46 failed evaluations
+// per iteration, 100 iterations in 0.1 s for nothing). This many iterations in a row without
+// a cost change while trial points fail end the solve as `diverged` (lm's max_invalid_steps
+// default is also 10).
+constexpr int kMaxStuckIterations = 10;
+
 // The least-squares problem as an Ipopt NLP: variables x, no constraints, f = 1/2 |r|^2.
 // Residuals and Jacobian are cached per x: Ipopt asks for f, its gradient and the Hessian at
 // the same point in separate calls.
@@ -97,13 +147,23 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
       why_ = "residuals are not finite";
     }
     if (cache_ok_ && with_jacobian) gradient_.noalias() = J_.transpose() * r_;
+    // Ipopt only hears "false" and cuts its step back; the reason would be lost.
+    if (!cache_ok_ && failures_++ == 0) first_failure_ = why_;
+    last_failed_ = !cache_ok_;
     return cache_ok_;
   }
   double cost() const { return 0.5 * r_.squaredNorm(); }
   const VectorXd& gradient() const { return gradient_; }
   const std::string& why() const { return why_; }
+  /// Points (trial points included) where the residuals could not be computed, the first
+  /// reason, and whether the most recent evaluation was one of them.
+  int failures() const { return failures_; }
+  const std::string& first_failure() const { return first_failure_; }
+  bool last_failed() const { return last_failed_; }
 
   bool stopped_by_callback() const { return stopped_by_callback_; }
+  /// Ipopt was stopped because its iterates had stalled against uncomputable trial points.
+  bool stuck() const { return stuck_iterations_ >= kMaxStuckIterations; }
   int last_iteration() const { return last_iteration_; }
   bool finalized() const { return finalized_; }
   const VectorXd& final_x() const { return final_x_; }
@@ -190,7 +250,7 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
       stopped_by_callback_ = true;
       return false;
     }
-    return true;
+    return !stuck_at_the_edge(iter, obj_value);
   }
 
   void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
@@ -224,10 +284,27 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   const bool exact_hessian_;
   const int n_;
 
+  // An iteration whose cost did not change while trial points failed is "stuck".
+  bool stuck_at_the_edge(Index iter, double cost) {
+    const bool failing = failures_ > failures_at_last_iteration_;
+    failures_at_last_iteration_ = failures_;
+    const bool flat =
+        iter > 0 && detail::small_cost_change(previous_cost_, cost, options_.function_tolerance);
+    previous_cost_ = cost;
+    stuck_iterations_ = failing && flat ? stuck_iterations_ + 1 : 0;
+    return stuck();
+  }
+  int failures_at_last_iteration_ = 0;
+  double previous_cost_ = 0;
+  int stuck_iterations_ = 0;
+
   bool cache_valid_ = false, cache_ok_ = false, has_jacobian_ = false;
   VectorXd cached_x_, r_, gradient_;
   MatrixXd J_, jtj_;
   std::string why_;
+  int failures_ = 0;
+  std::string first_failure_;
+  bool last_failed_ = false;
 
   VectorXd x_, previous_x_;
   int last_iteration_ = 0;
@@ -246,7 +323,12 @@ class IpoptSolver final : public Solver {
     solver_option::require_known_keys(name(), options, {"hessian", "mu_strategy", "linear_solver"});
     hessian(options);
     mu_strategy(options);
-    linear_solver(options);
+    const std::string linear = linear_solver(options);
+    const std::string why = linear_solver_unavailable(linear);
+    if (!why.empty())
+      throw InvalidSolverOptions("ipopt: linear_solver=" + linear + " is not available: " + why +
+                                 " (Debian's Ipopt has only MUMPS built in: use "
+                                 "linear_solver=mumps, the default)");
   }
 
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
@@ -302,7 +384,21 @@ class IpoptSolver final : public Solver {
       x = nlp->final_x();
       summary.final_cost = std::isfinite(nlp->final_cost()) ? nlp->final_cost() : problem.cost(x);
     }
-    const auto [type, message] = termination(status, nlp->stopped_by_callback());
+    auto [type, message] = termination(status, nlp->stopped_by_callback());
+    if (nlp->stuck()) {
+      type = TerminationType::kDiverged;
+      message = "stopped after " + std::to_string(kMaxStuckIterations) +
+                " iterations without progress, every trial point beyond the region where "
+                "the residuals can be computed";
+    }
+    if (nlp->failures() > 0) {
+      message += " (residuals failed at " + std::to_string(nlp->failures()) +
+                 " of the points Ipopt tried; first: " + nlp->first_failure() + ")";
+      // Ipopt gives up (restoration failed, step too small, ...) at the edge of the region
+      // where the residuals exist: as ceres and lm do, call that leaving the region.
+      if (type == TerminationType::kFailed && nlp->last_failed() && gave_up_on_the_step(status))
+        type = TerminationType::kDiverged;
+    }
     monitor.finish(type, message);
     return summary;
   }
@@ -316,8 +412,8 @@ class IpoptSolver final : public Solver {
     return solver_option::get_choice(name(), options, "mu_strategy", {"monotone", "adaptive"},
                                      "monotone");
   }
-  // Debian's Ipopt has MUMPS only; the HSL and Pardiso solvers load at run time when present,
-  // otherwise the solve ends `failed`.
+  // Debian's Ipopt has MUMPS built in; the HSL and Pardiso solvers load at run time when
+  // present, and check_options rejects them when they cannot.
   std::string linear_solver(const SolverOptions& options) const {
     return solver_option::get_choice(name(), options, "linear_solver",
                                      {"mumps", "ma27", "ma57", "ma77", "ma86", "ma97", "pardiso"},
@@ -346,6 +442,10 @@ class IpoptSolver final : public Solver {
       case Ipopt::User_Requested_Stop:
         if (stopped_by_callback) return {T::kUserStopped, "stopped by the callback"};
         return {T::kFailed, what};
+      case Ipopt::Invalid_Option:
+        return {T::kFailed, what +
+                                " (Ipopt refused an option value, e.g. a linear solver it "
+                                "cannot load)"};
       default:
         return {T::kFailed, what};
     }
