@@ -18,6 +18,12 @@ class GaussNewtonSolver final : public Solver {
     solver_option::require_known_keys(name(), options, {"runaway_factor"});
     if (solver_option::get_double(name(), options, "runaway_factor", 1e3) <= 0)
       throw InvalidSolverOptions("gn: runaway_factor must be > 0");
+    // Undamped full steps have no way to stay in a box; ignoring one would return a point
+    // outside the bounds the caller asked for.
+    if (options.lower_bounds || options.upper_bounds)
+      throw InvalidSolverOptions(
+          "gn: bounds are not supported (the paper's undamped Gauss-Newton cannot honour a "
+          "box); use lm, ceres, nlopt:<ALGORITHM> or ipopt");
   }
 
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,

@@ -1,6 +1,6 @@
 #pragma once
 // `gn`: the paper's undamped Gauss-Newton (eq. 26), each step solved by column-pivoting QR
-// of J rather than by inverting J^T J.
+// of J rather than by inverting J^T J. No bounds: check_options rejects them.
 
 #include <memory>
 

@@ -38,5 +38,25 @@ TEST(GaussNewton, StopsAtTheIterationLimitAndSaysSo) {
   EXPECT_EQ(run.summary.iterations, 1);
 }
 
+// Undamped steps cannot stay in a box: bounds are refused rather than silently ignored.
+TEST(GaussNewton, RejectsBounds) {
+  const auto problem = paper_scenario(1, 3).make_problem();
+  VectorXd x = problem->initial_free_parameters();
+  const VectorXd start = x;
+  SolverOptions options;
+  options.lower_bounds = (x.array() - 10.0).matrix();
+  options.upper_bounds = (x.array() + 10.0).matrix();
+  const auto solver = SolverRegistry::global().create("gn");
+  try {
+    solver->solve(*problem, x, options);
+    FAIL() << "bounds were accepted";
+  } catch (const InvalidSolverOptions& e) {
+    EXPECT_NE(std::string(e.what()).find("bounds are not supported"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(solver->check_options(options), InvalidSolverOptions);
+  EXPECT_EQ(x, start);
+}
+
 }  // namespace
 }  // namespace kincal
