@@ -12,8 +12,8 @@
 //               and it must report `converged`.
 //   gradient    general minimisers (nlopt:LD_LBFGS, LD_SLSQP, LD_TNEWTON_PRECOND_RESTART):
 //               first-order and quasi-Newton methods on a Hessian with condition number
-//               ~1e10 cannot pin the flat directions (measured: L-BFGS stops 0.48 mm off on
-//               the worst parameter, 0.14 mm RMS, with the cost down 3.5e11-fold), so the
+//               ~1e10 cannot pin the flat directions (measured: L-BFGS stops 0.47 mm off on
+//               the worst parameter, 0.14 mm RMS, with the cost down 3e11-fold), so the
 //               full case 1 with up to 20000 evaluations must come within 1 mm on every
 //               parameter *and* bring the cost down by 9 orders of magnitude.
 //   small       nlopt:LN_* (derivative-free) and nlopt:LD_MMA: the same case 1 data with 2
