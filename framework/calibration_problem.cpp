@@ -46,7 +46,6 @@ namespace {
 // Per-thread scratch so that evaluate_block allocates nothing once warmed up.
 struct BlockScratch {
   VectorXd full;
-  VectorXd actuators;  // a row of the column-major data, made contiguous
   VectorXd predicted;
   MatrixXd J_full;
   MeasurementModel::Workspace model;
@@ -61,13 +60,12 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
   const int k = model_->num_readings();
   scratch.full = base_;  // same size every call: no reallocation
   for (std::size_t i = 0; i < free_indices_.size(); ++i) scratch.full[free_indices_[i]] = x[i];
-  scratch.actuators = data_.actuators.row(block).transpose();
   scratch.predicted.resize(k);
   if (jacobian) scratch.J_full.resize(k, base_.size());
   Eigen::Ref<MatrixXd> J_ref(scratch.J_full);
 
   const ForwardKinematicsResult fk =
-      model_->predict(scratch.full, scratch.actuators, scratch.predicted,
+      model_->predict(scratch.full, data_.actuators.row(block).transpose(), scratch.predicted,
                       jacobian ? &J_ref : nullptr, scratch.model);
   if (!fk.ok()) {
     if (why)

@@ -14,7 +14,9 @@
 namespace kincal {
 
 using ParamsRef = Eigen::Ref<const VectorXd>;
-using ActuatorsRef = Eigen::Ref<const VectorXd>;
+/// Any strided vector binds without a copy, so a row of a (column-major) matrix of
+/// configurations can be passed as it is: a contiguous Ref would heap-copy it on every call.
+using ActuatorsRef = Eigen::Ref<const VectorXd, 0, Eigen::InnerStride<>>;
 
 struct ForwardKinematicsOptions {
   int max_iterations = 50;

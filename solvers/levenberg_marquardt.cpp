@@ -90,6 +90,19 @@ LmSettings parse_settings(const SolverOptions& options) {
 
 double max_norm(const VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
 
+// z <- Q^T z for a Householder QR, reflector by reflector (Q^T = H_{n-1} ... H_0). Eigen's
+// HouseholderSequence allocates a workspace on every application.
+void apply_q_transpose(const Eigen::HouseholderQR<MatrixXd>& qr, VectorXd& z) {
+  const MatrixXd& reflectors = qr.matrixQR();
+  const Eigen::Index rows = reflectors.rows();
+  for (Eigen::Index k = 0; k < qr.hCoeffs().size(); ++k) {
+    const auto essential = reflectors.col(k).tail(rows - k - 1);  // v_k = [1; essential]
+    const double scale = qr.hCoeffs()[k] * (z[k] + essential.dot(z.tail(rows - k - 1)));
+    z[k] -= scale;
+    z.tail(rows - k - 1) -= scale * essential;
+  }
+}
+
 class LevenbergMarquardtSolver final : public Solver {
  public:
   std::string name() const override { return kSolverName; }
@@ -288,10 +301,10 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
       ws.llt.solveInPlace(out);
     } else {
       const int k = std::min(m, n);
-      z.applyOnTheLeft(ws.qr.householderQ().transpose());
+      apply_q_transpose(ws.qr, z);
       ws.rhs.setZero();
       ws.rhs.head(k) = -z.head(k);
-      ws.rhs.applyOnTheLeft(ws.augmented_qr.householderQ().transpose());
+      apply_q_transpose(ws.augmented_qr, ws.rhs);
       out = ws.rhs.head(n);
       ws.augmented_qr.matrixQR().topRows(n).triangularView<Eigen::Upper>().solveInPlace(out);
     }
