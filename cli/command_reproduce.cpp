@@ -122,23 +122,25 @@ int run_reproduce(const Args& args) {
       "kincal reproduce: %d trials per case, solver %s, parameter errors ±%g mm, "
       "%d validation poses\n",
       num_trials, choice.name.c_str(), base.param_error_half_width, base.num_validation);
-  std::printf("%-4s %-9s %5s | %-21s | %-21s | %-21s | %5s | %s\n", "case", "noise mm", "poses",
-              "position before mm", "position after mm", "orientation after rad", "iter",
-              "converged/max_iter/diverged/failed");
-  std::printf("%-4s %-9s %5s | %10s %10s | %10s %10s | %10s %10s | %5s |\n", "", "", "", "median",
-              "p90", "median", "p90", "median", "p90", "med");
+  std::printf("%-4s %-9s %5s | %-32s | %-32s | %5s | %-17s | %s\n", "case", "noise mm", "poses",
+              "position error mm", "orientation error rad", "iter", "conv/maxit/div/fail",
+              "unreachable");
+  std::printf("%-4s %-9s %5s | %10s %10s %10s | %10s %10s %10s | %5s | %-17s | %s\n", "", "", "",
+              "before", "after", "after p90", "before", "after", "after p90", "med", "",
+              "(trials)");
   std::ostringstream summary_csv, trials_csv, trace_csv;
   summary_csv.precision(10);
   trials_csv.precision(10);
   trace_csv.precision(10);
   summary_csv << "case,noise_half_width_mm,poses,trials,solver,position_before_median_mm,"
                  "position_before_p90_mm,position_after_median_mm,position_after_p90_mm,"
-                 "orientation_before_median_rad,orientation_after_median_rad,"
-                 "orientation_after_p90_rad,parameter_rms_median_mm,iterations_median,"
-                 "converged,max_iterations,diverged,failed,user_stopped\n";
+                 "orientation_before_median_rad,orientation_before_p90_rad,"
+                 "orientation_after_median_rad,orientation_after_p90_rad,"
+                 "parameter_rms_median_mm,iterations_median,converged,max_iterations,diverged,"
+                 "failed,user_stopped,trials_with_unreachable_validation_poses\n";
   trials_csv << "case,trial,termination,iterations,solve_seconds,parameter_rms_mm,"
                 "position_before_mm,orientation_before_rad,position_after_mm,"
-                "orientation_after_rad\n";
+                "orientation_after_rad,unreachable_validation_poses\n";
   trace_csv << "case,iteration,position_mean_mm,orientation_mean_rad\n";
   for (const CaseResult& c : cases) {
     const auto& t = c.trials;
@@ -158,32 +160,42 @@ int run_reproduce(const Args& args) {
     const int div = count(t, TerminationType::kDiverged);
     const int fail = count(t, TerminationType::kFailed);
     const int stopped = count(t, TerminationType::kUserStopped);
+    // Validation means are over the poses the calibrated model reaches: say how many trials
+    // had poses it could not reach, so that such a model does not look better than it is.
+    const int unreachable = static_cast<int>(std::count_if(
+        t.begin(), t.end(), [](const TrialResult& r) { return r.after.fk_failures > 0; }));
+    char outcome[64];
+    std::snprintf(outcome, sizeof outcome, "%d/%d/%d/%d", conv, maxit, div, fail);
     std::printf(
-        "%-4d %-9g %5d | %10.4g %10.4g | %10.4g %10.4g | %10.4g %10.4g | %5.0f | %d/%d/%d/%d\n",
+        "%-4d %-9g %5d | %10.4g %10.4g %10.4g | %10.4g %10.4g %10.4g | %5.0f | %-17s | %d\n",
         c.paper.id, c.paper.noise_half_width, c.paper.num_configurations, median(pos_before),
-        quantile(pos_before, 0.9), median(pos_after), quantile(pos_after, 0.9), median(ori_after),
-        quantile(ori_after, 0.9), median(iterations), conv, maxit, div, fail);
+        median(pos_after), quantile(pos_after, 0.9), median(ori_before), median(ori_after),
+        quantile(ori_after, 0.9), median(iterations), outcome, unreachable);
     summary_csv << c.paper.id << ',' << c.paper.noise_half_width << ','
                 << c.paper.num_configurations << ',' << num_trials << ',' << choice.name << ','
                 << median(pos_before) << ',' << quantile(pos_before, 0.9) << ','
                 << median(pos_after) << ',' << quantile(pos_after, 0.9) << ',' << median(ori_before)
-                << ',' << median(ori_after) << ',' << quantile(ori_after, 0.9) << ','
-                << median(param_rms) << ',' << median(iterations) << ',' << conv << ',' << maxit
-                << ',' << div << ',' << fail << ',' << stopped << '\n';
+                << ',' << quantile(ori_before, 0.9) << ',' << median(ori_after) << ','
+                << quantile(ori_after, 0.9) << ',' << median(param_rms) << ',' << median(iterations)
+                << ',' << conv << ',' << maxit << ',' << div << ',' << fail << ',' << stopped << ','
+                << unreachable << '\n';
     for (int i = 0; i < num_trials; ++i)
       trials_csv << c.paper.id << ',' << i << ',' << to_string(t[i].termination) << ','
                  << t[i].iterations << ',' << t[i].seconds << ',' << t[i].parameter_rms << ','
                  << t[i].before.position_mean_mm << ',' << t[i].before.orientation_mean_rad << ','
-                 << t[i].after.position_mean_mm << ',' << t[i].after.orientation_mean_rad << '\n';
+                 << t[i].after.position_mean_mm << ',' << t[i].after.orientation_mean_rad << ','
+                 << t[i].after.fk_failures << '\n';
     const auto trace = mean_trace(t);
     for (std::size_t i = 0; i < trace.size(); ++i)
       trace_csv << c.paper.id << ',' << i << ',' << trace[i][0] << ',' << trace[i][1] << '\n';
   }
-  write_file_atomically(out_dir + "/summary.csv", summary_csv.str());
-  write_file_atomically(out_dir + "/trials.csv", trials_csv.str());
-  write_file_atomically(out_dir + "/trace.csv", trace_csv.str());
+  write_files_atomically({{out_dir + "/summary.csv", summary_csv.str()},
+                          {out_dir + "/trials.csv", trials_csv.str()},
+                          {out_dir + "/trace.csv", trace_csv.str()}});
   std::printf(
-      "pose errors are means over the validation poses; median/p90 over trials.\n"
+      "pose errors are means over the validation poses (before = nominal geometry); "
+      "median/p90 over trials;\nunreachable = trials whose calibrated model cannot reach "
+      "some validation poses (left out of their means).\n"
       "wrote %s/summary.csv, trials.csv, trace.csv (mean error per iteration: "
       "the paper's Figs. 3-4)\n",
       out_dir.c_str());

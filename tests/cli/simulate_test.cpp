@@ -92,7 +92,13 @@ TEST(CliReproduce, WritesTablesForAllFiveCases) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* c : {"\n1 ", "\n2 ", "\n3 ", "\n4 ", "\n5 "})
     EXPECT_NE(r.out.find(c), std::string::npos) << r.out;
-  EXPECT_EQ(count_lines(read_text(dir / "summary.csv")), 6);
+  const std::string summary = read_text(dir / "summary.csv");
+  EXPECT_EQ(count_lines(summary), 6);
+  // The error before calibration in both measures, and unreachable validation poses.
+  for (const char* column : {"position_before_median_mm", "orientation_before_median_rad",
+                             "trials_with_unreachable_validation_poses"})
+    EXPECT_NE(summary.find(column), std::string::npos) << column;
+  EXPECT_NE(r.out.find("unreachable"), std::string::npos) << r.out;
   EXPECT_EQ(count_lines(read_text(dir / "trials.csv")), 1 + 5 * 3);
   EXPECT_GT(count_lines(read_text(dir / "trace.csv")), 5);
 }
