@@ -18,7 +18,10 @@ bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm) {
   options.add_options()("help,h", "show this help");
   try {
-    po::store(po::command_line_parser(args).options(options).run(), vm);
+    // An empty positional description makes boost reject stray words ("too many
+    // positional options") instead of ignoring them.
+    const po::positional_options_description no_positional;
+    po::store(po::command_line_parser(args).options(options).positional(no_positional).run(), vm);
     po::notify(vm);
   } catch (const po::error& e) {
     throw CliError(e.what());
@@ -28,6 +31,19 @@ bool parse_command_line(const std::string& command, const Args& args,
     return false;
   }
   return true;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& values, Seed*, int) {
+  po::validators::check_first_occurrence(out);
+  const std::string& text = po::validators::get_single_string(values);
+  const bool digits_only =
+      !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  try {
+    if (!digits_only) throw std::invalid_argument(text);
+    out = Seed{std::stoull(text)};
+  } catch (const std::exception&) {
+    throw po::error("--seed '" + text + "': expected a whole number from 0 to 2^64 - 1");
+  }
 }
 
 std::map<std::string, std::string> parse_key_values(const std::vector<std::string>& entries,

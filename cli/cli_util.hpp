@@ -2,6 +2,7 @@
 // Helpers shared by the sub-commands: option parsing, atomic file output, JSON.
 
 #include <boost/program_options.hpp>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -18,6 +19,13 @@ namespace po = boost::program_options;
 /// rejects stray positional arguments. Returns false (after printing help) for --help.
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm);
+
+/// A random seed on the command line: a whole number >= 0. Boost's own unsigned parsing
+/// would turn "-1" into 18446744073709551615 without a word.
+struct Seed {
+  std::uint64_t value = 1;
+};
+void validate(boost::any& out, const std::vector<std::string>& values, Seed*, int);
 
 /// "key=value" strings -> map; throws CliError naming the bad entry.
 std::map<std::string, std::string> parse_key_values(const std::vector<std::string>& entries,

@@ -15,7 +15,7 @@ int run_observability(const Args& args) {
       "data", po::value<std::string>(), "measurement file (CSV) whose configurations to analyse")(
       "poses", po::value<int>(),
       "instead of --data: this many random configurations, home leg lengths + U[-r, r]")(
-      "seed", po::value<std::uint64_t>()->default_value(1), "random seed for --poses")(
+      "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed for --poses")(
       "config-range", po::value<double>()->default_value(20.0), "r in mm for --poses")(
       "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
       "numerical rank threshold relative to the largest scaled singular value")(
@@ -45,7 +45,7 @@ int run_observability(const Args& args) {
   } else {
     ScenarioOptions s;
     s.num_configurations = vm["poses"].as<int>();
-    s.seed = vm["seed"].as<std::uint64_t>();
+    s.seed = vm["seed"].as<Seed>().value;
     s.config_range = vm["config-range"].as<double>();
     s.param_error_half_width = 0;  // analyse at the model's own values
     s.num_validation = 0;

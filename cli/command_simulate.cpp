@@ -80,6 +80,17 @@ int run_simulate(const Args& args) {
   }
   const Scenario scenario = make_scenario(
       vm.count("model") ? load_model_option(vm) : make_cube_hexapod(), scenario_options);
+  // As in calibrate: fewer readings than unknowns cannot determine them (the paper needs
+  // m > n), and a solver would report a perfect fit of a wrong geometry.
+  const int readings = scenario.calibration.size() * scenario.model->num_readings();
+  const int unknowns = static_cast<int>(scenario.free_indices.size());
+  if (readings < unknowns)
+    throw CliError("--poses " + std::to_string(scenario.calibration.size()) + ": " +
+                   std::to_string(readings) + " readings cannot determine " +
+                   std::to_string(unknowns) + " free parameters (need at least " +
+                   std::to_string((unknowns + scenario.model->num_readings() - 1) /
+                                  scenario.model->num_readings()) +
+                   " configurations; see kincal observability)");
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
 
   const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";

@@ -15,7 +15,7 @@ void add_scenario_options(po::options_description& options, bool with_case_and_p
                         "true parameters = nominal + U[-e, e] mm on each free parameter")(
       "config-range", po::value<double>()->default_value(20.0),
       "configurations = home leg lengths + U[-r, r] mm per leg")(
-      "seed", po::value<std::uint64_t>()->default_value(1), "random seed")(
+      "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed")(
       "validation", po::value<int>()->default_value(200),
       "validation configurations for the pose errors");
 }
@@ -39,7 +39,7 @@ ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id)
   if (vm.count("noise")) s.noise_half_width = vm["noise"].as<double>();
   s.param_error_half_width = vm["param-error"].as<double>();
   s.config_range = vm["config-range"].as<double>();
-  s.seed = vm["seed"].as<std::uint64_t>();
+  s.seed = vm["seed"].as<Seed>().value;
   s.num_validation = vm["validation"].as<int>();
   if (s.num_configurations < 1) throw CliError("--poses must be at least 1");
   if (!(s.noise_half_width >= 0) || !std::isfinite(s.noise_half_width))
