@@ -26,7 +26,7 @@ const char* const kUsage =
     "  --exclude LIST             featured backends to leave out of the default list\n"
     "  --track LIST               solvers with per-iteration validation errors on cases 1-5\n"
     "                             (default gn,lm)\n"
-    "  --max-iterations N         iteration limit of gn, lm, ceres, ipopt (default 100)\n"
+    "  --max-iterations N         iteration limit of gn, lm, ceres, ipopt (default 200)\n"
     "  --nlopt-evaluations N      evaluation limit of gradient-based NLopt (default 2000)\n"
     "  --nlopt-df-evaluations N   evaluation limit of derivative-free NLopt (default 10000)\n"
     "  --derivative-free-cases L  cases on which nlopt:LN_* run (default 1)\n"

@@ -31,7 +31,7 @@ struct StudyOptions {
   std::vector<std::string> solvers;  ///< registry names; empty = every featured name
   /// Solvers whose per-iteration validation errors are recorded on Table 2 cases.
   std::vector<std::string> tracked_solvers = {"gn", "lm"};
-  int max_iterations = 100;
+  int max_iterations = 200;
   /// NLopt counts objective evaluations against max_iterations: its own budgets.
   int nlopt_gradient_evaluations = 2000;
   int nlopt_derivative_free_evaluations = 10000;

@@ -53,7 +53,11 @@ std::map<std::string, std::string> parse_key_values(const std::vector<std::strin
     const auto eq = entry.find('=');
     if (eq == std::string::npos || eq == 0)
       throw CliError("--" + option_name + " '" + entry + "': expected key=value");
-    out[entry.substr(0, eq)] = entry.substr(eq + 1);
+    const std::string key = entry.substr(0, eq);
+    if (out.count(key))
+      throw CliError("--" + option_name + " '" + key + "' is given twice ('" + out[key] +
+                     "' and '" + entry.substr(eq + 1) + "')");
+    out[key] = entry.substr(eq + 1);
   }
   return out;
 }
@@ -259,7 +263,7 @@ void add_solver_options(po::options_description& options) {
                         "solver backend (kincal list solvers)")(
       "solver-option", po::value<std::vector<std::string>>()->composing(),
       "backend-specific setting key=value (repeatable; see docs/solvers.md)")(
-      "max-iterations", po::value<int>()->default_value(100), "iteration limit of the solver")(
+      "max-iterations", po::value<int>()->default_value(200), "iteration limit of the solver")(
       "verbose,v", po::bool_switch(), "print one line per solver iteration on stderr");
 }
 
