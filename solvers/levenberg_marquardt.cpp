@@ -33,6 +33,11 @@ struct LmSettings {
 };
 
 const char* const kSolverName = "lm";
+// A convergence test that fires within this many iterations of a failed trial point is
+// reported as stopped at the edge of the computable region (diverged), unless the gradient
+// fell below this fraction of its starting value (a minimum that happens to lie near it).
+constexpr int kFenceWindow = 10;
+constexpr double kStationaryGradientRatio = 1e-4;
 
 LmSettings parse_settings(const SolverOptions& options) {
   using namespace solver_option;
@@ -312,14 +317,32 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   };
 
   double gradient_norm = prepare_iterate();
+  const double initial_gradient_norm = gradient_norm;
   double radius = settings.initial_trust_radius;
   double decrease_factor = 2;
   if (!monitor.record({0, cost, gradient_norm, 0, 1.0 / radius, 0}, x)) {
     monitor.finish(TerminationType::kUserStopped, "stopped by the callback");
     return summary;
   }
+  // Trial points where the residuals could not be computed (forward kinematics failed).
+  int failed_trials = 0, last_failed_iteration = -1;
+  std::string first_failure;
   auto done = [&](TerminationType type, std::string message) {
     summary.final_cost = cost;  // x is always the best point: only decreasing steps are taken
+    if (failed_trials > 0) {
+      // "Converged" right after trials failed, with a gradient that has not vanished,
+      // means the iterates were stopped by the edge of the region where residuals can be
+      // computed, not at a minimum: ceres and ipopt call that diverged too.
+      if (type == TerminationType::kConverged &&
+          summary.iterations - last_failed_iteration <= kFenceWindow &&
+          gradient_norm > kStationaryGradientRatio * initial_gradient_norm) {
+        type = TerminationType::kDiverged;
+        message =
+            "stopped at the edge of the region where residuals can be computed (" + message + ")";
+      }
+      message += " (residuals failed at " + std::to_string(failed_trials) +
+                 " trial points; first: " + first_failure + ")";
+    }
     monitor.finish(type, std::move(message));
     return summary;
   };
@@ -425,11 +448,12 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
         evaluated ? robust_cost(loss, ws.r_trial) : std::numeric_limits<double>::infinity();
     if (!std::isfinite(cost_trial) || !ws.J_trial.allFinite()) {
       // Forward kinematics failed (or produced garbage) at the trial point: a rejected step.
+      if (failed_trials++ == 0) first_failure = evaluated ? "not finite" : why;
+      last_failed_iteration = iteration;
       if (++consecutive_invalid > settings.max_invalid_steps)
         return done(TerminationType::kDiverged,
                     std::to_string(consecutive_invalid) +
-                        " consecutive trial points where residuals could not be computed" +
-                        (evaluated ? std::string(" (not finite)") : ": " + why));
+                        " consecutive trial points where residuals could not be computed");
       reject();
       continue;
     }

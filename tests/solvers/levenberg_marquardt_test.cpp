@@ -240,6 +240,21 @@ TEST(LevenbergMarquardt, AFailedTrialEvaluationIsARejectedStep) {
   EXPECT_TRUE(summary.converged()) << summary.brief_report();
   EXPECT_NEAR(x[0], std::sqrt(2.0), 1e-9);
   EXPECT_GT(summary.iterations, static_cast<int>(summary.trace.size()) - 1);  // some rejected
+  // The failure is told even when the solve converged.
+  EXPECT_NE(summary.message.find("residuals failed at"), std::string::npos) << summary.message;
+  EXPECT_NE(summary.message.find("outside the valid region"), std::string::npos);
+}
+
+TEST(LevenbergMarquardt, StoppingAtTheEdgeOfTheComputableRegionIsNotConvergence) {
+  // The unconstrained minimum lies beyond the fence, where residuals cannot be computed:
+  // lm creeps along it until its cost test fires, with a gradient that has not vanished.
+  kincal::testing::FencedFit problem;
+  VectorXd x = kincal::testing::FencedFit::start();
+  const Summary summary = lm()->solve(problem, x, SolverOptions{});
+  EXPECT_EQ(summary.termination, TerminationType::kDiverged) << summary.brief_report();
+  EXPECT_NE(summary.message.find("edge of the region"), std::string::npos) << summary.message;
+  EXPECT_NE(summary.message.find(kincal::testing::FencedFit::kReason), std::string::npos);
+  EXPECT_LE(x[0], kincal::testing::FencedFit::kFence);
 }
 
 TEST(LevenbergMarquardt, DivergesAfterManyUnusableTrials) {
