@@ -74,6 +74,7 @@ class GaussNewtonSolver final : public Solver {
         return done(TerminationType::kConverged, "gradient max-norm below tolerance");
       if (iteration > options.max_iterations)
         return done(TerminationType::kMaxIterations, "reached max_iterations");
+      summary.iterations = iteration;  // attempted, as lm counts its trials
       // Gauss-Newton step: least-squares solution of J dx = -r.
       qr.compute(J);
       dx.noalias() = -qr.solve(r);
@@ -99,7 +100,6 @@ class GaussNewtonSolver final : public Solver {
         best_cost = cost;
         best_x = x;
       }
-      summary.iterations = iteration;
       gradient.noalias() = J.transpose() * r;
       if (!monitor.record({iteration, cost, gradient.lpNorm<Eigen::Infinity>(), dx.norm(), 0, 0},
                           x))

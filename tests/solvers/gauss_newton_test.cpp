@@ -38,6 +38,31 @@ TEST(GaussNewton, StopsAtTheIterationLimitAndSaysSo) {
   EXPECT_EQ(run.summary.iterations, 1);
 }
 
+// The paper's method has no damping: from 40 mm parameter errors the first full step lands
+// where forward kinematics fails for a configuration. That is `diverged`, with the reason.
+TEST(GaussNewton, ReportsDivergedWhenForwardKinematicsFailsAtAnIterate) {
+  const Scenario scenario = paper_scenario(1, 1, 40);
+  const CalibrationRun run =
+      run_calibration(scenario, *SolverRegistry::global().create("gn"), SolverOptions{}, false);
+  EXPECT_EQ(run.summary.termination, TerminationType::kDiverged) << run.summary.brief_report();
+  EXPECT_NE(run.summary.message.find("left the valid region"), std::string::npos);
+  EXPECT_NE(run.summary.message.find("forward kinematics"), std::string::npos);
+  EXPECT_EQ(run.summary.iterations, 1);
+  EXPECT_EQ(run.summary.final_cost, run.summary.initial_cost);  // the start is the best point
+}
+
+TEST(GaussNewton, ReportsDivergedWhenTheParametersRunAway) {
+  const Scenario scenario = paper_scenario(1, 3);
+  SolverOptions options;
+  // The first step moves some parameter by millimetres; allow 1e-3 * (1 + |x0|) ~ 0.3 mm.
+  options.backend_options["runaway_factor"] = "1e-3";
+  const CalibrationRun run =
+      run_calibration(scenario, *SolverRegistry::global().create("gn"), options, false);
+  EXPECT_EQ(run.summary.termination, TerminationType::kDiverged) << run.summary.brief_report();
+  EXPECT_NE(run.summary.message.find("ran away"), std::string::npos) << run.summary.message;
+  EXPECT_EQ(run.estimate, scenario.nominal);  // nothing was taken
+}
+
 // Undamped steps cannot stay in a box: bounds are refused rather than silently ignored.
 TEST(GaussNewton, RejectsBounds) {
   const auto problem = paper_scenario(1, 3).make_problem();
