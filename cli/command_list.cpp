@@ -30,6 +30,12 @@ int run_list(const Args& args) {
       if (name.size() < 22) name.resize(22, ' ');
       std::cout << name << " " << info.description << "\n";
     }
+    // Backends left out of this build, so that a missing one is not a mystery.
+    for (const auto& missing : SolverRegistry::global().unavailable()) {
+      std::string name = missing.name;
+      if (name.size() < 22) name.resize(22, ' ');
+      std::cout << name << " not in this build: " << missing.reason << "\n";
+    }
   } else if (what == "models") {
     for (const auto& preset : list_presets()) {
       std::string name = preset.name;
