@@ -176,9 +176,13 @@ TEST_F(CeresSolver, ThreadsDoNotChangeTheResult) {
   options.num_threads = 2;
   const CalibrationRun two = run_calibration(scenario, *ceres_solver(), options, false);
   EXPECT_TRUE(two.summary.converged()) << two.summary.brief_report();
-  // Another summation order in J^T J moves the iterates by round-off, which this
-  // ill-conditioned problem amplifies (measured 3e-7 mm); the agreement standard is 1e-6.
-  EXPECT_LT((one.estimate - two.estimate).cwiseAbs().maxCoeff(), 1e-6);
+  // Another summation order in J^T J moves the iterates by round-off, and this
+  // ill-conditioned problem (cond(J) ~ 1e5) amplifies that: over seeds 1-8 of case 3 the two
+  // runs end 1e-10 to 2.2e-5 mm apart, at default and at the tightest tolerances alike, where
+  // the cost is flat to rounding. The same minimum: equal costs, and parameters within 1e-4
+  // mm, four decades below their statistical spread (~1 mm).
+  EXPECT_NEAR(one.summary.final_cost, two.summary.final_cost, 1e-10 * one.summary.final_cost);
+  EXPECT_LT((one.estimate - two.estimate).cwiseAbs().maxCoeff(), 1e-4);
 }
 
 TEST_F(CeresSolver, WritesNoLogFilesAndPrintsNothingWhenSilent) {
