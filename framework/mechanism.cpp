@@ -68,7 +68,9 @@ ForwardKinematicsResult ClosedChainMechanism::forward_kinematics(
     constraints(params, q, result.pose, g, &J_g_pose);
     result.iterations = it;
     result.residual_norm = g.cwiseAbs().maxCoeff();
-    if (!std::isfinite(result.residual_norm) || !J_g_pose.allFinite()) {
+    // A non-finite J_g_pose with finite residuals (a leg of zero length) shows up as
+    // non-finite pivots, which near_singular() reports.
+    if (!std::isfinite(result.residual_norm)) {
       result.status = ForwardKinematicsStatus::kNonFinite;
       return result;
     }

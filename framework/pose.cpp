@@ -13,9 +13,28 @@ Matrix3d skew(const Vector3d& v) {
 }
 
 Matrix3d exp_so3(const Vector3d& w) {
-  const double angle = w.norm();
-  if (angle < 1e-12) return Matrix3d::Identity() + skew(w);
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  // Rodrigues: R = I + a [w]x + b [w]x^2 with a = sin(t)/t, b = (1 - cos(t))/t^2. Below
+  // t = 1e-4 the series to t^4 is exact in double precision (the next terms are < 1e-17),
+  // and it saves the sine and cosine in the last Newton steps of forward kinematics, whose
+  // rotations are tiny.
+  const double t2 = w.squaredNorm();
+  double a, b;
+  if (t2 < 1e-8) {
+    a = 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0);
+    b = 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0);
+  } else {
+    const double t = std::sqrt(t2);
+    a = std::sin(t) / t;
+    b = (1.0 - std::cos(t)) / t2;
+  }
+  // [w]x^2 = w w^T - t^2 I, written out: nine entries, no matrix products.
+  const double c = 1.0 - b * t2;
+  const Vector3d aw = a * w;
+  Matrix3d R;
+  R << c + b * w.x() * w.x(), b * w.x() * w.y() - aw.z(), b * w.x() * w.z() + aw.y(),
+      b * w.x() * w.y() + aw.z(), c + b * w.y() * w.y(), b * w.y() * w.z() - aw.x(),
+      b * w.x() * w.z() - aw.y(), b * w.y() * w.z() + aw.x(), c + b * w.z() * w.z();
+  return R;
 }
 
 Vector3d log_so3(const Matrix3d& R) {

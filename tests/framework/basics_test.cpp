@@ -50,6 +50,22 @@ TEST(Pose, EulerZyxRoundTripAndExpLog) {
   EXPECT_NEAR(orientation_error(a, b), 0.01, 1e-15);
 }
 
+TEST(Pose, ExpSo3MatchesEigensAngleAxisAtEveryScale) {
+  // Across the switch to the series at 1e-4 rad, down to the tiny rotations of the last
+  // Newton steps and up to half a turn.
+  Random rng(10);
+  for (double scale : {1e-12, 1e-8, 3e-5, 9.9e-5, 1e-4, 1.01e-4, 1e-3, 0.1, 1.0, 3.0}) {
+    for (int i = 0; i < 20; ++i) {
+      Vector3d axis(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0));
+      axis.normalize();
+      const Vector3d w = scale * axis;
+      const Matrix3d expected = Eigen::AngleAxisd(scale, axis).toRotationMatrix();
+      EXPECT_LT((exp_so3(w) - expected).cwiseAbs().maxCoeff(), 2e-15) << "angle " << scale;
+      EXPECT_LT((exp_so3(w) * exp_so3(w).transpose() - Matrix3d::Identity()).norm(), 4e-15);
+    }
+  }
+}
+
 TEST(RobustLoss, ParsesAndRejects) {
   EXPECT_EQ(RobustLoss::parse("none").kind, RobustLoss::Kind::kNone);
   EXPECT_EQ(RobustLoss::parse("huber:0.5").kind, RobustLoss::Kind::kHuber);
