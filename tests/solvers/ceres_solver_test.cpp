@@ -211,9 +211,12 @@ TEST_F(CeresSolver, ReachesTheSameMinimumAsLmOnNoisyData) {
       run_calibration(scenario, *ceres_solver(), SolverOptions{}, false);
   const CalibrationRun with_lm =
       run_calibration(scenario, *SolverRegistry::global().create("lm"), SolverOptions{}, false);
-  EXPECT_LT((with_ceres.estimate - with_lm.estimate).cwiseAbs().maxCoeff(), 1e-6);
+  // At the default tolerances each stops where rounding makes the cost flat: over seeds 1-8
+  // of case 3 the two end 2e-8 to 3e-5 mm apart (docs/solvers.md, "How well 'the same
+  // minimum' is defined"); the conformance suite checks 1e-6 mm at tight tolerances.
+  EXPECT_LT((with_ceres.estimate - with_lm.estimate).cwiseAbs().maxCoeff(), 1e-4);
   EXPECT_NEAR(with_ceres.summary.final_cost, with_lm.summary.final_cost,
-              1e-9 * with_lm.summary.final_cost);
+              1e-10 * with_lm.summary.final_cost);
 }
 
 }  // namespace
