@@ -68,6 +68,7 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   out["solver"] = summary.solver;
   out["termination"] = to_string(summary.termination);
   out["message"] = summary.message;
+  out["backend_code"] = summary.backend_code;
   out["iterations"] = summary.iterations;
   out["solve_seconds"] = run.solve_seconds;
   out["initial_cost"] = summary.initial_cost;
@@ -93,8 +94,10 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   out["validation"] = {{"before", to_json(run.before)}, {"after", to_json(run.after)}};
   nlohmann::json trace = nlohmann::json::array();
   for (std::size_t i = 0; i < summary.trace.size(); ++i) {
-    nlohmann::json row = {{"iteration", summary.trace[i].iteration},
-                          {"cost", summary.trace[i].cost}};
+    const IterationRecord& r = summary.trace[i];
+    nlohmann::json row = {
+        {"iteration", r.iteration}, {"cost", r.cost},       {"gradient_norm", r.gradient_norm},
+        {"step_norm", r.step_norm}, {"damping", r.damping}, {"seconds", r.seconds}};
     if (i < run.trace_errors.size()) {
       const nlohmann::json e = to_json(run.trace_errors[i]);
       row["position_mean_mm"] = e["position_mean_mm"];
