@@ -264,7 +264,9 @@ void add_solver_options(po::options_description& options) {
       "solver-option", po::value<std::vector<std::string>>()->composing(),
       "backend-specific setting key=value (repeatable; see docs/solvers.md)")(
       "max-iterations", po::value<int>()->default_value(200), "iteration limit of the solver")(
-      "verbose,v", po::bool_switch(), "print one line per solver iteration on stderr");
+      "verbose,v", po::value<int>()->default_value(0)->implicit_value(1),
+      "print one line per solver iteration on stderr; --verbose=2 adds lm's trial steps, "
+      "Ceres' log and Ipopt's own output");
 }
 
 SolverChoice make_solver_choice(const po::variables_map& vm) {
@@ -277,7 +279,9 @@ SolverChoice make_solver_choice(const po::variables_map& vm) {
           parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option");
     choice.options.max_iterations = vm["max-iterations"].as<int>();
     if (choice.options.max_iterations < 0) throw CliError("--max-iterations must be >= 0");
-    choice.options.verbosity = vm["verbose"].as<bool>() ? 1 : 0;
+    choice.options.verbosity = vm["verbose"].as<int>();
+    if (choice.options.verbosity < 0 || choice.options.verbosity > 2)
+      throw CliError("--verbose must be 0, 1 or 2");
     choice.solver->check_options(choice.options);
   } catch (const InvalidSolverOptions& e) {
     throw CliError(e.what());

@@ -76,14 +76,26 @@ TEST(CliSimulate, SameSeedSameOutputAndFilesWritten) {
 
 TEST(CliSimulate, BadOptionsGiveOneLineAndExitCode2) {
   for (const char* args :
-       {"simulate --case 7", "simulate --poses abc", "simulate --solver nope",
-        "simulate --case 2 --poses 10", "simulate --noise -1", "simulate --bogus",
-        "simulate --solver gn --solver-option nokey", "simulate --solver gn --solver-option a=1",
-        "simulate --validation 0", "simulate --json /nonexistent-dir/x.json", "frobnicate",
-        "simulate --case 1 stray words", "reproduce --trials 1 junk", "simulate --seed -1",
-        "simulate --seed 1.5", "observability --poses 30 --seed -2", "simulate --json .",
+       {"simulate --case 7",
+        "simulate --poses abc",
+        "simulate --solver nope",
+        "simulate --case 2 --poses 10",
+        "simulate --noise -1",
+        "simulate --bogus",
+        "simulate --solver gn --solver-option nokey",
+        "simulate --solver gn --solver-option a=1",
+        "simulate --validation 0",
+        "simulate --json /nonexistent-dir/x.json",
+        "frobnicate",
+        "simulate --case 1 stray words",
+        "reproduce --trials 1 junk",
+        "simulate --seed -1",
+        "simulate --seed 1.5",
+        "observability --poses 30 --seed -2",
+        "simulate --json .",
         "simulate --poses 10 --solver gn",
-        "simulate --solver-option initial_trust_radius=1 --solver-option initial_trust_radius=2"}) {
+        "simulate --solver-option initial_trust_radius=1 --solver-option initial_trust_radius=2",
+        "simulate --verbose=3"}) {
     const auto r = run_cli(args);
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
