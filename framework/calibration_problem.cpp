@@ -63,7 +63,6 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
   scratch.predicted.resize(k);
   if (jacobian) scratch.J_full.resize(k, base_.size());
   Eigen::Ref<MatrixXd> J_ref(scratch.J_full);
-
   const ForwardKinematicsResult fk =
       model_->predict(scratch.full, data_.actuators.row(block).transpose(), scratch.predicted,
                       jacobian ? &J_ref : nullptr, scratch.model);
