@@ -3,7 +3,7 @@
 #include <Eigen/SVD>
 #include <cmath>
 
-#include "framework/uncertainty.hpp"
+#include "kincal/framework/uncertainty.hpp"
 
 namespace kincal::bench {
 

@@ -9,10 +9,10 @@
 #include <memory>
 #include <mutex>
 
-#include "framework/parallel.hpp"
-#include "framework/simulation.hpp"
-#include "framework/solver_registry.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/parallel.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

@@ -7,10 +7,10 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "framework/parallel.hpp"
-#include "framework/random.hpp"
-#include "framework/solver_registry.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/parallel.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal::bench {
 

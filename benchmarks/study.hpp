@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "benchmarks/cramer_rao.hpp"
-#include "framework/simulation.hpp"
+#include "kincal/framework/simulation.hpp"
 
 namespace kincal::bench {
 

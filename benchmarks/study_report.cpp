@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "framework/statistics.hpp"
+#include "kincal/framework/statistics.hpp"
 
 namespace kincal::bench {
 

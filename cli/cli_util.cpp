@@ -1,4 +1,4 @@
-#include "cli/cli_util.hpp"
+#include "kincal/cli/cli_util.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -10,7 +10,7 @@
 #include <iostream>
 #include <random>
 
-#include "framework/solver_registry.hpp"
+#include "kincal/framework/solver_registry.hpp"
 
 namespace kincal::cli {
 

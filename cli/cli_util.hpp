@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/commands.hpp"
-#include "framework/solver.hpp"
+#include "kincal/cli/commands.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal::cli {
 

@@ -4,10 +4,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "cli/model_args.hpp"
-#include "framework/calibration_report.hpp"
-#include "framework/robust_loss.hpp"
-#include "models/model_io.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/robust_loss.hpp"
+#include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
 

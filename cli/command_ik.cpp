@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "cli/command_kinematics.hpp"
-#include "cli/model_args.hpp"
+#include "kincal/cli/command_kinematics.hpp"
+#include "kincal/cli/model_args.hpp"
 
 namespace kincal::cli {
 

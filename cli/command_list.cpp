@@ -1,8 +1,8 @@
 #include <iostream>
 
-#include "cli/cli_util.hpp"
-#include "framework/solver_registry.hpp"
-#include "models/presets.hpp"
+#include "kincal/cli/cli_util.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal::cli {
 

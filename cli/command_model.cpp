@@ -1,8 +1,8 @@
 // kincal model: writes a built-in model as a model file for users to edit.
 
-#include "cli/model_args.hpp"
-#include "models/model_io.hpp"
-#include "models/presets.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/models/model_io.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal::cli {
 

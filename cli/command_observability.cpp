@@ -3,9 +3,9 @@
 
 #include <iostream>
 
-#include "cli/model_args.hpp"
-#include "framework/calibration_report.hpp"
-#include "framework/simulation.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/simulation.hpp"
 
 namespace kincal::cli {
 

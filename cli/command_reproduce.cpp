@@ -9,11 +9,11 @@
 #include <cstdio>
 #include <sstream>
 
-#include "cli/simulation_report.hpp"
-#include "framework/parallel.hpp"
-#include "framework/random.hpp"
-#include "framework/statistics.hpp"
-#include "models/presets.hpp"
+#include "kincal/cli/simulation_report.hpp"
+#include "kincal/framework/parallel.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/framework/statistics.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal::cli {
 

@@ -4,11 +4,11 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cli/model_args.hpp"
-#include "cli/simulation_report.hpp"
-#include "framework/measurement_file.hpp"
-#include "models/model_io.hpp"
-#include "models/presets.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/cli/simulation_report.hpp"
+#include "kincal/framework/measurement_file.hpp"
+#include "kincal/models/model_io.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal::cli {
 

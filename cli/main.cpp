@@ -3,7 +3,7 @@
 
 #include <iostream>
 
-#include "cli/commands.hpp"
+#include "kincal/cli/commands.hpp"
 
 namespace kincal::cli {
 

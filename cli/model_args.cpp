@@ -1,4 +1,4 @@
-#include "cli/model_args.hpp"
+#include "kincal/cli/model_args.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "framework/measurement_file.hpp"
-#include "models/model_io.hpp"
+#include "kincal/framework/measurement_file.hpp"
+#include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/cli_util.hpp"
-#include "framework/calibration_problem.hpp"
+#include "kincal/cli/cli_util.hpp"
+#include "kincal/framework/calibration_problem.hpp"
 
 namespace kincal::cli {
 

@@ -1,4 +1,4 @@
-#include "cli/simulation_report.hpp"
+#include "kincal/cli/simulation_report.hpp"
 
 #include <cmath>
 #include <sstream>

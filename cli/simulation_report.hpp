@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "cli/cli_util.hpp"
-#include "framework/simulation.hpp"
+#include "kincal/cli/cli_util.hpp"
+#include "kincal/framework/simulation.hpp"
 
 namespace kincal::cli {
 

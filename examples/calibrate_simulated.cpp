@@ -5,9 +5,9 @@
 
 #include <cstdio>
 
-#include "framework/simulation.hpp"
-#include "framework/solver_registry.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
 
 int main(int argc, char** argv) {
   using namespace kincal;

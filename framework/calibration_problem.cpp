@@ -1,4 +1,4 @@
-#include "framework/calibration_problem.hpp"
+#include "kincal/framework/calibration_problem.hpp"
 
 #include <stdexcept>
 

@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include "framework/least_squares_problem.hpp"
-#include "framework/measurement_model.hpp"
+#include "kincal/framework/least_squares_problem.hpp"
+#include "kincal/framework/measurement_model.hpp"
 
 namespace kincal {
 

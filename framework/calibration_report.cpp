@@ -1,4 +1,4 @@
-#include "framework/calibration_report.hpp"
+#include "kincal/framework/calibration_report.hpp"
 
 #include <algorithm>
 #include <cmath>

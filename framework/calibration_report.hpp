@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "framework/calibration_problem.hpp"
-#include "framework/identifiability.hpp"
-#include "framework/robust_loss.hpp"
-#include "framework/solver.hpp"
-#include "framework/uncertainty.hpp"
+#include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/robust_loss.hpp"
+#include "kincal/framework/solver.hpp"
+#include "kincal/framework/uncertainty.hpp"
 
 namespace kincal {
 

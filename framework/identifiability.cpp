@@ -1,4 +1,4 @@
-#include "framework/identifiability.hpp"
+#include "kincal/framework/identifiability.hpp"
 
 #include <Eigen/QR>
 #include <Eigen/SVD>

@@ -1,4 +1,4 @@
-#include "framework/least_squares_problem.hpp"
+#include "kincal/framework/least_squares_problem.hpp"
 
 #include <algorithm>
 #include <limits>

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/types.hpp"
+#include "kincal/framework/types.hpp"
 
 namespace kincal {
 

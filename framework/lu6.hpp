@@ -11,7 +11,7 @@
 #include <cmath>
 #include <utility>
 
-#include "framework/types.hpp"
+#include "kincal/framework/types.hpp"
 
 namespace kincal {
 

@@ -1,4 +1,4 @@
-#include "framework/measurement_file.hpp"
+#include "kincal/framework/measurement_file.hpp"
 
 #include <cerrno>
 #include <cmath>

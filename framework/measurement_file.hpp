@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/calibration_problem.hpp"
+#include "kincal/framework/calibration_problem.hpp"
 
 namespace kincal {
 

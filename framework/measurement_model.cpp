@@ -1,4 +1,4 @@
-#include "framework/measurement_model.hpp"
+#include "kincal/framework/measurement_model.hpp"
 
 #include <stdexcept>
 

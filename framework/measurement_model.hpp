@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
-#include "framework/mechanism.hpp"
-#include "framework/sensor.hpp"
+#include "kincal/framework/mechanism.hpp"
+#include "kincal/framework/sensor.hpp"
 
 namespace kincal {
 

@@ -1,10 +1,10 @@
-#include "framework/mechanism.hpp"
+#include "kincal/framework/mechanism.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <optional>
 
-#include "framework/lu6.hpp"
+#include "kincal/framework/lu6.hpp"
 
 namespace kincal {
 

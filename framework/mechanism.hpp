@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "framework/parameters.hpp"
-#include "framework/pose.hpp"
+#include "kincal/framework/parameters.hpp"
+#include "kincal/framework/pose.hpp"
 
 namespace kincal {
 

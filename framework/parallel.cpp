@@ -1,4 +1,4 @@
-#include "framework/parallel.hpp"
+#include "kincal/framework/parallel.hpp"
 
 #include <unistd.h>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "framework/parameters.hpp"
+#include "kincal/framework/parameters.hpp"
 
 #include <stdexcept>
 #include <unordered_set>

@@ -1,4 +1,4 @@
-#include "framework/pose.hpp"
+#include "kincal/framework/pose.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -7,7 +7,7 @@
 // i.e. translation first, rotation as a small rotation about base-frame axes applied on
 // the left. See docs/theory.md.
 
-#include "framework/types.hpp"
+#include "kincal/framework/types.hpp"
 
 namespace kincal {
 

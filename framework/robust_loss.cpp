@@ -1,4 +1,4 @@
-#include "framework/robust_loss.hpp"
+#include "kincal/framework/robust_loss.hpp"
 
 #include <cmath>
 #include <sstream>

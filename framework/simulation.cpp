@@ -1,4 +1,4 @@
-#include "framework/simulation.hpp"
+#include "kincal/framework/simulation.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "framework/random.hpp"
+#include "kincal/framework/random.hpp"
 
 namespace kincal {
 

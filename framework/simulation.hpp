@@ -11,8 +11,8 @@
 #include <memory>
 #include <vector>
 
-#include "framework/calibration_problem.hpp"
-#include "framework/solver.hpp"
+#include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal {
 

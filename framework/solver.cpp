@@ -1,4 +1,4 @@
-#include "framework/solver.hpp"
+#include "kincal/framework/solver.hpp"
 
 #include <cstdio>
 #include <sstream>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/least_squares_problem.hpp"
+#include "kincal/framework/least_squares_problem.hpp"
 
 namespace kincal {
 

@@ -1,4 +1,4 @@
-#include "framework/solver_registry.hpp"
+#include "kincal/framework/solver_registry.hpp"
 
 #include <stdexcept>
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/solver.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal {
 

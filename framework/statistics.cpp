@@ -1,4 +1,4 @@
-#include "framework/statistics.hpp"
+#include "kincal/framework/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>

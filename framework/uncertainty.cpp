@@ -1,4 +1,4 @@
-#include "framework/uncertainty.hpp"
+#include "kincal/framework/uncertainty.hpp"
 
 #include <Eigen/SVD>
 #include <cmath>

@@ -1,8 +1,8 @@
 #pragma once
 // Parameter uncertainty of a least-squares fit from its Jacobian.
 
-#include "framework/robust_loss.hpp"
-#include "framework/types.hpp"
+#include "kincal/framework/robust_loss.hpp"
+#include "kincal/framework/types.hpp"
 
 namespace kincal {
 

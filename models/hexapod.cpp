@@ -1,4 +1,4 @@
-#include "models/hexapod.hpp"
+#include "kincal/models/hexapod.hpp"
 
 #include <cmath>
 

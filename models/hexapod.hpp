@@ -8,7 +8,7 @@
 
 #include <array>
 
-#include "framework/mechanism.hpp"
+#include "kincal/framework/mechanism.hpp"
 
 namespace kincal {
 

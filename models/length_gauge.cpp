@@ -1,4 +1,4 @@
-#include "models/length_gauge.hpp"
+#include "kincal/models/length_gauge.hpp"
 
 namespace kincal {
 

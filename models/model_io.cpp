@@ -1,4 +1,4 @@
-#include "models/model_io.hpp"
+#include "kincal/models/model_io.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -7,8 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "models/hexapod.hpp"
-#include "models/length_gauge.hpp"
+#include "kincal/models/hexapod.hpp"
+#include "kincal/models/length_gauge.hpp"
 
 namespace kincal {
 

@@ -18,7 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "framework/measurement_model.hpp"
+#include "kincal/framework/measurement_model.hpp"
 
 namespace kincal {
 

@@ -1,9 +1,9 @@
-#include "models/presets.hpp"
+#include "kincal/models/presets.hpp"
 
 #include <stdexcept>
 
-#include "models/hexapod.hpp"
-#include "models/length_gauge.hpp"
+#include "kincal/models/hexapod.hpp"
+#include "kincal/models/length_gauge.hpp"
 
 namespace kincal {
 

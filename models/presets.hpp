@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/measurement_model.hpp"
+#include "kincal/framework/measurement_model.hpp"
 
 namespace kincal {
 

@@ -3,17 +3,17 @@
 // it is OFF they are registered as unavailable, so that `--solver ceres` says how to get it
 // and the tests skip them with that reason.
 
-#include "framework/solver_registry.hpp"
-#include "solvers/gauss_newton.hpp"
-#include "solvers/levenberg_marquardt.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/solvers/gauss_newton.hpp"
+#include "kincal/solvers/levenberg_marquardt.hpp"
 #ifdef KINCAL_WITH_CERES
-#include "solvers/ceres_solver.hpp"
+#include "kincal/solvers/ceres_solver.hpp"
 #endif
 #ifdef KINCAL_WITH_NLOPT
-#include "solvers/nlopt_solver.hpp"
+#include "kincal/solvers/nlopt_solver.hpp"
 #endif
 #ifdef KINCAL_WITH_IPOPT
-#include "solvers/ipopt_solver.hpp"
+#include "kincal/solvers/ipopt_solver.hpp"
 #endif
 
 namespace kincal {

@@ -1,4 +1,4 @@
-#include "solvers/ceres_solver.hpp"
+#include "kincal/solvers/ceres_solver.hpp"
 
 #include <ceres/ceres.h>
 #include <glog/logging.h>
@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "framework/robust_loss.hpp"
-#include "solvers/solver_common.hpp"
+#include "kincal/framework/robust_loss.hpp"
+#include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {
 namespace {

@@ -1,10 +1,10 @@
-#include "solvers/gauss_newton.hpp"
+#include "kincal/solvers/gauss_newton.hpp"
 
 #include <Eigen/QR>
 #include <cmath>
 #include <limits>
 
-#include "solvers/solver_common.hpp"
+#include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <memory>
 
-#include "framework/solver.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal {
 

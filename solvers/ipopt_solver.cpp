@@ -1,4 +1,4 @@
-#include "solvers/ipopt_solver.hpp"
+#include "kincal/solvers/ipopt_solver.hpp"
 
 #include <coin/IpIpoptApplication.hpp>
 #include <coin/IpIpoptCalculatedQuantities.hpp>
@@ -18,7 +18,7 @@
 #include <limits>
 #include <mutex>
 
-#include "solvers/solver_common.hpp"
+#include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {
 namespace {

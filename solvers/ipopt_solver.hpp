@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "framework/solver.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal {
 

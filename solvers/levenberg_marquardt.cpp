@@ -1,4 +1,4 @@
-#include "solvers/levenberg_marquardt.hpp"
+#include "kincal/solvers/levenberg_marquardt.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
@@ -8,8 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "framework/robust_loss.hpp"
-#include "solvers/solver_common.hpp"
+#include "kincal/framework/robust_loss.hpp"
+#include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {
 namespace {

@@ -1,4 +1,4 @@
-#include "solvers/nlopt_solver.hpp"
+#include "kincal/solvers/nlopt_solver.hpp"
 
 #include <nlopt.hpp>
 
@@ -8,7 +8,7 @@
 #include <map>
 #include <mutex>
 
-#include "solvers/solver_common.hpp"
+#include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {
 namespace {

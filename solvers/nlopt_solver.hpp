@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/solver.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "framework/solver.hpp"
+#include "kincal/framework/solver.hpp"
 
 namespace kincal::detail {
 

@@ -7,7 +7,7 @@
 #include <functional>
 #include <sstream>
 
-#include "framework/types.hpp"
+#include "kincal/framework/types.hpp"
 
 namespace kincal::testing {
 

@@ -4,13 +4,13 @@
 
 #include <atomic>
 
-#include "framework/parallel.hpp"
-#include "framework/parameters.hpp"
-#include "framework/pose.hpp"
-#include "framework/random.hpp"
-#include "framework/robust_loss.hpp"
-#include "framework/solver_registry.hpp"
-#include "framework/statistics.hpp"
+#include "kincal/framework/parallel.hpp"
+#include "kincal/framework/parameters.hpp"
+#include "kincal/framework/pose.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/framework/robust_loss.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/statistics.hpp"
 
 namespace kincal {
 namespace {

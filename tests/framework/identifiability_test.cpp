@@ -1,19 +1,19 @@
 // Identifiability figures on Jacobians with known singular values, named null-space
 // combinations, and the covariance of a calibration against the spread over many seeds.
 
-#include "framework/identifiability.hpp"
+#include "kincal/framework/identifiability.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "framework/calibration_report.hpp"
-#include "framework/random.hpp"
-#include "framework/simulation.hpp"
-#include "framework/solver_registry.hpp"
-#include "framework/uncertainty.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/uncertainty.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

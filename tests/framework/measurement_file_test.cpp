@@ -1,6 +1,6 @@
 // Measurement CSV: columns by name, comments, notices, and every malformed-input error.
 
-#include "framework/measurement_file.hpp"
+#include "kincal/framework/measurement_file.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "models/presets.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

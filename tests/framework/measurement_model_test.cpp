@@ -1,15 +1,15 @@
 // The chain rule through forward kinematics: measurement-model and calibration-problem
 // Jacobians against central finite differences, and bit-for-bit reproducibility.
 
-#include "framework/measurement_model.hpp"
+#include "kincal/framework/measurement_model.hpp"
 
 #include <gtest/gtest.h>
 
-#include "framework/calibration_problem.hpp"
-#include "framework/random.hpp"
-#include "framework/simulation.hpp"
 #include "jacobian_check.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

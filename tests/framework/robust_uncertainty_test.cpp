@@ -8,12 +8,12 @@
 #include <cmath>
 #include <vector>
 
-#include "framework/calibration_report.hpp"
-#include "framework/random.hpp"
-#include "framework/simulation.hpp"
-#include "framework/solver_registry.hpp"
-#include "framework/uncertainty.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/uncertainty.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

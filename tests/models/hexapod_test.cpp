@@ -1,13 +1,13 @@
 // Kinematics of the 6-UPS hexapod: IK/FK round trip, honest FK failure, and every analytic
 // Jacobian against central finite differences.
 
-#include "models/hexapod.hpp"
+#include "kincal/models/hexapod.hpp"
 
 #include <gtest/gtest.h>
 
-#include "framework/random.hpp"
 #include "jacobian_check.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/random.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

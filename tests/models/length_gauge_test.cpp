@@ -1,9 +1,9 @@
-#include "models/length_gauge.hpp"
+#include "kincal/models/length_gauge.hpp"
 
 #include <gtest/gtest.h>
 
-#include "framework/random.hpp"
 #include "jacobian_check.hpp"
+#include "kincal/framework/random.hpp"
 
 namespace kincal {
 namespace {

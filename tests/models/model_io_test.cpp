@@ -1,6 +1,6 @@
 // Model files: round trip, calibrated values as input, and malformed files.
 
-#include "models/model_io.hpp"
+#include "kincal/models/model_io.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "models/presets.hpp"
+#include "kincal/models/presets.hpp"
 
 namespace kincal {
 namespace {

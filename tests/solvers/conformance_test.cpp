@@ -34,9 +34,9 @@
 #include <cctype>
 #include <cmath>
 
-#include "framework/simulation.hpp"
-#include "framework/solver_registry.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
 #include "solver_fixtures.hpp"
 
 namespace kincal {

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "framework/simulation.hpp"
-#include "framework/solver_registry.hpp"
-#include "models/presets.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
 #include "solver_fixtures.hpp"
 
 namespace kincal {
