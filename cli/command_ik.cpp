@@ -24,7 +24,11 @@ int run_ik(const Args& args) {
   pose.rotation = rotation_from_euler_zyx(Vector3d(v[5], v[4], v[3]) * kRadians);
   const VectorXd params = model->parameters().nominal_values();
   VectorXd q(model->mechanism().num_actuators());
-  model->mechanism().inverse_kinematics(params.head(model->mechanism().num_parameters()), pose, q);
+  const InverseKinematicsResult ik = model->mechanism().inverse_kinematics(
+      params.head(model->mechanism().num_parameters()), pose, q);
+  if (!ik.ok())
+    throw CliError("--pose '" + vm["pose"].as<std::string>() + "': inverse kinematics " +
+                   ik.describe() + "; expected a pose the model can reach");
   const auto& names = model->mechanism().actuator_names();
   for (int i = 0; i < q.size(); ++i) std::printf("%-8s %.6f\n", names[i].c_str(), q[i]);
   VectorXd readings(model->num_readings());

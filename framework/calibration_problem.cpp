@@ -4,6 +4,17 @@
 
 namespace kincal {
 
+int Measurements::num_present() const {
+  return static_cast<int>((readings.array() == readings.array()).count());
+}
+
+Eigen::VectorXi Measurements::present_per_column() const {
+  Eigen::VectorXi counts(readings.cols());
+  for (Eigen::Index c = 0; c < readings.cols(); ++c)
+    counts[c] = static_cast<int>((readings.col(c).array() == readings.col(c).array()).count());
+  return counts;
+}
+
 CalibrationProblem::CalibrationProblem(std::shared_ptr<const MeasurementModel> model,
                                        Measurements data, VectorXd parameters,
                                        std::vector<int> free_indices)
@@ -47,6 +58,7 @@ namespace {
 struct BlockScratch {
   VectorXd full;
   VectorXd predicted;
+  VectorXd measured;
   MatrixXd J_full;
   MeasurementModel::Workspace model;
 };
@@ -58,6 +70,15 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
                                         Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {
   thread_local BlockScratch scratch;
   const int k = model_->num_readings();
+  // A contiguous copy: a row of the column-major readings would be heap-copied to bind to the
+  // model's Ref<const VectorXd> on every call.
+  scratch.measured = data_.readings.row(block).transpose();
+  if (scratch.measured.array().isNaN().all()) {
+    // Nothing was measured here: no residual, and no need to reach the configuration.
+    residuals.setZero();
+    if (jacobian) jacobian->setZero();
+    return true;
+  }
   scratch.full = base_;  // same size every call: no reallocation
   for (std::size_t i = 0; i < free_indices_.size(); ++i) scratch.full[free_indices_[i]] = x[i];
   scratch.predicted.resize(k);
@@ -71,7 +92,8 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
       *why = "configuration " + std::to_string(block + 1) + ": forward kinematics " + fk.describe();
     return false;
   }
-  residuals = scratch.predicted - data_.readings.row(block).transpose();
+  model_->reading_errors(scratch.predicted, scratch.measured, residuals,
+                         jacobian ? &J_ref : nullptr);
   if (jacobian) {
     for (std::size_t i = 0; i < free_indices_.size(); ++i)
       jacobian->col(i) = scratch.J_full.col(free_indices_[i]);

@@ -10,11 +10,15 @@
 namespace kincal {
 
 /// Measured configurations: row j holds the actuator values and the sensor readings of
-/// configuration j, in the model's actuator and reading order.
+/// configuration j, in the model's actuator and reading order. A reading the sensor did not
+/// take is NaN (an empty field in a measurement file): it contributes no residual.
 struct Measurements {
   MatrixXd actuators;  ///< m x num_actuators
   MatrixXd readings;   ///< m x num_readings
   int size() const { return static_cast<int>(actuators.rows()); }
+  /// Readings present (not NaN), in all and per column.
+  int num_present() const;
+  Eigen::VectorXi present_per_column() const;
 };
 
 class CalibrationProblem : public LeastSquaresProblem {
@@ -38,6 +42,9 @@ class CalibrationProblem : public LeastSquaresProblem {
   VectorXd free_parameters(const VectorXd& full) const;
   /// x at the base parameter values.
   VectorXd initial_free_parameters() const { return free_parameters(base_); }
+
+  /// Residuals that carry a measured reading (missing readings give fixed zeros).
+  int num_measured_residuals() const { return data_.num_present(); }
 
   const MeasurementModel& model() const { return *model_; }
   const Measurements& data() const { return data_; }

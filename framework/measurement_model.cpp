@@ -1,5 +1,6 @@
 #include "kincal/framework/measurement_model.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace kincal {
@@ -11,10 +12,40 @@ MeasurementModel::MeasurementModel(std::shared_ptr<const Mechanism> mechanism,
   if (sensors_.empty()) throw std::invalid_argument("measurement model needs a sensor");
   parameters_.append(mechanism_->parameters());
   for (const auto& sensor : sensors_) {
+    if (!sensor) throw std::invalid_argument("measurement model: null sensor");
     sensor_offsets_.push_back(parameters_.size());
     parameters_.append(sensor->parameters());
+    reading_offsets_.push_back(num_readings_);
     num_readings_ += sensor->num_readings();
+    has_manifold_readings_ = has_manifold_readings_ || sensor->has_manifold_readings();
   }
+  const auto& actuators = mechanism_->actuators();
+  actuator_ranges_.resize(static_cast<int>(actuators.size()));
+  for (std::size_t i = 0; i < actuators.size(); ++i)
+    actuator_ranges_[static_cast<int>(i)] = actuators[i].default_range;
+}
+
+std::vector<std::string> MeasurementModel::reading_units() const {
+  std::vector<std::string> units;
+  for (const auto& sensor : sensors_)
+    for (auto& u : sensor->reading_units()) units.push_back(u);
+  return units;
+}
+
+int MeasurementModel::set_actuator_range(const std::string& pattern, double half_width) {
+  if (!(half_width >= 0) || !std::isfinite(half_width))
+    throw std::invalid_argument("actuator range for '" + pattern +
+                                "' must be a finite number >= 0");
+  int count = 0;
+  const auto& actuators = mechanism_->actuators();
+  for (std::size_t i = 0; i < actuators.size(); ++i) {
+    if (!glob_match(pattern, actuators[i].name)) continue;
+    actuator_ranges_[static_cast<int>(i)] = half_width;
+    ++count;
+  }
+  if (count == 0)
+    throw std::invalid_argument("actuator pattern '" + pattern + "' matches no actuator");
+  return count;
 }
 
 std::vector<std::string> MeasurementModel::reading_names() const {
@@ -82,6 +113,53 @@ void MeasurementModel::predict_at_pose(const Eigen::Ref<const VectorXd>& params,
     sensor.predict(sensor_params, pose, readings.segment(row, sensor.num_readings()), nullptr,
                    nullptr);
     row += sensor.num_readings();
+  }
+}
+
+void MeasurementModel::reading_errors(const Eigen::Ref<const VectorXd>& predicted,
+                                      const Eigen::Ref<const VectorXd>& measured,
+                                      Eigen::Ref<VectorXd> errors, Eigen::Ref<MatrixXd>* J) const {
+  if (!has_manifold_readings_) {
+    // The common case, kept free of per-sensor calls: plain differences.
+    for (int i = 0; i < num_readings_; ++i) {
+      if (std::isnan(measured[i])) {
+        errors[i] = 0;
+        if (J) J->row(i).setZero();
+      } else {
+        errors[i] = predicted[i] - measured[i];
+      }
+    }
+    return;
+  }
+  thread_local MatrixXd J_error_predicted, rows;
+  for (std::size_t s = 0; s < sensors_.size(); ++s) {
+    const Sensor& sensor = *sensors_[s];
+    const int k = sensor.num_readings(), o = reading_offsets_[s];
+    if (measured.segment(o, k).array().isNaN().any()) {
+      // Readers accept a sensor's readings all present or all missing.
+      errors.segment(o, k).setZero();
+      if (J) J->middleRows(o, k).setZero();
+      continue;
+    }
+    if (!sensor.has_manifold_readings()) {
+      errors.segment(o, k) = predicted.segment(o, k) - measured.segment(o, k);
+      continue;
+    }
+    J_error_predicted.resize(k, k);
+    sensor.reading_error(predicted.segment(o, k), measured.segment(o, k), errors.segment(o, k),
+                         J ? &J_error_predicted : nullptr);
+    if (J) {
+      rows.noalias() = J_error_predicted * J->middleRows(o, k);
+      J->middleRows(o, k) = rows;
+    }
+  }
+}
+
+void MeasurementModel::retract(Eigen::Ref<VectorXd> readings,
+                               const Eigen::Ref<const VectorXd>& delta) const {
+  for (std::size_t s = 0; s < sensors_.size(); ++s) {
+    const int k = sensors_[s]->num_readings(), o = reading_offsets_[s];
+    sensors_[s]->retract(readings.segment(o, k), delta.segment(o, k));
   }
 }
 

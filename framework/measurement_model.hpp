@@ -3,6 +3,8 @@
 //   [mechanism parameters | sensor 1 parameters | sensor 2 ...]
 // Given actuator values, it predicts every sensor's readings and, by the chain rule,
 //   J_readings_params = J_reading_pose * J_pose_params  (+ J_reading_params on the sensor block).
+// A measured reading may be missing (NaN: the sensor did not see that configuration); it then
+// contributes no residual.
 
 #include <memory>
 #include <vector>
@@ -28,6 +30,16 @@ class MeasurementModel {
   /// Scalar readings per configuration, all sensors together.
   int num_readings() const { return num_readings_; }
   std::vector<std::string> reading_names() const;
+  std::vector<std::string> reading_units() const;
+  /// First reading of sensor `sensor_index` in a configuration's reading vector.
+  int sensor_reading_offset(int sensor_index) const { return reading_offsets_[sensor_index]; }
+
+  /// Half-width of the configuration box around home, per actuator (its unit), from which
+  /// simulation and experiment design draw: the mechanism's defaults unless changed.
+  const VectorXd& actuator_ranges() const { return actuator_ranges_; }
+  /// Sets the range of every actuator whose name matches the glob `pattern`; throws
+  /// std::invalid_argument when none does or the value is not finite and >= 0.
+  int set_actuator_range(const std::string& pattern, double half_width);
 
   ForwardKinematicsOptions& forward_kinematics_options() { return fk_options_; }
   const ForwardKinematicsOptions& forward_kinematics_options() const { return fk_options_; }
@@ -54,6 +66,17 @@ class MeasurementModel {
   void predict_at_pose(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                        Eigen::Ref<VectorXd> readings) const;
 
+  /// Residuals of predicted against measured readings of one configuration, sensor by
+  /// sensor (Sensor::reading_error; predicted - measured for plain readings). A missing
+  /// measured reading (NaN) gives a zero residual. When J is non-null it holds
+  /// J_readings_params from predict() on entry and J_residuals_params on return: rows of
+  /// missing readings zeroed, rows of manifold readings mapped by J_error_predicted.
+  void reading_errors(const Eigen::Ref<const VectorXd>& predicted,
+                      const Eigen::Ref<const VectorXd>& measured, Eigen::Ref<VectorXd> errors,
+                      Eigen::Ref<MatrixXd>* J) const;
+  /// `readings` moved by the tangent perturbation `delta`, sensor by sensor (Sensor::retract).
+  void retract(Eigen::Ref<VectorXd> readings, const Eigen::Ref<const VectorXd>& delta) const;
+
   /// Offsets of the sensor parameter blocks in the combined vector.
   int sensor_parameter_offset(int sensor_index) const { return sensor_offsets_[sensor_index]; }
 
@@ -62,7 +85,10 @@ class MeasurementModel {
   std::vector<std::shared_ptr<const Sensor>> sensors_;
   ParameterSet parameters_;
   std::vector<int> sensor_offsets_;
+  std::vector<int> reading_offsets_;
   int num_readings_ = 0;
+  bool has_manifold_readings_ = false;
+  VectorXd actuator_ranges_;
   ForwardKinematicsOptions fk_options_;
 };
 

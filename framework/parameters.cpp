@@ -51,10 +51,15 @@ int ParameterSet::index_of(const std::string& name) const {
 }
 
 int ParameterSet::set_free(const std::string& pattern, bool free) {
+  return for_each_matching(pattern, [free](Parameter& p) { p.free = free; });
+}
+
+int ParameterSet::for_each_matching(const std::string& pattern,
+                                    const std::function<void(Parameter&)>& edit) {
   int count = 0;
   for (auto& p : parameters_) {
     if (glob_match(pattern, p.name)) {
-      p.free = free;
+      edit(p);
       ++count;
     }
   }

@@ -2,6 +2,8 @@
 // Named scalar parameters of a measurement model: nominal values, units and the
 // free/fixed mask that decides what a calibration estimates.
 
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -12,8 +14,11 @@ namespace kincal {
 struct Parameter {
   std::string name;    ///< e.g. "leg4.base.x", "gauge.offset"
   double nominal = 0;  ///< value in `unit`
-  std::string unit;    ///< "mm" for every kinematic parameter so far
+  std::string unit;    ///< "mm" or "rad" (framework/units.hpp)
   bool free = false;   ///< estimated by a calibration when true
+  /// Half-width (in `unit`) of the uniform error a simulation adds to this parameter when it
+  /// is free; NaN = the simulation's value for the unit. Set per parameter in model files.
+  double error_half_width = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// True when `name` matches the glob `pattern` ('*' any run, '?' one character).
@@ -36,6 +41,9 @@ class ParameterSet {
   /// Marks every parameter matching `pattern` free (or fixed). Throws std::invalid_argument
   /// when the pattern matches nothing, so a typo never passes silently. Returns the count.
   int set_free(const std::string& pattern, bool free);
+  /// Calls `edit` on every parameter matching `pattern`; throws std::invalid_argument when the
+  /// pattern matches nothing. Returns the count.
+  int for_each_matching(const std::string& pattern, const std::function<void(Parameter&)>& edit);
 
   VectorXd nominal_values() const;
   std::vector<int> free_indices() const;

@@ -64,6 +64,31 @@ Matrix3d rotation_from_euler_zyx(const Vector3d& abg) {
       .toRotationMatrix();
 }
 
+Pose frame_from_parameters(const Eigen::Ref<const VectorXd>& p) {
+  Pose frame;
+  frame.translation = p.head<3>();
+  frame.rotation = rotation_from_euler_zyx(Vector3d(p[5], p[4], p[3]));
+  return frame;
+}
+
+Vector6d frame_parameters(const Pose& frame) {
+  const Vector3d zyx = euler_zyx(frame.rotation);
+  Vector6d p;
+  p << frame.translation, zyx[2], zyx[1], zyx[0];
+  return p;
+}
+
+Matrix3d euler_zyx_angular_jacobian(const Vector3d& rx_ry_rz) {
+  // dR/drz = [ez]x R; dR/dry = Rz [ey]x Ry Rx = [Rz ey]x R; dR/drx = [Rz Ry ex]x R.
+  const Matrix3d Rz = Eigen::AngleAxisd(rx_ry_rz[2], Vector3d::UnitZ()).toRotationMatrix();
+  const Matrix3d RzRy = Rz * Eigen::AngleAxisd(rx_ry_rz[1], Vector3d::UnitY()).toRotationMatrix();
+  Matrix3d J;
+  J.col(0) = RzRy.col(0);
+  J.col(1) = Rz.col(1);
+  J.col(2) = Vector3d::UnitZ();
+  return J;
+}
+
 double position_error(const Pose& a, const Pose& b) {
   return (a.translation - b.translation).norm();
 }

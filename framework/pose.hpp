@@ -36,6 +36,16 @@ Vector3d euler_zyx(const Matrix3d& R);
 /// R = Rz(alpha) Ry(beta) Rx(gamma).
 Matrix3d rotation_from_euler_zyx(const Vector3d& alpha_beta_gamma);
 
+/// A frame given by six parameters [x, y, z, rx, ry, rz] (mm, rad): position, and Z-Y-X
+/// Euler angles R = Rz(rz) Ry(ry) Rx(rx), the form of every frame parameter block (a serial
+/// arm's base and tool, a tracker's frame).
+Pose frame_from_parameters(const Eigen::Ref<const VectorXd>& xyz_rxryrz);
+/// The inverse: [x, y, z, rx, ry, rz] of a frame.
+Vector6d frame_parameters(const Pose& frame);
+/// Columns: the angular velocity [dw] (left perturbation, parent axes) of R = Rz Ry Rx per
+/// unit rate of rx, ry and rz. Singular at ry = +-90 degrees (gimbal lock).
+Matrix3d euler_zyx_angular_jacobian(const Vector3d& rx_ry_rz);
+
 /// Position error |t_a - t_b| (mm) between two poses.
 double position_error(const Pose& a, const Pose& b);
 

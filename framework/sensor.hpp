@@ -15,22 +15,40 @@ class Sensor {
 
   /// Sensor type as written in model files, e.g. "length-gauge".
   virtual std::string type() const = 0;
-  /// Name of the sensor; also its column name in measurement files ("gauge").
+  /// Name of the sensor: the prefix of its parameter names and reading columns.
   virtual const std::string& name() const = 0;
   /// Number of scalar readings per configuration (1 for a length gauge).
   virtual int num_readings() const = 0;
-  /// Column names of the readings (num_readings() of them).
+  /// Column names of the readings in measurement files (num_readings() of them).
   virtual std::vector<std::string> reading_names() const { return {name()}; }
-  /// Parameter layout with nominal values and the default free mask.
+  /// Unit of each reading ("mm" or "rad"), in reading_names() order.
+  virtual std::vector<std::string> reading_units() const = 0;
+  /// Parameter layout with nominal values and units; all fixed (a model's mask frees them).
   virtual const std::vector<Parameter>& parameters() const = 0;
   int num_parameters() const { return static_cast<int>(parameters().size()); }
 
   /// Readings at `pose` and, when the pointers are non-null, J_reading_pose
   /// (num_readings x 6) and J_reading_params (num_readings x num_parameters), each presized
-  /// by the caller so that no allocation happens here.
+  /// by the caller so that no allocation happens here. For readings that live on a manifold
+  /// (a rotation), the Jacobian rows are taken in its tangent space, the space of
+  /// reading_error() (see PoseTracker).
   virtual void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                        Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,
                        MatrixXd* J_reading_params) const = 0;
+
+  /// Whether reading_error() is more than predicted - measured. Only then is it called with
+  /// a Jacobian, so plain sensors cost nothing.
+  virtual bool has_manifold_readings() const { return false; }
+  /// The residual of a predicted reading against a measured one and, when asked for,
+  /// J_error_predicted (num_readings x num_readings): how the error moves with the
+  /// predicted reading's tangent perturbation. Default: predicted - measured, identity.
+  virtual void reading_error(const Eigen::Ref<const VectorXd>& predicted,
+                             const Eigen::Ref<const VectorXd>& measured, Eigen::Ref<VectorXd> error,
+                             MatrixXd* J_error_predicted) const;
+  /// `reading` moved by the tangent perturbation `delta`, the inverse of reading_error:
+  /// reading_error(retract(m, d), m) = d. Default: reading + delta. Simulation adds noise
+  /// through it.
+  virtual void retract(Eigen::Ref<VectorXd> reading, const Eigen::Ref<const VectorXd>& delta) const;
 };
 
 }  // namespace kincal

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/random.hpp"
+#include "kincal/framework/units.hpp"
 
 namespace kincal {
 
@@ -23,6 +24,18 @@ const PaperCase& paper_case(int id) {
                               " in the paper's Table 2 (cases are 1 to 5)");
 }
 
+double ScenarioOptions::param_error_for(const std::string& unit) const {
+  return unit == kRadian ? param_error_half_width_rad : param_error_half_width;
+}
+
+double ScenarioOptions::noise_for(const std::string& unit) const {
+  return unit == kRadian ? noise_half_width_rad : noise_half_width;
+}
+
+double ScenarioOptions::config_range_for(const std::string& unit) const {
+  return unit == kRadian ? config_range_rad : config_range;
+}
+
 std::shared_ptr<CalibrationProblem> Scenario::make_problem() const {
   return std::make_shared<CalibrationProblem>(model, calibration, nominal, free_indices);
 }
@@ -36,10 +49,10 @@ enum Stream : std::uint64_t {
   kValidationStream = 4
 };
 
-// Draws `count` configurations around `home_q` that the true geometry can reach; fills
-// their true poses.
+// Draws `count` configurations in the box home_q +- range that the true geometry can
+// reach; fills their true poses.
 void draw_configurations(const MeasurementModel& model, const VectorXd& truth,
-                         const VectorXd& home_q, double range, int count, Random& rng,
+                         const VectorXd& home_q, const VectorXd& range, int count, Random& rng,
                          MatrixXd& actuators, std::vector<Pose>& poses) {
   const Mechanism& mechanism = model.mechanism();
   const auto mech_truth = truth.head(mechanism.num_parameters());
@@ -54,7 +67,7 @@ void draw_configurations(const MeasurementModel& model, const VectorXd& truth,
       throw std::runtime_error(
           "could not draw reachable configurations: forward kinematics of the true model "
           "keeps failing (is the configuration range too large?)");
-    for (int i = 0; i < na; ++i) q[i] = home_q[i] + rng.symmetric(range);
+    for (int i = 0; i < na; ++i) q[i] = home_q[i] + rng.symmetric(range[i]);
     const ForwardKinematicsResult fk = mechanism.forward_kinematics(
         mech_truth, q, mechanism.home_pose(), model.forward_kinematics_options());
     if (!fk.ok()) continue;
@@ -70,9 +83,15 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
                        const ScenarioOptions& options) {
   if (options.num_configurations < 1)
     throw std::invalid_argument("the number of configurations must be at least 1");
-  if (options.noise_half_width < 0 || options.param_error_half_width < 0 ||
-      options.config_range < 0 || options.num_validation < 0)
-    throw std::invalid_argument("noise, parameter error, range and validation size must be >= 0");
+  const auto non_negative = [](double v) { return v >= 0 && std::isfinite(v); };
+  const auto unset_or_non_negative = [&](double v) { return std::isnan(v) || non_negative(v); };
+  if (!non_negative(options.noise_half_width) || !non_negative(options.noise_half_width_rad) ||
+      !non_negative(options.param_error_half_width) ||
+      !non_negative(options.param_error_half_width_rad) ||
+      !unset_or_non_negative(options.config_range) ||
+      !unset_or_non_negative(options.config_range_rad) || options.num_validation < 0)
+    throw std::invalid_argument(
+        "noise, parameter error, range and validation size must be finite and >= 0");
   Scenario s;
   s.model = model;
   s.options = options;
@@ -81,31 +100,47 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
 
   Random truth_rng(derive_seed(options.seed, kTruthStream));
   s.truth = s.nominal;
-  for (int i : s.free_indices) s.truth[i] += truth_rng.symmetric(options.param_error_half_width);
+  for (int i : s.free_indices) {
+    const Parameter& p = model->parameters()[i];
+    const double e =
+        std::isnan(p.error_half_width) ? options.param_error_for(p.unit) : p.error_half_width;
+    s.truth[i] += truth_rng.symmetric(e);
+  }
 
   // Commanded actuator values at home come from the nominal model, as a controller would.
   const Mechanism& mechanism = model->mechanism();
-  VectorXd home_q(mechanism.num_actuators());
-  mechanism.inverse_kinematics(s.nominal.head(mechanism.num_parameters()), mechanism.home_pose(),
-                               home_q);
+  s.home_actuators.resize(mechanism.num_actuators());
+  const InverseKinematicsResult home =
+      mechanism.home_actuators(s.nominal.head(mechanism.num_parameters()), s.home_actuators);
+  if (!home.ok())
+    throw std::invalid_argument("the model's home pose is not reachable: inverse kinematics " +
+                                home.describe());
+  s.actuator_ranges = model->actuator_ranges();
+  for (int i = 0; i < mechanism.num_actuators(); ++i) {
+    const double r = options.config_range_for(mechanism.actuators()[i].unit);
+    if (!std::isnan(r)) s.actuator_ranges[i] = r;
+  }
 
   Random config_rng(derive_seed(options.seed, kConfigStream));
   std::vector<Pose> calibration_poses;
-  draw_configurations(*model, s.truth, home_q, options.config_range, options.num_configurations,
-                      config_rng, s.calibration.actuators, calibration_poses);
+  draw_configurations(*model, s.truth, s.home_actuators, s.actuator_ranges,
+                      options.num_configurations, config_rng, s.calibration.actuators,
+                      calibration_poses);
 
   Random noise_rng(derive_seed(options.seed, kNoiseStream));
   const int k = model->num_readings();
+  const std::vector<std::string> units = model->reading_units();
   s.calibration.readings.resize(options.num_configurations, k);
-  VectorXd reading(k);
+  VectorXd reading(k), noise(k);
   for (int j = 0; j < options.num_configurations; ++j) {
     model->predict_at_pose(s.truth, calibration_poses[j], reading);
-    for (int i = 0; i < k; ++i) reading[i] += noise_rng.symmetric(options.noise_half_width);
+    for (int i = 0; i < k; ++i) noise[i] = noise_rng.symmetric(options.noise_for(units[i]));
+    model->retract(reading, noise);
     s.calibration.readings.row(j) = reading.transpose();
   }
 
   Random validation_rng(derive_seed(options.seed, kValidationStream));
-  draw_configurations(*model, s.truth, home_q, options.config_range, options.num_validation,
+  draw_configurations(*model, s.truth, s.home_actuators, s.actuator_ranges, options.num_validation,
                       validation_rng, s.validation_actuators, s.validation_poses);
   return s;
 }
@@ -169,10 +204,16 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
     run.summary.trace[i].seconds -= tracking_before[i];
   run.estimate = problem->full_parameters(x);
   run.after = validation_errors(scenario, run.estimate);
-  double sum = 0;
-  for (int i : scenario.free_indices) sum += std::pow(run.estimate[i] - scenario.truth[i], 2);
-  run.parameter_rms_error =
-      scenario.free_indices.empty() ? 0.0 : std::sqrt(sum / scenario.free_indices.size());
+  double sum[2] = {0, 0};
+  int count[2] = {0, 0};
+  for (int i : scenario.free_indices) {
+    const bool angle = scenario.model->parameters()[i].unit == kRadian;
+    const double d = run.estimate[i] - scenario.truth[i];
+    sum[angle] += std::pow(angle ? wrap_angle(d) : d, 2);
+    ++count[angle];
+  }
+  run.parameter_rms_error = count[0] ? std::sqrt(sum[0] / count[0]) : 0.0;
+  run.parameter_rms_error_rad = count[1] ? std::sqrt(sum[1] / count[1]) : 0.0;
   return run;
 }
 

@@ -1,14 +1,18 @@
 #pragma once
 // Simulated calibration experiments, all drawn from one seed:
-//   true parameters = nominal + U[-e, e] on every free parameter,
-//   configurations  = actuators at the home pose (nominal model) + U[-r, r] per actuator,
-//   readings        = sensors at the true pose + U[-a, a] noise,
+//   true parameters = nominal + U[-e, e] on every free parameter (e per parameter, or per
+//                     unit: mm and rad),
+//   configurations  = home actuator values (nominal model) + U[-r, r] per actuator (r from
+//                     the model's actuator ranges, or per unit),
+//   readings        = sensors at the true pose + U[-a, a] noise per reading (a per unit),
 //   validation set  = more configurations drawn the same way, with their true poses.
 // Each part uses its own sub-stream of the seed, so changing the noise level does not
 // change the configurations, and a seed reproduces a scenario bit for bit.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "kincal/framework/calibration_problem.hpp"
@@ -18,11 +22,25 @@ namespace kincal {
 
 struct ScenarioOptions {
   int num_configurations = 30;
-  double noise_half_width = 0.0;      ///< a (mm): readings get U[-a, a]
-  double param_error_half_width = 5;  ///< e (mm) on each free parameter
-  double config_range = 20;           ///< r (mm) around the home actuator values
+  /// a: readings in mm get U[-a, a] noise, readings in rad U[-a_rad, a_rad] (applied in the
+  /// tangent space of manifold readings, Sensor::retract).
+  double noise_half_width = 0.0;
+  double noise_half_width_rad = 0.0;
+  /// e: free parameters in mm get U[-e, e] errors, in rad U[-e_rad, e_rad], unless the
+  /// parameter has its own (Parameter::error_half_width, from the model file).
+  double param_error_half_width = 5;
+  double param_error_half_width_rad = 0.01;
+  /// r: when not NaN, every actuator in mm (in rad) is drawn within +-r (+-r_rad) of home
+  /// instead of its range in the model (MeasurementModel::actuator_ranges()).
+  double config_range = std::numeric_limits<double>::quiet_NaN();
+  double config_range_rad = std::numeric_limits<double>::quiet_NaN();
   int num_validation = 200;
   std::uint64_t seed = 1;
+
+  /// The parameter error, noise and range for `unit` ("mm" or "rad").
+  double param_error_for(const std::string& unit) const;
+  double noise_for(const std::string& unit) const;
+  double config_range_for(const std::string& unit) const;
 };
 
 /// The paper's Table 2: case 1..5 -> noise half-width and number of configurations.
@@ -41,6 +59,8 @@ struct Scenario {
   VectorXd nominal;                    ///< full parameter vector, nominal values
   VectorXd truth;                      ///< full parameter vector, true values
   std::vector<int> free_indices;       ///< the estimated parameters
+  VectorXd home_actuators;             ///< actuator values at home (nominal model)
+  VectorXd actuator_ranges;            ///< half-width of the configuration box, per actuator
   Measurements calibration;            ///< noisy readings for the calibration
   MatrixXd validation_actuators;       ///< num_validation x num_actuators
   std::vector<Pose> validation_poses;  ///< true poses of the validation configurations
@@ -72,8 +92,10 @@ struct CalibrationRun {
   PoseErrorStats after;
   /// Validation errors at each trace entry (same length as summary.trace).
   std::vector<PoseErrorStats> trace_errors;
-  /// RMS over free parameters of (estimate - truth), mm.
+  /// RMS over the free parameters in mm of (estimate - truth), mm; NaN when there is none.
   double parameter_rms_error = 0;
+  /// The same over the free parameters in rad (wrapped differences), rad.
+  double parameter_rms_error_rad = 0;
   /// Wall time of the solve alone: summary.wall_seconds minus the time spent computing the
   /// per-iteration validation errors inside the callback (summary.trace[k].seconds are
   /// corrected the same way; summary.wall_seconds is left as measured).

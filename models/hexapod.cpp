@@ -13,7 +13,7 @@ const char* const kAxes[3] = {"x", "y", "z"};
 Hexapod::Hexapod(const HexapodGeometry& geometry) : geometry_(geometry) {
   for (int leg = 0; leg < kLegs; ++leg) {
     const std::string prefix = "leg" + std::to_string(leg + 1);
-    actuator_names_.push_back(prefix);
+    actuators_.push_back({prefix, "mm", kDefaultLegRange});
     for (int a = 0; a < 3; ++a)
       parameters_.push_back(
           {prefix + ".base." + kAxes[a], geometry.base_joints[leg][a], "mm", false});
@@ -34,13 +34,26 @@ HexapodGeometry Hexapod::geometry_from(const ParamsRef& params) const {
   return g;
 }
 
-void Hexapod::inverse_kinematics(const ParamsRef& params, const Pose& pose,
-                                 Eigen::Ref<VectorXd> q) const {
+InverseKinematicsResult Hexapod::inverse_kinematics(const ParamsRef& params, const Pose& pose,
+                                                    Eigen::Ref<VectorXd> q) const {
+  InverseKinematicsResult result;
   for (int leg = 0; leg < kLegs; ++leg) {
     const Vector3d b = params.segment<3>(base_index(leg));
     const Vector3d p = params.segment<3>(platform_index(leg));
-    q[leg] = (pose.transform_point(p) - b).norm() - params[offset_index(leg)];
+    const double length = (pose.transform_point(p) - b).norm();
+    q[leg] = length - params[offset_index(leg)];
+    if (!std::isfinite(q[leg])) {
+      result.status = InverseKinematicsStatus::kNonFinite;
+      result.reason = "leg " + std::to_string(leg + 1) + " length is not finite";
+      return result;
+    }
+    if (!(length > 0)) {
+      result.status = InverseKinematicsStatus::kUnreachable;
+      result.reason = "leg " + std::to_string(leg + 1) + " would have zero length";
+      return result;
+    }
   }
+  return result;
 }
 
 bool Hexapod::actuators_valid(const ParamsRef& params, const ActuatorsRef& q) const {

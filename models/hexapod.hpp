@@ -8,9 +8,11 @@
 
 #include <array>
 
-#include "kincal/framework/mechanism.hpp"
+#include "kincal/framework/closed_chain_mechanism.hpp"
 
 namespace kincal {
+
+class ModelRegistry;
 
 struct HexapodGeometry {
   std::array<Vector3d, 6> base_joints;
@@ -19,16 +21,19 @@ struct HexapodGeometry {
   Pose home;
 };
 
-class Hexapod final : public ClosedChainMechanism {
+class Hexapod final : public ClosedChainMechanism<6> {
  public:
   static constexpr int kLegs = 6;
   static constexpr int kParametersPerLeg = 7;
+  /// Simulation and design draw leg lengths within this of home by default (the paper's
+  /// +-20 mm, section 4).
+  static constexpr double kDefaultLegRange = 20.0;
 
   /// All parameters fixed; free them through the measurement model's parameter set.
   explicit Hexapod(const HexapodGeometry& geometry);
 
   std::string type() const override { return "hexapod-6ups"; }
-  const std::vector<std::string>& actuator_names() const override { return actuator_names_; }
+  const std::vector<Actuator>& actuators() const override { return actuators_; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   const Pose& home_pose() const override { return geometry_.home; }
   const HexapodGeometry& nominal_geometry() const { return geometry_; }
@@ -36,8 +41,8 @@ class Hexapod final : public ClosedChainMechanism {
   /// The geometry stored in a parameter vector (home pose from the nominal geometry).
   HexapodGeometry geometry_from(const ParamsRef& params) const;
 
-  void inverse_kinematics(const ParamsRef& params, const Pose& pose,
-                          Eigen::Ref<VectorXd> q) const override;
+  InverseKinematicsResult inverse_kinematics(const ParamsRef& params, const Pose& pose,
+                                             Eigen::Ref<VectorXd> q) const override;
   void constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose, Vector6d& g,
                    Matrix6d* J_g_pose) const override;
   void constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
@@ -54,8 +59,11 @@ class Hexapod final : public ClosedChainMechanism {
 
  private:
   HexapodGeometry geometry_;
-  std::vector<std::string> actuator_names_;
+  std::vector<Actuator> actuators_;
   std::vector<Parameter> parameters_;
 };
+
+/// Registers the type (model-file reader/writer) and its presets.
+void register_hexapod(ModelRegistry& registry);
 
 }  // namespace kincal

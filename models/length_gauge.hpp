@@ -8,6 +8,8 @@
 
 namespace kincal {
 
+class ModelRegistry;
+
 class LengthGauge final : public Sensor {
  public:
   /// All parameters fixed by default.
@@ -17,6 +19,7 @@ class LengthGauge final : public Sensor {
   std::string type() const override { return "length-gauge"; }
   const std::string& name() const override { return name_; }
   int num_readings() const override { return 1; }
+  std::vector<std::string> reading_units() const override { return {"mm"}; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
 
   void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
@@ -31,5 +34,8 @@ class LengthGauge final : public Sensor {
   std::string name_;
   std::vector<Parameter> parameters_;
 };
+
+/// Registers the type (model-file reader/writer) and its presets.
+void register_length_gauge(ModelRegistry& registry);
 
 }  // namespace kincal

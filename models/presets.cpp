@@ -2,22 +2,20 @@
 
 #include <stdexcept>
 
+#include "kincal/framework/model_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 
 namespace kincal {
 
 std::vector<PresetInfo> list_presets() {
-  return {{"cube-hexapod",
-           "Choi & Lim's cube hexapod (Table 1) with one length gauge; 24 free joint "
-           "coordinates"}};
+  std::vector<PresetInfo> out;
+  for (const auto& p : ModelRegistry::global().presets()) out.push_back({p.name, p.description});
+  return out;
 }
 
 std::shared_ptr<MeasurementModel> make_preset(const std::string& name) {
-  if (name == "cube-hexapod") return make_cube_hexapod();
-  std::string known;
-  for (const auto& p : list_presets()) known += (known.empty() ? "" : ", ") + p.name;
-  throw std::invalid_argument("unknown model preset '" + name + "' (available: " + known + ")");
+  return ModelRegistry::global().make_preset(name);
 }
 
 std::shared_ptr<MeasurementModel> make_cube_hexapod() {

@@ -1,5 +1,5 @@
 #pragma once
-// Built-in models by name (`kincal list models`).
+// Built-in models by name (`kincal list models`): shorthands over ModelRegistry::global().
 
 #include <memory>
 #include <string>
@@ -14,6 +14,7 @@ struct PresetInfo {
   std::string description;
 };
 
+/// Every registered preset, in registration order.
 std::vector<PresetInfo> list_presets();
 
 /// A fresh measurement model for a preset, with the preset's default free parameters.

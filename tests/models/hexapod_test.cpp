@@ -18,7 +18,7 @@ using kincal::testing::numerical_jacobian;
 struct Fixture {
   std::shared_ptr<MeasurementModel> model = make_cube_hexapod();
   const Mechanism& mechanism = model->mechanism();
-  const auto& hexapod() const { return dynamic_cast<const ClosedChainMechanism&>(mechanism); }
+  const auto& hexapod() const { return dynamic_cast<const ClosedChainMechanism<6>&>(mechanism); }
   VectorXd params = model->parameters().nominal_values().head(mechanism.num_parameters());
 };
 
@@ -165,8 +165,8 @@ TEST(Hexapod, SparseWeightedConstraintJacobianEqualsTheDenseProduct) {
   f.hexapod().constraint_jacobian_params_left(f.params, q, pose, lambda, sparse);
   // The base class's dense default, for comparison.
   Eigen::RowVectorXd dense(f.params.size());
-  f.hexapod().ClosedChainMechanism::constraint_jacobian_params_left(f.params, q, pose, lambda,
-                                                                    dense);
+  f.hexapod().ClosedChainMechanism<6>::constraint_jacobian_params_left(f.params, q, pose, lambda,
+                                                                       dense);
   EXPECT_TRUE(jacobians_match(sparse, lambda.transpose() * J_g_params, 1e-14));
   EXPECT_TRUE(jacobians_match(dense, lambda.transpose() * J_g_params, 1e-14));
 }

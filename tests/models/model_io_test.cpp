@@ -86,7 +86,7 @@ TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
       {edit([](J& j) { j.erase("sensors"); }), ": missing key 'sensors'"},
       {edit([](J& j) { j["fre"] = J::array(); }), ": unknown key 'fre'"},
       {edit([](J& j) { j["mechanism"]["type"] = "delta"; }),
-       ": mechanism.type: expected \"hexapod-6ups\""},
+       ": mechanism.type: unknown mechanism type 'delta' (available: hexapod-6ups"},
       {edit([](J& j) { j["mechanism"]["legs"].erase(5); }),
        ": mechanism.legs: expected an array of 6 leg objects"},
       {edit([](J& j) {
@@ -102,14 +102,14 @@ TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
       {edit([](J& j) { j["mechanism"]["home_pose"].erase("position"); }),
        ": mechanism.home_pose: missing key 'position'"},
       {edit([](J& j) { j["sensors"][0]["type"] = "laser"; }),
-       ": sensors[0].type: expected \"length-gauge\""},
+       ": sensors[0].type: unknown sensor type 'laser' (available: length-gauge"},
       {edit([](J& j) { j["sensors"][0]["name"] = "a,b"; }), ": sensors[0].name: expected"},
       {edit([](J& j) { j["free"].push_back("leg9.*"); }),
        ": free[24]: parameter pattern 'leg9.*' matches no parameter"},
       {edit([](J& j) { j["free"] = "all"; }), ": free: expected an array"},
-      {edit([](J& j) { j["sensors"][0]["name"] = "legacy"; }),
-       ": sensors[0].name: 'legacy': names starting with 'leg' are reserved for the hexapod's "
-       "legs"},
+      // A sensor named like a leg would share its parameter names and its column.
+      {edit([](J& j) { j["sensors"][0]["name"] = "leg1"; }),
+       ": sensors: duplicate parameter name 'leg1.base.x'; expected a different sensor name"},
       {edit([](J& j) { j["sensors"].push_back(j["sensors"][0]); }),
        ": sensors[1].name: 'gauge' is already used by another sensor"},
       {edit([](J& j) { j["sensors"][0]["name"] = "g*"; }), ": sensors[0].name: expected"},

@@ -1,0 +1,113 @@
+#include "kincal/framework/json_fields.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace kincal {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
+
+JsonPath JsonPath::operator/(const std::string& key) const {
+  return JsonPath(source_, path_.empty() ? key : path_ + "." + key);
+}
+
+JsonPath JsonPath::operator[](std::size_t index) const {
+  return JsonPath(source_, path_ + "[" + std::to_string(index) + "]");
+}
+
+void JsonPath::fail(const std::string& what) const {
+  throw std::invalid_argument(source_ + ": " + (path_.empty() ? "" : path_ + ": ") + what);
+}
+
+namespace json_field {
+
+void check_keys(const Json& object, const JsonPath& where, const std::set<std::string>& allowed) {
+  for (const auto& item : object.items()) {
+    if (allowed.count(item.key())) continue;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    where.fail("unknown key '" + item.key() + "' (expected " + list + ")");
+  }
+}
+
+const Json& object(const Json& value, const JsonPath& where) {
+  if (!value.is_object()) where.fail("expected an object, got " + value.dump());
+  return value;
+}
+
+const Json& member(const Json& object, const std::string& key, const JsonPath& where) {
+  const auto it = object.find(key);
+  if (it == object.end()) where.fail("missing key '" + key + "'");
+  return *it;
+}
+
+const Json* optional(const Json& object, const std::string& key) {
+  const auto it = object.find(key);
+  return it == object.end() ? nullptr : &*it;
+}
+
+double number(const Json& value, const JsonPath& where) {
+  if (!value.is_number()) where.fail("expected a number, got " + value.dump());
+  const double v = value.get<double>();
+  if (!std::isfinite(v)) where.fail("expected a finite number");
+  return v;
+}
+
+double number_or(const Json& object, const std::string& key, double fallback,
+                 const JsonPath& where) {
+  const Json* value = optional(object, key);
+  return value ? number(*value, where / key) : fallback;
+}
+
+std::string string(const Json& value, const JsonPath& where) {
+  if (!value.is_string()) where.fail("expected a string, got " + value.dump());
+  return value.get<std::string>();
+}
+
+std::string name(const Json& value, const JsonPath& where) {
+  const std::string text = value.is_string() ? value.get<std::string>() : std::string();
+  if (text.empty() || text.find_first_of(", \t\r\n#\"*?.") != std::string::npos)
+    where.fail(
+        "expected a non-empty name without commas, spaces, '#', quotes, '*', '?' or '.' (it "
+        "names measurement-file columns and prefixes parameter names), got " +
+        value.dump());
+  return text;
+}
+
+Vector3d vector3(const Json& value, const JsonPath& where) {
+  if (!value.is_array() || value.size() != 3)
+    where.fail("expected an array of 3 numbers [x, y, z], got " + value.dump());
+  Vector3d v;
+  for (int a = 0; a < 3; ++a) v[a] = number(value[a], where[a]);
+  return v;
+}
+
+Pose pose(const Json& value, const JsonPath& where) {
+  object(value, where);
+  check_keys(value, where, {"position", "rotation_zyx_deg"});
+  Pose pose;
+  pose.translation = vector3(member(value, "position", where), where / "position");
+  const Vector3d deg =
+      vector3(member(value, "rotation_zyx_deg", where), where / "rotation_zyx_deg");
+  pose.rotation = rotation_from_euler_zyx(Vector3d(deg[2], deg[1], deg[0]) * (kPi / 180));
+  return pose;
+}
+
+// "+ 0.0" turns -0 into 0 so that files do not show "-0.0".
+Json array3(const Vector3d& v) { return Json::array({v[0] + 0.0, v[1] + 0.0, v[2] + 0.0}); }
+
+Json pose_json(const Vector3d& position, const Vector3d& rx_ry_rz) {
+  return {{"position", array3(position)}, {"rotation_zyx_deg", array3(rx_ry_rz * (180 / kPi))}};
+}
+
+Json pose_json(const Pose& pose) {
+  const Vector3d zyx = euler_zyx(pose.rotation);  // (alpha, beta, gamma) = (rz, ry, rx)
+  return pose_json(pose.translation, Vector3d(zyx[2], zyx[1], zyx[0]));
+}
+
+}  // namespace json_field
+}  // namespace kincal

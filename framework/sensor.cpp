@@ -1,0 +1,16 @@
+#include "kincal/framework/sensor.hpp"
+
+namespace kincal {
+
+void Sensor::reading_error(const Eigen::Ref<const VectorXd>& predicted,
+                           const Eigen::Ref<const VectorXd>& measured, Eigen::Ref<VectorXd> error,
+                           MatrixXd* J_error_predicted) const {
+  error = predicted - measured;
+  if (J_error_predicted) J_error_predicted->setIdentity();
+}
+
+void Sensor::retract(Eigen::Ref<VectorXd> reading, const Eigen::Ref<const VectorXd>& delta) const {
+  reading += delta;
+}
+
+}  // namespace kincal

@@ -1,0 +1,15 @@
+// The one place that knows which model types kincal ships: one registration line per
+// mechanism or sensor type (each registers its JSON reader/writer and its presets).
+
+#include "kincal/framework/model_registry.hpp"
+#include "kincal/models/hexapod.hpp"
+#include "kincal/models/length_gauge.hpp"
+
+namespace kincal {
+
+void register_builtin_models(ModelRegistry& registry) {
+  register_hexapod(registry);
+  register_length_gauge(registry);
+}
+
+}  // namespace kincal
