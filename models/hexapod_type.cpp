@@ -58,8 +58,9 @@ void register_hexapod(ModelRegistry& registry) {
                           "actuators are leg lengths (mm)",
                           read_hexapod, write_hexapod});
   registry.add_preset({"cube-hexapod",
-                       "Choi & Lim's cube hexapod (Table 1 of their paper) with one length "
-                       "gauge; 24 free joint coordinates",
+                       "the cube hexapod of Choi & Lim, 'Calibration of geometric errors of a "
+                       "parallel manipulator using a sensor of length measurement' (Table 1), "
+                       "one length gauge; the paper's 24 free joint coordinates",
                        make_cube_hexapod});
 }
 
