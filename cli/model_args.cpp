@@ -88,8 +88,7 @@ void note(const std::string& command, const std::string& text) {
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
                              bool skip_bad_rows) {
-  MeasurementTable table =
-      read_measurements(path, model.mechanism().actuator_names(), model.reading_names());
+  MeasurementTable table = read_measurements(path, model);
   for (const auto& n : table.notices) note(command, n);
   LoadedData loaded;
   const auto bad = find_unreachable_rows(model, params, table.data);

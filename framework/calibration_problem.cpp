@@ -32,6 +32,7 @@ CalibrationProblem::CalibrationProblem(std::shared_ptr<const MeasurementModel> m
     throw std::invalid_argument("measurements do not match the model's actuators and sensors");
   for (int i : free_indices_)
     if (i < 0 || i >= base_.size()) throw std::invalid_argument("free index out of range");
+  weighted_ = model_->weighted();
 }
 
 std::vector<std::string> CalibrationProblem::parameter_names() const {
@@ -94,6 +95,10 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
   }
   model_->reading_errors(scratch.predicted, scratch.measured, residuals,
                          jacobian ? &J_ref : nullptr);
+  if (weighted_) {
+    residuals.array() /= model_->reading_std().array();
+    if (jacobian) scratch.J_full.array().colwise() /= model_->reading_std().array();
+  }
   if (jacobian) {
     for (std::size_t i = 0; i < free_indices_.size(); ++i)
       jacobian->col(i) = scratch.J_full.col(free_indices_[i]);

@@ -1,6 +1,8 @@
 #pragma once
 // The identification problem as a generic least-squares problem:
-//   x = the free parameters, residual_j = predicted readings(q_j) - measured readings_j.
+//   x = the free parameters, residual_j = (predicted readings(q_j) - measured readings_j) / std,
+// with std the model's reading_std() (1 unless the model states the readings' noise), and
+// the difference taken by each sensor's reading_error (a rotation error for rotations).
 
 #include <memory>
 
@@ -55,6 +57,7 @@ class CalibrationProblem : public LeastSquaresProblem {
   Measurements data_;
   VectorXd base_;
   std::vector<int> free_indices_;
+  bool weighted_ = false;
 };
 
 }  // namespace kincal

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "kincal/framework/units.hpp"
+
 namespace kincal {
 
 namespace {
@@ -26,6 +28,13 @@ std::string format(const char* fmt, double a) {
   return buf;
 }
 
+// What sigma_hat is measured in: the readings' unit, or multiples of the stated reading std.
+std::string sigma_unit(const CalibrationReport& r) {
+  if (r.weighted) return "reading_std";
+  if (r.residual_rms.size() == 1) return r.residual_rms.begin()->first;
+  return "mixed";
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0;
   const auto mid = values.begin() + values.size() / 2;
@@ -40,30 +49,77 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
                                           const RobustLoss& loss,
                                           const IdentifiabilityOptions& options) {
   CalibrationReport r;
+  const MeasurementModel& model = problem.model();
   r.summary = summary;
   r.loss = loss.to_string();
   r.names = problem.parameter_names();
+  for (int i : problem.free_indices()) r.units.push_back(model.parameters()[i].unit);
   r.nominal = problem.initial_free_parameters();
   r.estimate = x;
+  for (std::size_t i = 0; i < r.units.size(); ++i)
+    if (r.units[i] == kRadian) r.estimate[static_cast<int>(i)] = wrap_angle(x[static_cast<int>(i)]);
   r.num_configurations = problem.num_residual_blocks();
-  r.reading_names = problem.model().reading_names();
+  r.reading_names = model.reading_names();
+  r.reading_units = model.reading_units();
+  r.weighted = model.weighted();
   r.lines = lines;
+  const Measurements& data = problem.data();
+  const Eigen::VectorXi present = data.present_per_column();
+  for (std::size_t s = 0; s < model.sensors().size(); ++s) {
+    const int o = model.sensor_reading_offset(static_cast<int>(s));
+    // A sensor's readings are present or missing together: its first column counts them.
+    r.readings_per_sensor.push_back({model.sensors()[s]->name(), present[o]});
+  }
+  r.num_readings = present.sum();
   VectorXd residuals;
   MatrixXd J;
   if (!problem.evaluate(x, &residuals, &J)) return r;
 
+  // Only measured readings count: a missing one is a fixed zero row of J and r, which would
+  // add degrees of freedom and residuals that were never observed.
   const int k = problem.residuals_per_block();
-  r.residuals = Eigen::Map<const MatrixXd>(residuals.data(), k, r.num_configurations).transpose();
-  r.residual_rms = residuals.size() ? std::sqrt(residuals.squaredNorm() / residuals.size()) : 0;
-  r.residual_max = residuals.size() ? residuals.cwiseAbs().maxCoeff() : 0;
-  std::vector<double> magnitudes(residuals.data(), residuals.data() + residuals.size());
-  for (double& v : magnitudes) v = std::abs(v);
-  r.outlier_threshold = std::max(3 * 1.4826 * median(magnitudes), 1e-9);
+  const MatrixXd whitened =
+      Eigen::Map<const MatrixXd>(residuals.data(), k, r.num_configurations).transpose();
+  std::vector<int> rows;
   for (int c = 0; c < r.num_configurations; ++c)
-    r.outlier.push_back(r.residuals.row(c).cwiseAbs().maxCoeff() > r.outlier_threshold);
+    for (int i = 0; i < k; ++i)
+      if (!std::isnan(data.readings(c, i))) rows.push_back(c * k + i);
+  VectorXd measured_r(rows.size());
+  MatrixXd measured_J(rows.size(), J.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    measured_r[static_cast<int>(i)] = residuals[rows[i]];
+    measured_J.row(static_cast<int>(i)) = J.row(rows[i]);
+  }
 
-  r.uncertainty = estimate_uncertainty(J, residuals, loss);
-  r.identifiability = analyze_identifiability(J, r.names, options);
+  r.residuals.resize(r.num_configurations, k);
+  std::map<std::string, int> count;
+  std::vector<double> magnitudes;
+  for (int c = 0; c < r.num_configurations; ++c)
+    for (int i = 0; i < k; ++i) {
+      if (std::isnan(data.readings(c, i))) {
+        r.residuals(c, i) = NAN;
+        continue;
+      }
+      const double value = whitened(c, i) * model.reading_std()[i];
+      r.residuals(c, i) = value;
+      const std::string& unit = r.reading_units[i];
+      r.residual_rms[unit] += value * value;
+      r.residual_max[unit] = std::max(r.residual_max[unit], std::abs(value));
+      ++count[unit];
+      magnitudes.push_back(std::abs(whitened(c, i)));
+    }
+  for (auto& [unit, sum] : r.residual_rms) sum = std::sqrt(sum / count[unit]);
+  r.outlier_threshold = std::max(3 * 1.4826 * median(magnitudes), 1e-9);
+  for (int c = 0; c < r.num_configurations; ++c) {
+    bool outlier = false;
+    for (int i = 0; i < k; ++i)
+      outlier = outlier || (!std::isnan(data.readings(c, i)) &&
+                            std::abs(whitened(c, i)) > r.outlier_threshold);
+    r.outlier.push_back(outlier);
+  }
+
+  r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
+  r.identifiability = analyze_identifiability(measured_J, r.names, options);
   return r;
 }
 
@@ -111,17 +167,27 @@ Json to_json(const CalibrationReport& r) {
   out["initial_cost"] = number(r.summary.initial_cost);
   out["final_cost"] = number(r.summary.final_cost);
   out["configurations"] = r.num_configurations;
+  out["readings"] = r.num_readings;
+  Json per_sensor = Json::object();
+  for (const auto& [name, count] : r.readings_per_sensor) per_sensor[name] = count;
+  out["readings_per_sensor"] = per_sensor;
   out["skipped_lines"] = r.skipped_lines;
-  out["residual_rms"] = r.residual_rms;
-  out["residual_max"] = r.residual_max;
+  // One unit: plain numbers, as always; several: the pooled figure would mix mm and rad.
+  const bool one_unit = r.residual_rms.size() == 1;
+  out["residual_rms"] = one_unit ? Json(r.residual_rms.begin()->second) : Json();
+  out["residual_max"] = one_unit ? Json(r.residual_max.begin()->second) : Json();
+  out["residual_rms_by_unit"] = r.residual_rms;
+  out["residual_max_by_unit"] = r.residual_max;
+  out["weighted"] = r.weighted;
   out["sigma_hat"] = number(r.uncertainty.sigma);
+  out["sigma_hat_unit"] = sigma_unit(r);
   out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
   out["robust_std_factor"] = number(r.uncertainty.robust_factor);
   out["parameters"] = Json::array();
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const double std = r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN;
     out["parameters"].push_back({{"name", r.names[i]},
-                                 {"unit", "mm"},
+                                 {"unit", r.units[i]},
                                  {"nominal", r.nominal[i]},
                                  {"estimate", r.estimate[i]},
                                  {"std", number(std)}});
@@ -136,7 +202,8 @@ Json to_json(const CalibrationReport& r) {
   for (int c = 0; c < r.residuals.rows(); ++c) {
     Json row;
     row["line"] = r.lines[c];
-    for (int k = 0; k < r.residuals.cols(); ++k) row[r.reading_names[k]] = r.residuals(c, k);
+    for (int k = 0; k < r.residuals.cols(); ++k)
+      row[r.reading_names[k]] = number(r.residuals(c, k));  // null: not measured
     row["outlier"] = static_cast<bool>(r.outlier[c]);
     out["residuals"].push_back(row);
   }
@@ -179,9 +246,19 @@ std::string to_text(const CalibrationReport& r) {
       << r.num_configurations << " configurations";
   if (!r.skipped_lines.empty()) out << " (" << r.skipped_lines.size() << " rows skipped)";
   out << "\n" << r.summary.brief_report() << "\n";
-  out << "residuals: RMS " << format("%.4g", r.residual_rms) << " mm, max "
-      << format("%.4g", r.residual_max) << " mm, sigma_hat " << format("%.4g", r.uncertainty.sigma)
-      << " mm (" << r.uncertainty.degrees_of_freedom << " degrees of freedom";
+  out << "readings:";
+  for (const auto& [name, count] : r.readings_per_sensor) out << " " << name << " " << count;
+  out << " of " << r.num_configurations << " configurations\n";
+  for (const auto& [unit, rms] : r.residual_rms)
+    out << "residuals (" << unit << "): RMS " << format("%.4g", rms) << ", max "
+        << format("%.4g", r.residual_max.at(unit)) << "\n";
+  const std::string unit = sigma_unit(r);
+  out << "sigma_hat " << format("%.4g", r.uncertainty.sigma) << " "
+      << (unit == "reading_std" ? "x the stated reading std (1 = as stated)"
+          : unit == "mixed"     ? "(mm and rad pooled unweighted: state reading_std in the "
+                                  "model file to weigh them)"
+                                : unit)
+      << " (" << r.uncertainty.degrees_of_freedom << " degrees of freedom";
   if (r.loss != "none")
     out << "; from the residuals as the " << r.loss
         << " loss sees them, std scaled by Huber's factor "
@@ -193,20 +270,23 @@ std::string to_text(const CalibrationReport& r) {
   int outliers = 0;
   for (bool o : r.outlier) outliers += o;
   if (outliers) {
-    out << outliers << " outlier configuration(s) (|residual| > "
-        << format("%.3g", r.outlier_threshold) << " mm) at line(s)";
+    out << outliers << " outlier configuration(s) (|residual|" << (r.weighted ? " / std" : "")
+        << " > " << format("%.3g", r.outlier_threshold)
+        << (unit == "reading_std" || unit == "mixed" ? "" : " " + unit) << ") at line(s)";
     for (std::size_t c = 0; c < r.outlier.size(); ++c)
       if (r.outlier[c]) out << " " << r.lines[c];
     out << "\n";
   }
-  out << "parameters (mm):\n";
+  out << "parameters:\n";
   char buf[160];
-  std::snprintf(buf, sizeof buf, "  %-22s %14s %14s %12s %12s\n", "name", "nominal", "estimate",
-                "change", "std");
+  std::snprintf(buf, sizeof buf, "  %-22s %-4s %14s %14s %12s %12s\n", "name", "unit", "nominal",
+                "estimate", "change", "std");
   out << buf;
   for (std::size_t i = 0; i < r.names.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "  %-22s %14.6f %14.6f %12.6f %12.3g\n", r.names[i].c_str(),
-                  r.nominal[i], r.estimate[i], r.estimate[i] - r.nominal[i],
+    const double change = r.units[i] == kRadian ? wrap_angle(r.estimate[i] - r.nominal[i])
+                                                : r.estimate[i] - r.nominal[i];
+    std::snprintf(buf, sizeof buf, "  %-22s %-4s %14.6f %14.6f %12.6f %12.3g\n", r.names[i].c_str(),
+                  r.units[i].c_str(), r.nominal[i], r.estimate[i], change,
                   r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN);
     out << buf;
   }

@@ -2,6 +2,7 @@
 // What a calibration from measured data reports: the fit, the estimated parameters with
 // their uncertainty, per-configuration residuals with outlier flags, and identifiability.
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -19,17 +20,27 @@ struct CalibrationReport {
   std::string loss = "none";  ///< the robust loss the fit used and the uncertainty accounts for
   Summary summary;
   std::vector<std::string> names;  ///< free parameters, problem order
-  VectorXd nominal, estimate;      ///< free parameters (mm)
+  std::vector<std::string> units;  ///< their units ("mm", "rad")
+  VectorXd nominal, estimate;      ///< free parameters (their units; angles wrapped to (-pi, pi])
   ParameterUncertainty uncertainty;
   int num_configurations = 0;
-  std::vector<std::string> reading_names;
+  std::vector<std::string> reading_names, reading_units;
+  /// Readings measured (not missing), per sensor, in the model's sensor order.
+  std::vector<std::pair<std::string, int>> readings_per_sensor;
+  int num_readings = 0;  ///< measured readings in all: the residuals of the fit
+  /// The model states the readings' noise (reading_std), and residuals were divided by it.
+  bool weighted = false;
   std::vector<int> lines;  ///< file line of each configuration
-  MatrixXd residuals;      ///< configurations x readings, predicted - measured (mm)
-  /// A configuration is an outlier when one of its residuals exceeds this (mm):
-  /// 3 * 1.4826 * median|r| (a robust 3-sigma), at least 1e-9 mm.
+  /// Configurations x readings, predicted - measured in the readings' units; NaN where the
+  /// reading is missing.
+  MatrixXd residuals;
+  /// A configuration is an outlier when one of its residuals, divided by its reading's std
+  /// (1 when the model states none), exceeds this: 3 * 1.4826 * median, a robust 3-sigma,
+  /// at least 1e-9.
   double outlier_threshold = 0;
   std::vector<bool> outlier;
-  double residual_rms = 0, residual_max = 0;
+  /// RMS and max |residual| over the measured readings of each unit.
+  std::map<std::string, double> residual_rms, residual_max;
   Identifiability identifiability;  ///< at the estimate
   /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
   std::vector<std::string> fixed_by_identifiability;
@@ -38,8 +49,9 @@ struct CalibrationReport {
 
 /// Fills everything but the file names and the two lists above from the problem solved at x
 /// with the robust loss `loss` (none: plain least squares); the standard deviations then use
-/// that loss's IRLS weights (estimate_uncertainty). Returns with empty residuals when they
-/// cannot be computed at x.
+/// that loss's IRLS weights (estimate_uncertainty). Missing readings take no part: the
+/// statistics, the uncertainty and the identifiability are those of the measured readings
+/// alone. Returns with empty residuals when they cannot be computed at x.
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
                                           const RobustLoss& loss = {},

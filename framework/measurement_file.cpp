@@ -134,8 +134,15 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
       throw std::invalid_argument(at + ": " + std::to_string(fields.size()) + " fields, expected " +
                                   std::to_string(header.size()) + " as in the header");
     std::vector<double> values;
-    for (std::size_t w = 0; w < wanted.size(); ++w)
-      values.push_back(parse_value(fields[columns[w]], at + ": field '" + wanted[w] + "'"));
+    for (std::size_t w = 0; w < wanted.size(); ++w) {
+      const std::string& field = fields[columns[w]];
+      // An empty reading is one the sensor did not take (NaN); an actuator value is always
+      // known, since it was commanded.
+      const bool reading = static_cast<int>(w) >= static_cast<int>(actuator_names.size());
+      values.push_back(reading && field.empty()
+                           ? std::numeric_limits<double>::quiet_NaN()
+                           : parse_value(field, at + ": field '" + wanted[w] + "'"));
+    }
     rows.push_back(std::move(values));
     table.line_numbers.push_back(line_number);
   }
@@ -172,10 +179,49 @@ std::string measurements_to_csv(const Measurements& data,
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   for (int r = 0; r < data.size(); ++r) {
     for (int c = 0; c < data.actuators.cols(); ++c) out << (c ? "," : "") << data.actuators(r, c);
-    for (int c = 0; c < data.readings.cols(); ++c) out << "," << data.readings(r, c);
+    // A missing reading is an empty field, as read.
+    for (int c = 0; c < data.readings.cols(); ++c) {
+      out << ",";
+      if (!std::isnan(data.readings(r, c))) out << data.readings(r, c);
+    }
     out << "\n";
   }
   return out.str();
+}
+
+MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model) {
+  MeasurementTable table =
+      read_measurements(path, model.mechanism().actuator_names(), model.reading_names());
+  check_sensor_readings(model, table, path);
+  return table;
+}
+
+void check_sensor_readings(const MeasurementModel& model, MeasurementTable& table,
+                           const std::string& source) {
+  const MatrixXd& readings = table.data.readings;
+  const auto names = model.reading_names();
+  for (int r = 0; r < table.data.size(); ++r) {
+    const std::string at = source + ":" + std::to_string(table.line_numbers[r]);
+    for (std::size_t s = 0; s < model.sensors().size(); ++s) {
+      const Sensor& sensor = *model.sensors()[s];
+      const int o = model.sensor_reading_offset(static_cast<int>(s)), k = sensor.num_readings();
+      const int missing = static_cast<int>(readings.row(r).segment(o, k).array().isNaN().count());
+      if (missing == 0 || missing == k) continue;
+      std::string empty, given;
+      const auto add = [](std::string& list, const std::string& name) {
+        list += (list.empty() ? "" : ", ") + name;
+      };
+      for (int i = 0; i < k; ++i) add(std::isnan(readings(r, o + i)) ? empty : given, names[o + i]);
+      throw std::invalid_argument(at + ": sensor '" + sensor.name() + "' has " + given +
+                                  " but not " + empty +
+                                  "; expected all of its readings or none (leave every one "
+                                  "empty when the sensor did not measure)");
+    }
+    if (readings.row(r).array().isNaN().all())
+      table.notices.push_back(at + ": no readings in this row (nothing measured; ignored)");
+  }
+  if (table.data.num_present() == 0)
+    throw std::invalid_argument(source + ": every reading is empty; expected measured readings");
 }
 
 std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
@@ -185,6 +231,7 @@ std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
   auto ws = model.make_workspace();
   VectorXd readings(model.num_readings());
   for (int r = 0; r < data.size(); ++r) {
+    if (data.readings.row(r).array().isNaN().all()) continue;  // nothing measured: not used
     const ForwardKinematicsResult fk =
         model.predict(params, data.actuators.row(r).transpose(), readings, nullptr, ws);
     if (!fk.ok()) bad.push_back({r, fk.describe()});

@@ -3,13 +3,16 @@
 // The actuator columns carry the mechanism's actuator names (leg1..leg6), the reading
 // columns the sensors' reading names (gauge). Column order is free; other columns are
 // ignored with a notice; blank lines and lines starting with '#' are skipped. Fields are
-// plain numbers separated by commas (no quoting); surrounding spaces are ignored.
+// plain numbers separated by commas (no quoting); surrounding spaces are ignored. An empty
+// reading field is a reading the sensor did not take (NaN in Measurements): it contributes
+// no residual. A sensor's readings in one row are all given or all empty.
 
 #include <istream>
 #include <string>
 #include <vector>
 
 #include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/measurement_model.hpp"
 
 namespace kincal {
 
@@ -23,10 +26,20 @@ struct MeasurementTable {
 
 /// Reads `path`. Throws std::invalid_argument with "<path>:<line>: <what was expected>" for a
 /// missing file or a directory, a missing or duplicated column, a row with the wrong number of
-/// fields, a non-numeric, NaN or infinite value, a read error, or a file without data rows.
+/// fields, an empty actuator value, a non-numeric, NaN or infinite value, a read error, or a
+/// file without data rows.
 MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& actuator_names,
                                    const std::vector<std::string>& reading_names);
+
+/// read_measurements for `model`'s actuators and readings, then check_sensor_readings.
+MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model);
+
+/// Throws std::invalid_argument "<source>:<line>: ..." when a row gives some of a sensor's
+/// readings but not all, or when no reading at all is given; adds a notice for each row
+/// without any reading.
+void check_sensor_readings(const MeasurementModel& model, MeasurementTable& table,
+                           const std::string& source);
 
 /// The same from a stream; `source` names it in messages.
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,
@@ -41,7 +54,8 @@ std::string measurements_to_csv(const Measurements& data,
                                 const std::string& comment = "");
 
 /// Rows whose readings the model cannot predict at `params` (forward kinematics fails),
-/// with the reason, in row order.
+/// with the reason, in row order. Rows without any reading are not checked: they are not
+/// used.
 struct UnreachableRow {
   int row = 0;  ///< 0-based row of the Measurements
   std::string reason;

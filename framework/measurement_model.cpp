@@ -19,6 +19,7 @@ MeasurementModel::MeasurementModel(std::shared_ptr<const Mechanism> mechanism,
     num_readings_ += sensor->num_readings();
     has_manifold_readings_ = has_manifold_readings_ || sensor->has_manifold_readings();
   }
+  reading_std_ = VectorXd::Ones(num_readings_);
   const auto& actuators = mechanism_->actuators();
   actuator_ranges_.resize(static_cast<int>(actuators.size()));
   for (std::size_t i = 0; i < actuators.size(); ++i)
@@ -30,6 +31,21 @@ std::vector<std::string> MeasurementModel::reading_units() const {
   for (const auto& sensor : sensors_)
     for (auto& u : sensor->reading_units()) units.push_back(u);
   return units;
+}
+
+int MeasurementModel::set_reading_std(const std::string& pattern, double std) {
+  if (!(std > 0) || !std::isfinite(std))
+    throw std::invalid_argument("reading std for '" + pattern + "' must be a finite number > 0");
+  int count = 0;
+  const auto names = reading_names();
+  for (int i = 0; i < num_readings_; ++i) {
+    if (!glob_match(pattern, names[i])) continue;
+    reading_std_[i] = std;
+    ++count;
+  }
+  if (count == 0)
+    throw std::invalid_argument("reading pattern '" + pattern + "' matches no reading");
+  return count;
 }
 
 int MeasurementModel::set_actuator_range(const std::string& pattern, double half_width) {

@@ -34,6 +34,16 @@ class MeasurementModel {
   /// First reading of sensor `sensor_index` in a configuration's reading vector.
   int sensor_reading_offset(int sensor_index) const { return reading_offsets_[sensor_index]; }
 
+  /// Standard deviation of each reading's noise (its unit), when known: calibration weighs
+  /// residuals by 1 / std (whitening) so that readings of different units and accuracy
+  /// count by what they are worth. All 1 (unweighted) unless set.
+  const VectorXd& reading_std() const { return reading_std_; }
+  /// Whether any reading_std differs from 1.
+  bool weighted() const { return (reading_std_.array() != 1.0).any(); }
+  /// Sets the std of every reading whose name matches the glob `pattern`; throws
+  /// std::invalid_argument when none does or the value is not finite and > 0.
+  int set_reading_std(const std::string& pattern, double std);
+
   /// Half-width of the configuration box around home, per actuator (its unit), from which
   /// simulation and experiment design draw: the mechanism's defaults unless changed.
   const VectorXd& actuator_ranges() const { return actuator_ranges_; }
@@ -89,6 +99,7 @@ class MeasurementModel {
   int num_readings_ = 0;
   bool has_manifold_readings_ = false;
   VectorXd actuator_ranges_;
+  VectorXd reading_std_;
   ForwardKinematicsOptions fk_options_;
 };
 

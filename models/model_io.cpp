@@ -91,6 +91,11 @@ Json model_to_json(const MeasurementModel& model, const VectorXd& values) {
     if (model.actuator_ranges()[i] != mechanism.actuators()[i].default_range)
       config_range[mechanism.actuators()[i].name] = model.actuator_ranges()[i];
   if (!config_range.empty()) out["config_range"] = config_range;
+  Json reading_std = Json::object();
+  const auto reading_names = model.reading_names();
+  for (int i = 0; i < model.num_readings(); ++i)
+    if (model.reading_std()[i] != 1.0) reading_std[reading_names[i]] = model.reading_std()[i];
+  if (!reading_std.empty()) out["reading_std"] = reading_std;
   return out;
 }
 
@@ -99,7 +104,7 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
   if (!j.is_object()) root.fail("expected a JSON object (a kincal model file)");
   check_keys(j, root,
              {"format", "version", "units", "mechanism", "sensors", "free", "param_error",
-              "config_range"});
+              "config_range", "reading_std"});
   const Json& format = member(j, "format", root);
   if (format != kModelFormat)
     (root / "format").fail("expected \"" + std::string(kModelFormat) + "\", got " + format.dump());
@@ -171,6 +176,11 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
                      [&](const std::string& pattern, double value, const JsonPath&) {
                        model->parameters().for_each_matching(
                            pattern, [value](Parameter& p) { p.error_half_width = value; });
+                     });
+  if (const Json* reading_std = json_field::optional(j, "reading_std"))
+    for_each_pattern(*reading_std, root / "reading_std",
+                     [&](const std::string& pattern, double value, const JsonPath&) {
+                       model->set_reading_std(pattern, value);
                      });
   if (const Json* config_range = json_field::optional(j, "config_range"))
     for_each_pattern(*config_range, root / "config_range",
