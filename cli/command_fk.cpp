@@ -1,4 +1,4 @@
-// kincal fk: forward kinematics of a model file for given leg lengths.
+// kincal fk: forward kinematics of a model file for given actuator values.
 
 #include <cstdio>
 
@@ -16,23 +16,31 @@ constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 int run_fk(const Args& args) {
   po::options_description options(std::string("kincal fk (") + kPoseConvention + ")");
   options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
-      "legs", po::value<std::string>(),
-      "commanded leg lengths l1,...,l6 in mm (the actuator values of the measurement file)");
+      "actuators", po::value<std::string>(),
+      "commanded actuator values q1,q2,... in the actuators' units (mm for prismatic joints "
+      "such as hexapod legs, rad for revolute joints): a row of the measurement file")(
+      "legs", po::value<std::string>(), "the same as --actuators (its older name)");
   po::variables_map vm;
   if (!parse_command_line("fk", args, options, vm)) return 0;
-  if (!vm.count("legs")) throw CliError("--legs l1,...,l6 is required");
+  if (vm.count("actuators") && vm.count("legs"))
+    throw CliError("give --actuators or --legs (the same option), not both");
+  const std::string option = vm.count("legs") ? "legs" : "actuators";
+  if (!vm.count(option)) throw CliError("--actuators q1,q2,... is required");
   const auto model = load_model_option(vm);
-  const int n = model->mechanism().num_actuators();
-  const auto legs = parse_numbers(vm["legs"].as<std::string>(), n, "legs",
-                                  std::to_string(n) + " leg lengths in mm");
-  const VectorXd q = Eigen::Map<const VectorXd>(legs.data(), n);
+  const Mechanism& mechanism = model->mechanism();
+  const int n = mechanism.num_actuators();
+  std::string expected;
+  for (const auto& a : mechanism.actuators())
+    expected += (expected.empty() ? "" : ",") + a.name + " (" + a.unit + ")";
+  const auto values = parse_numbers(vm[option].as<std::string>(), n, option, expected);
+  const VectorXd q = Eigen::Map<const VectorXd>(values.data(), n);
   const VectorXd params = model->parameters().nominal_values();
   const auto mech = params.head(model->mechanism().num_parameters());
   const ForwardKinematicsResult fk = model->mechanism().forward_kinematics(
       mech, q, model->mechanism().home_pose(), model->forward_kinematics_options());
   if (!fk.ok())
-    throw CliError("--legs '" + vm["legs"].as<std::string>() + "': forward kinematics " +
-                   fk.describe() + "; expected leg lengths the model can reach");
+    throw CliError("--" + option + " '" + vm[option].as<std::string>() + "': forward kinematics " +
+                   fk.describe() + "; expected actuator values the model can reach");
   const Vector3d& t = fk.pose.translation;
   const Vector3d zyx = euler_zyx(fk.pose.rotation) * kDegrees;
   std::printf("position_mm   %.6f %.6f %.6f\n", t[0], t[1], t[2]);

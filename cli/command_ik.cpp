@@ -1,4 +1,4 @@
-// kincal ik: leg lengths of a model file at a given pose.
+// kincal ik: actuator values of a model file at a given pose.
 
 #include <cstdio>
 

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/simulation.hpp"
 
@@ -14,9 +15,10 @@ int run_observability(const Args& args) {
   options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
       "data", po::value<std::string>(), "measurement file (CSV) whose configurations to analyse")(
       "poses", po::value<int>(),
-      "instead of --data: this many random configurations, home leg lengths + U[-r, r]")(
+      "instead of --data: this many random configurations, home actuator values + U[-r, r]")(
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed for --poses")(
-      "config-range", po::value<double>()->default_value(20.0), "r in mm for --poses")(
+      "config-range", po::value<std::string>(),
+      "r per unit for --poses, e.g. 20mm,0.5rad (default: each actuator's range in the model)")(
       "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
       "numerical rank threshold relative to the largest scaled singular value")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
@@ -46,12 +48,19 @@ int run_observability(const Args& args) {
     ScenarioOptions s;
     s.num_configurations = vm["poses"].as<int>();
     s.seed = vm["seed"].as<Seed>().value;
-    s.config_range = vm["config-range"].as<double>();
-    s.param_error_half_width = 0;  // analyse at the model's own values
+    if (vm.count("config-range")) {
+      const UnitValues range = unit_values_option(vm, "config-range");
+      s.config_range = range.get(kMillimetre, s.config_range);
+      s.config_range_rad = range.get(kRadian, s.config_range_rad);
+    }
+    // Configurations the model's own values reach: no parameter errors, not even the
+    // per-parameter ones of the model file.
+    s.param_error_half_width = s.param_error_half_width_rad = 0;
     s.num_validation = 0;
     if (s.num_configurations < 1) throw CliError("--poses must be at least 1");
-    if (!(s.config_range >= 0)) throw CliError("--config-range must be >= 0");
-    data = make_scenario(model, s).calibration;
+    auto exact = std::make_shared<MeasurementModel>(*model);
+    exact->parameters().for_each_matching("*", [](Parameter& p) { p.error_half_width = 0; });
+    data = make_scenario(exact, s).calibration;
   }
 
   const CalibrationProblem problem(model, data, values, free);

@@ -1,12 +1,15 @@
-// kincal simulate: one simulated calibration of the cube hexapod, readable or as JSON.
+// kincal simulate: one simulated calibration of any registered model or model file, readable
+// or as JSON.
 
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
 
@@ -22,14 +25,36 @@ void print_errors(const char* label, const PoseErrorStats& e) {
   std::printf("\n");
 }
 
-void print_report(const Scenario& scenario, const CalibrationRun& run, int case_id) {
+// "5 mm, 0.01 rad" for the units the free parameters (or readings) are in.
+std::string per_unit(double mm, double rad, const std::set<std::string>& units) {
+  std::string out;
+  char buf[64];
+  if (units.count(kMillimetre)) {
+    std::snprintf(buf, sizeof buf, "±%g mm", mm);
+    out += buf;
+  }
+  if (units.count(kRadian)) {
+    std::snprintf(buf, sizeof buf, "%s±%g rad", out.empty() ? "" : ", ", rad);
+    out += buf;
+  }
+  return out;
+}
+
+void print_report(const Scenario& scenario, const CalibrationRun& run, int case_id,
+                  const std::string& model_name) {
   const ScenarioOptions& o = scenario.options;
   const Summary& s = run.summary;
-  std::printf("kincal simulate: ");
+  const MeasurementModel& model = *scenario.model;
+  std::set<std::string> parameter_units, reading_units;
+  for (int i : scenario.free_indices) parameter_units.insert(model.parameters()[i].unit);
+  for (const auto& u : model.reading_units()) reading_units.insert(u);
+  std::printf("kincal simulate: %s, ", model_name.c_str());
   if (case_id) std::printf("case %d, ", case_id);
-  std::printf("%d configurations, gauge noise ±%g mm, parameter errors ±%g mm, seed %llu\n",
-              o.num_configurations, o.noise_half_width, o.param_error_half_width,
-              static_cast<unsigned long long>(o.seed));
+  std::printf(
+      "%d configurations, reading noise %s, parameter errors %s, seed %llu\n", o.num_configurations,
+      per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
+      per_unit(o.param_error_half_width, o.param_error_half_width_rad, parameter_units).c_str(),
+      static_cast<unsigned long long>(o.seed));
   std::printf("solver %s: %s — %s\n", s.solver.c_str(), to_string(s.termination),
               s.message.c_str());
   std::printf(
@@ -40,8 +65,12 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
   std::printf("validation over %d poses:\n", o.num_validation);
   print_errors("before", run.before);
   print_errors("after", run.after);
-  std::printf("parameter RMS error after calibration: %.6g mm (%zu free parameters)\n",
-              run.parameter_rms_error, scenario.free_indices.size());
+  std::printf("parameter RMS error after calibration:");
+  if (parameter_units.count(kMillimetre)) std::printf(" %.6g mm", run.parameter_rms_error);
+  if (parameter_units.count(kRadian))
+    std::printf("%s %.6g rad", parameter_units.count(kMillimetre) ? "," : "",
+                run.parameter_rms_error_rad);
+  std::printf(" (%zu free parameters)\n", scenario.free_indices.size());
 }
 
 }  // namespace
@@ -54,9 +83,10 @@ int run_simulate(const Args& args) {
                         "write the result as JSON to FILE, or - for stdout")(
       "trace", po::value<std::string>(), "write the per-iteration trace as CSV to FILE");
   // Files for the calibrate workflow (docs/calibrating-a-machine.md).
-  options.add_options()("model", po::value<std::string>(),
-                        "model file (JSON) to simulate instead of the cube-hexapod preset; its "
-                        "free parameters get the errors")(
+  options.add_options()("preset", po::value<std::string>(),
+                        "built-in model to simulate (kincal list models; default cube-hexapod)")(
+      "model", po::value<std::string>(),
+      "model file (JSON) to simulate instead of a preset; its free parameters get the errors")(
       "write-data", po::value<std::string>(),
       "write the simulated measurements as CSV to FILE, and the true model beside it as "
       "<FILE stem>.truth.json");
@@ -78,8 +108,22 @@ int run_simulate(const Args& args) {
     check_writable(data_file, "write-data");
     check_writable(truth_file, "write-data");
   }
-  const Scenario scenario = make_scenario(
-      vm.count("model") ? load_model_option(vm) : make_cube_hexapod(), scenario_options);
+  if (vm.count("preset") && vm.count("model"))
+    throw CliError("give either --preset NAME or --model FILE, not both");
+  std::string model_name = "cube-hexapod";
+  std::shared_ptr<MeasurementModel> model;
+  if (vm.count("model")) {
+    model_name = vm["model"].as<std::string>();
+    model = load_model_option(vm);
+  } else {
+    if (vm.count("preset")) model_name = vm["preset"].as<std::string>();
+    try {
+      model = make_preset(model_name);
+    } catch (const std::invalid_argument& e) {
+      throw CliError(std::string("--preset: ") + e.what());
+    }
+  }
+  const Scenario scenario = make_scenario(model, scenario_options);
   // As in calibrate: fewer readings than unknowns cannot determine them (the paper needs
   // m > n), and a solver would report a perfect fit of a wrong geometry.
   const int readings = scenario.calibration.size() * scenario.model->num_readings();
@@ -94,20 +138,23 @@ int run_simulate(const Args& args) {
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
 
   const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";
-  if (!json_to_stdout) print_report(scenario, run, case_id);
+  if (!json_to_stdout) print_report(scenario, run, case_id, model_name);
   // All outputs or none (write_files_atomically): data without its truth file is useless.
   std::vector<OutputFile> outputs;
   if (vm.count("json"))
     outputs.push_back(
-        {vm["json"].as<std::string>(), to_json(scenario, run, case_id).dump(2) + "\n"});
+        {vm["json"].as<std::string>(), to_json(scenario, run, case_id, model_name).dump(2) + "\n"});
   if (vm.count("trace")) outputs.push_back({vm["trace"].as<std::string>(), trace_csv(run)});
   if (vm.count("write-data")) {
     const MeasurementModel& model = *scenario.model;
-    const std::string comment =
-        "kincal simulate: " + std::to_string(scenario_options.num_configurations) +
-        " configurations, gauge noise U[-a, a] with a = " +
-        std::to_string(scenario_options.noise_half_width) + " mm, seed " +
-        std::to_string(scenario_options.seed) + "\ntrue model: " + truth_file;
+    char noise[96];
+    std::snprintf(noise, sizeof noise, "%g mm, %g rad", scenario_options.noise_half_width,
+                  scenario_options.noise_half_width_rad);
+    const std::string comment = "kincal simulate: " + model_name + ", " +
+                                std::to_string(scenario_options.num_configurations) +
+                                " configurations, reading noise U[-a, a] with a = " + noise +
+                                ", seed " + std::to_string(scenario_options.seed) +
+                                "\ntrue model: " + truth_file;
     outputs.push_back({truth_file, model_to_json(model, scenario.truth).dump(2) + "\n"});
     outputs.push_back({vm["write-data"].as<std::string>(),
                        measurements_to_csv(scenario.calibration, model.mechanism().actuator_names(),

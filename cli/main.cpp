@@ -9,12 +9,12 @@ namespace kincal::cli {
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
-      {"list", "list built-in solvers or models", run_list},
-      {"simulate", "run one simulated calibration of the cube hexapod", run_simulate},
+      {"list", "list solver backends, preset models, mechanism and sensor types", run_list},
+      {"simulate", "run one simulated calibration of a preset or a model file", run_simulate},
       {"reproduce", "Monte Carlo of the paper's five Table 2 cases", run_reproduce},
       {"model", "write a built-in model as an editable model file", run_model},
-      {"fk", "forward kinematics of a model file: leg lengths -> pose", run_fk},
-      {"ik", "inverse kinematics of a model file: pose -> leg lengths", run_ik},
+      {"fk", "forward kinematics of a model file: actuator values -> pose", run_fk},
+      {"ik", "inverse kinematics of a model file: pose -> actuator values", run_ik},
       {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
       {"observability", "which free parameters a set of configurations can determine",
        run_observability},

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -30,9 +31,12 @@ void apply_free_fix(const po::variables_map& vm, MeasurementModel& model) {
       try {
         model.parameters().set_free(pattern, std::string(option) == "free");
       } catch (const std::invalid_argument& e) {
+        const auto& all = model.parameters().all();
+        std::string examples;
+        for (std::size_t i = 0; i < all.size(); i += std::max<std::size_t>(1, all.size() / 3))
+          examples += (examples.empty() ? "" : ", ") + all[i].name;
         throw CliError("--" + std::string(option) + " '" + pattern +
-                       "': matches no parameter of the model (names look like leg4.base.x, "
-                       "leg1.offset, gauge.offset)");
+                       "': matches no parameter of the model (names look like " + examples + ")");
       }
     }
   }
@@ -100,7 +104,7 @@ LoadedData load_measurements(const std::string& command, const std::string& path
     if (bad.size() > 5) list += " and " + std::to_string(bad.size() - 5) + " more";
     throw CliError(path + ": forward kinematics of the model fails at line" +
                    (bad.size() > 1 ? "s " : " ") + list +
-                   "; expected reachable leg lengths (fix the rows, or drop them with "
+                   "; expected actuator values the model reaches (fix the rows, or drop them with "
                    "--skip-bad-rows)");
   }
   std::vector<int> rows;

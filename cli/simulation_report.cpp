@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "kincal/framework/units.hpp"
+
 namespace kincal::cli {
 
 void add_scenario_options(po::options_description& options, bool with_case_and_poses) {
@@ -10,14 +12,31 @@ void add_scenario_options(po::options_description& options, bool with_case_and_p
     options.add_options()("case", po::value<int>(),
                           "paper's Table 2 case 1..5 (sets --noise and --poses)")(
         "poses", po::value<int>(), "number of measured configurations (default 30)")(
-        "noise", po::value<double>(), "gauge noise half-width a in mm: U[-a, a] (default 0)");
-  options.add_options()("param-error", po::value<double>()->default_value(5.0),
-                        "true parameters = nominal + U[-e, e] mm on each free parameter")(
-      "config-range", po::value<double>()->default_value(20.0),
-      "configurations = home leg lengths + U[-r, r] mm per leg")(
+        "noise", po::value<std::string>(),
+        "reading noise half-width a per unit, e.g. 0.00125mm or 0.05mm,1e-4rad: each reading "
+        "gets U[-a, a] (default 0; a bare number is mm)");
+  options.add_options()("param-error", po::value<std::string>()->default_value("5mm,0.01rad"),
+                        "true parameters = nominal + U[-e, e] on each free parameter, e per "
+                        "unit (a parameter's own param_error in the model file wins)")(
+      "config-range", po::value<std::string>(),
+      "configurations = home actuator values + U[-r, r], r per unit, e.g. 20mm,0.5rad "
+      "(default: each actuator's range in the model; cube-hexapod legs 20 mm)")(
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed")(
       "validation", po::value<int>()->default_value(200),
       "validation configurations for the pose errors");
+}
+
+UnitValues unit_values_option(const po::variables_map& vm, const std::string& option) {
+  const std::string text = vm[option].as<std::string>();
+  UnitValues values;
+  try {
+    values = UnitValues::parse(text);
+  } catch (const std::invalid_argument& e) {
+    throw CliError("--" + option + " '" + text + "': " + e.what());
+  }
+  for (const auto& [unit, value] : values.values())
+    if (!(value >= 0)) throw CliError("--" + option + " '" + text + "': expected values >= 0");
+  return values;
 }
 
 ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id) {
@@ -36,18 +55,22 @@ ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id)
     }
   }
   if (vm.count("poses")) s.num_configurations = vm["poses"].as<int>();
-  if (vm.count("noise")) s.noise_half_width = vm["noise"].as<double>();
-  s.param_error_half_width = vm["param-error"].as<double>();
-  s.config_range = vm["config-range"].as<double>();
+  if (vm.count("noise")) {
+    const UnitValues noise = unit_values_option(vm, "noise");
+    s.noise_half_width = noise.get(kMillimetre, 0);
+    s.noise_half_width_rad = noise.get(kRadian, 0);
+  }
+  const UnitValues error = unit_values_option(vm, "param-error");
+  s.param_error_half_width = error.get(kMillimetre, s.param_error_half_width);
+  s.param_error_half_width_rad = error.get(kRadian, s.param_error_half_width_rad);
+  if (vm.count("config-range")) {
+    const UnitValues range = unit_values_option(vm, "config-range");
+    s.config_range = range.get(kMillimetre, s.config_range);
+    s.config_range_rad = range.get(kRadian, s.config_range_rad);
+  }
   s.seed = vm["seed"].as<Seed>().value;
   s.num_validation = vm["validation"].as<int>();
   if (s.num_configurations < 1) throw CliError("--poses must be at least 1");
-  if (!(s.noise_half_width >= 0) || !std::isfinite(s.noise_half_width))
-    throw CliError("--noise must be a finite number >= 0");
-  if (!(s.param_error_half_width >= 0) || !std::isfinite(s.param_error_half_width))
-    throw CliError("--param-error must be a finite number >= 0");
-  if (!(s.config_range >= 0) || !std::isfinite(s.config_range))
-    throw CliError("--config-range must be a finite number >= 0");
   if (s.num_validation < 1) throw CliError("--validation must be at least 1");
   return s;
 }
@@ -62,7 +85,25 @@ nlohmann::json to_json(const PoseErrorStats& stats) {
           {"fk_failures", stats.fk_failures}};
 }
 
-nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int case_id) {
+namespace {
+
+// The range shared by every actuator in `unit`, or null when they differ or there is none.
+nlohmann::json common_range(const Scenario& scenario, const std::string& unit) {
+  nlohmann::json value;
+  const auto& actuators = scenario.model->mechanism().actuators();
+  for (std::size_t i = 0; i < actuators.size(); ++i) {
+    if (actuators[i].unit != unit) continue;
+    const double r = scenario.actuator_ranges[static_cast<int>(i)];
+    if (!value.is_null() && value.get<double>() != r) return nlohmann::json();
+    value = r;
+  }
+  return value;
+}
+
+}  // namespace
+
+nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int case_id,
+                       const std::string& model_name) {
   const Summary& summary = run.summary;
   nlohmann::json out;
   out["solver"] = summary.solver;
@@ -76,20 +117,34 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   out["residual_evaluations"] = summary.residual_evaluations;
   out["jacobian_evaluations"] = summary.jacobian_evaluations;
   const ScenarioOptions& o = scenario.options;
+  const Mechanism& mechanism = scenario.model->mechanism();
+  nlohmann::json ranges = nlohmann::json::object();
+  for (int i = 0; i < mechanism.num_actuators(); ++i)
+    ranges[mechanism.actuators()[i].name] = scenario.actuator_ranges[i];
   out["scenario"] = {{"case", case_id == 0 ? nlohmann::json() : nlohmann::json(case_id)},
+                     {"model", model_name},
                      {"poses", o.num_configurations},
                      {"noise_half_width_mm", o.noise_half_width},
+                     {"noise_half_width_rad", o.noise_half_width_rad},
                      {"param_error_half_width_mm", o.param_error_half_width},
-                     {"config_range_mm", o.config_range},
+                     {"param_error_half_width_rad", o.param_error_half_width_rad},
+                     {"config_range_mm", common_range(scenario, kMillimetre)},
+                     {"config_range_rad", common_range(scenario, kRadian)},
+                     {"actuator_ranges", ranges},
                      {"validation_poses", o.num_validation},
                      {"seed", o.seed}};
   out["parameter_rms_error_mm"] = run.parameter_rms_error;
+  out["parameter_rms_error_rad"] = run.parameter_rms_error_rad;
   nlohmann::json params = nlohmann::json::array();
-  for (int i : scenario.free_indices)
-    params.push_back({{"name", scenario.model->parameters()[i].name},
+  for (int i : scenario.free_indices) {
+    const Parameter& p = scenario.model->parameters()[i];
+    const bool angle = p.unit == kRadian;
+    params.push_back({{"name", p.name},
+                      {"unit", p.unit},
                       {"nominal", scenario.nominal[i]},
                       {"true", scenario.truth[i]},
-                      {"estimate", run.estimate[i]}});
+                      {"estimate", angle ? wrap_angle(run.estimate[i]) : run.estimate[i]}});
+  }
   out["parameters"] = params;
   out["validation"] = {{"before", to_json(run.before)}, {"after", to_json(run.after)}};
   nlohmann::json trace = nlohmann::json::array();

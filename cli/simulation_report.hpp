@@ -7,16 +7,22 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/framework/simulation.hpp"
+#include "kincal/framework/units.hpp"
 
 namespace kincal::cli {
 
-/// --case, --poses, --noise, --param-error, --config-range, --seed, --validation.
+/// --case, --poses, --noise, --param-error, --config-range, --seed, --validation; the
+/// quantities are given per unit ("5mm,0.01rad"; a bare number is mm).
 void add_scenario_options(po::options_description& options, bool with_case_and_poses);
+/// The per-unit value of `option` ("5mm,0.01rad"); throws CliError naming the option.
+UnitValues unit_values_option(const po::variables_map& vm, const std::string& option);
 /// ScenarioOptions from those options; `case_id` receives --case (0 when not given).
 ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id);
 
 nlohmann::json to_json(const PoseErrorStats& stats);
-nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int case_id);
+/// `model_name`: the preset's name or the model file's path.
+nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int case_id,
+                       const std::string& model_name);
 
 /// Trace CSV: one row per solver iteration with cost and validation errors.
 std::string trace_csv(const CalibrationRun& run);
