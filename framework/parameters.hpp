@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "kincal/framework/types.hpp"
+#include "kincal/framework/units.hpp"
 
 namespace kincal {
 
