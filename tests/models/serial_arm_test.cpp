@@ -7,12 +7,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <limits>
 
 #include "jacobian_check.hpp"
 #include "kincal/framework/identifiability.hpp"
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/uncertainty.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
 
 namespace kincal {
@@ -22,7 +26,6 @@ using kincal::testing::jacobians_match;
 using kincal::testing::numerical_jacobian;
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180;
 
 Vector6d pose_difference(const Pose& from, const Pose& to) {
   Vector6d d;
@@ -194,15 +197,16 @@ TEST(SerialArm, HayatiTiltIsARotationAboutTheNewYAxis) {
             1e-12);
 }
 
-// The identification Jacobian of a preset's default scenario (seed 1) with `edit` applied
-// to its free mask, at the nominal parameters (where a calibration starts, and what
+// The identification Jacobian of a preset's default scenario with `edit` applied to its
+// free mask, at the nominal parameters (where a calibration starts, and what
 // `kincal observability` analyses).
 Identifiability identifiability_of(std::shared_ptr<MeasurementModel> model,
-                                   const std::function<void(ParameterSet&)>& edit = {}) {
+                                   const std::function<void(ParameterSet&)>& edit = {},
+                                   std::uint64_t seed = 1) {
   if (edit) edit(model->parameters());
   ScenarioOptions options;
   options.num_validation = 0;
-  options.seed = 1;
+  options.seed = seed;
   const Scenario s = make_scenario(model, options);
   CalibrationProblem problem(model, s.calibration, s.nominal, s.free_indices);
   VectorXd r;
@@ -237,23 +241,25 @@ TEST(SerialArm, DhIsRankDeficientAcrossParallelAxesAndHayatiIsNot) {
   EXPECT_FALSE(identifiability_of(make_puma560()).rank_deficient());
 }
 
-TEST(SerialArm, PresetMasksAreFullRankWithAMarginAndMinimal) {
+TEST(SerialArm, PresetMasksAreFullRankWithAMargin) {
   // The known counts of independent parameters of a 6R arm: 4 per revolute joint + 6 with
   // full pose measurement (30), 3 fewer with position only (27). Both masks are full rank on
-  // a default simulation, far from the rank threshold (1e6); measured condition numbers
-  // (scaled Jacobian, seed 1) are in docs/theory.md.
-  const Identifiability puma = identifiability_of(make_puma560());
-  EXPECT_EQ(puma.num_parameters, 27);
-  EXPECT_EQ(puma.numerical_rank, 27);
-  EXPECT_LT(puma.condition_number, 1e4);
-  const Identifiability ur5 = identifiability_of(make_ur5());
-  EXPECT_EQ(ur5.num_parameters, 30);
-  EXPECT_EQ(ur5.numerical_rank, 30);
-  EXPECT_LT(ur5.condition_number, 1e4);
-  std::printf("puma560: %d free, rank %d, condition number %.4g\n", puma.num_parameters,
-              puma.numerical_rank, puma.condition_number);
-  std::printf("ur5: %d free, rank %d, condition number %.4g\n", ur5.num_parameters,
-              ur5.numerical_rank, ur5.condition_number);
+  // default simulations, far from the rank threshold (a condition number of 1e6): measured
+  // 372-507 (puma560) and 381-535 (ur5) over these seeds, printed here and quoted in
+  // docs/theory.md.
+  const std::vector<std::pair<std::string, int>> presets = {{"puma560", 27}, {"ur5", 30}};
+  for (const auto& [name, count] : presets) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const Identifiability id =
+          identifiability_of(ModelRegistry::global().make_preset(name), {}, seed);
+      EXPECT_EQ(id.num_parameters, count) << name;
+      EXPECT_EQ(id.numerical_rank, count) << name << " seed " << seed;
+      EXPECT_LT(id.condition_number, 1e4) << name << " seed " << seed;
+      std::printf("%s seed %d: %d free, rank %d, condition number %.4g\n", name.c_str(),
+                  static_cast<int>(seed), id.num_parameters, id.numerical_rank,
+                  id.condition_number);
+    }
+  }
 }
 
 TEST(SerialArm, EveryParameterTheMasksFixIsRedundantOrUnseen) {
@@ -272,17 +278,24 @@ TEST(SerialArm, EveryParameterTheMasksFixIsRedundantOrUnseen) {
 }
 
 TEST(SerialArm, InverseKinematicsSolvesPosesInTheWorkspace) {
-  const SerialArm arm(mixed_arm());
-  const VectorXd params = serial_arm_parameters(mixed_arm());
-  // A 5-joint arm reaches the poses of its own forward kinematics, from a start nearby.
-  Random rng(33);
-  for (int trial = 0; trial < 5; ++trial) {
-    const VectorXd target_q = random_joints(rng, 5, 0.5);
-    const Pose target = arm.forward_kinematics(params, target_q, Pose{}).pose;
-    VectorXd q(5);
-    const auto ik = arm.inverse_kinematics(params, target, q);
-    ASSERT_TRUE(ik.ok()) << ik.describe();
-    EXPECT_LT(pose_difference(target, arm.forward_kinematics(params, q, Pose{}).pose).norm(), 1e-9);
+  // A 5-joint arm reaches the poses of its own forward kinematics, and so does a redundant
+  // 7-joint one (damping keeps its 7 x 7 normal equations solvable), from home.
+  SerialArmGeometry seven = mixed_arm();
+  seven.joints.push_back(joint("j6", JointType::kRevolute, LinkConvention::kDh, 30, -1.2, 60, 0));
+  seven.joints.push_back(joint("j7", JointType::kRevolute, LinkConvention::kDh, 0, 0.8, 90, 0));
+  for (const SerialArmGeometry& g : {mixed_arm(), seven}) {
+    const SerialArm arm(g);
+    const VectorXd params = serial_arm_parameters(g);
+    Random rng(33);
+    for (int trial = 0; trial < 5; ++trial) {
+      const VectorXd target_q = random_joints(rng, arm.num_joints(), 0.5);
+      const Pose target = arm.forward_kinematics(params, target_q, Pose{}).pose;
+      VectorXd q(arm.num_joints());
+      const auto ik = arm.inverse_kinematics(params, target, q);
+      ASSERT_TRUE(ik.ok()) << arm.num_joints() << " joints: " << ik.describe();
+      EXPECT_LT(pose_difference(target, arm.forward_kinematics(params, q, Pose{}).pose).norm(),
+                1e-9);
+    }
   }
 }
 
@@ -347,6 +360,53 @@ TEST(SerialArm, RejectsGeometriesItCannotRepresent) {
   EXPECT_THROW(SerialArm{SerialArmGeometry{}}, std::invalid_argument);
 }
 
+// --- calibration with the trackers ---
+
+TEST(SerialArmCalibration, PoseTrackerReadingsMissingInSomeConfigurationsStillDetermineAll) {
+  // The ur5's camera lost the marker in a third of the configurations (NaN readings): the 20
+  // left (120 readings for 30 parameters) still determine every parameter exactly.
+  ScenarioOptions options;
+  options.num_validation = 0;
+  Scenario s = make_scenario(make_ur5(), options);
+  for (int j = 0; j < s.calibration.size(); j += 3) s.calibration.readings.row(j).setConstant(NAN);
+  const auto solver = SolverRegistry::global().create("lm");
+  const CalibrationRun run = run_calibration(s, *solver, SolverOptions{}, false);
+  ASSERT_EQ(run.summary.termination, TerminationType::kConverged) << run.summary.message;
+  for (int i : s.free_indices)
+    EXPECT_NEAR(run.estimate[i], s.truth[i], 1e-8) << s.model->parameters()[i].name;
+}
+
+TEST(SerialArmCalibration, NoisyPointTrackerEstimatesLieWithinTheirStandardDeviations) {
+  // 0.05 mm tracker noise, 100 configurations: every estimate of the puma560's 27 parameters
+  // is within 4 of its reported standard deviations of the truth, and the noise estimate
+  // matches the simulated one (uniform: a / sqrt(3)).
+  ScenarioOptions options;
+  options.num_validation = 0;
+  options.num_configurations = 100;
+  options.noise_half_width = 0.05;
+  options.seed = 7;
+  const Scenario s = make_scenario(make_puma560(), options);
+  const auto solver = SolverRegistry::global().create("lm");
+  const CalibrationRun run = run_calibration(s, *solver, SolverOptions{}, false);
+  ASSERT_EQ(run.summary.termination, TerminationType::kConverged) << run.summary.message;
+  CalibrationProblem problem(s.model, s.calibration, run.estimate, s.free_indices);
+  VectorXd r;
+  MatrixXd J;
+  std::string why;
+  ASSERT_TRUE(problem.evaluate(problem.initial_free_parameters(), &r, &J, &why)) << why;
+  const ParameterUncertainty u = estimate_uncertainty(J, r);
+  EXPECT_NEAR(u.sigma, 0.05 / std::sqrt(3.0), 0.1 * 0.05 / std::sqrt(3.0));
+  double worst = 0;
+  for (std::size_t k = 0; k < s.free_indices.size(); ++k) {
+    const int i = s.free_indices[k];
+    const double z = std::abs(run.estimate[i] - s.truth[i]) / u.std[static_cast<int>(k)];
+    EXPECT_LT(z, 4) << s.model->parameters()[i].name;
+    worst = std::max(worst, z);
+  }
+  std::printf("sigma %.4g mm (simulated %.4g), worst |error| / std %.2f\n", u.sigma,
+              0.05 / std::sqrt(3.0), worst);
+}
+
 // --- model files ---
 
 Json arm_json(const SerialArm& arm) {
@@ -387,6 +447,10 @@ TEST(SerialArmFile, RoundTripsEveryKindOfJoint) {
   EXPECT_EQ(arm_json(arm2).dump(), j.dump());
   EXPECT_LT((serial_arm_parameters(arm2.nominal_geometry()) - serial_arm_parameters(g)).norm(),
             1e-12);
+  // Calibrated values give a geometry whose parameters are those values.
+  VectorXd calibrated = serial_arm_parameters(g);
+  calibrated.array() += 0.01;
+  EXPECT_EQ(serial_arm_parameters(arm.geometry_from(calibrated)), calibrated);
   VectorXd home(5);
   arm2.home_actuators(serial_arm_parameters(g), home);
   EXPECT_NEAR(home[0], 0.25, 1e-15);
