@@ -97,6 +97,16 @@ Pose pose(const Json& value, const JsonPath& where) {
   return pose;
 }
 
+Vector6d frame(const Json& value, const JsonPath& where) {
+  object(value, where);
+  check_keys(value, where, {"position", "rotation_zyx_deg"});
+  Vector6d frame;
+  frame.head<3>() = vector3(member(value, "position", where), where / "position");
+  frame.tail<3>() =
+      vector3(member(value, "rotation_zyx_deg", where), where / "rotation_zyx_deg") * (kPi / 180);
+  return frame;
+}
+
 // "+ 0.0" turns -0 into 0 so that files do not show "-0.0".
 Json array3(const Vector3d& v) { return Json::array({v[0] + 0.0, v[1] + 0.0, v[2] + 0.0}); }
 

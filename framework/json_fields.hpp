@@ -52,6 +52,10 @@ std::string name(const Json& value, const JsonPath& where);
 Vector3d vector3(const Json& value, const JsonPath& where);
 /// {"position": [x, y, z] (mm), "rotation_zyx_deg": [rx, ry, rz]}, R = Rz(rz) Ry(ry) Rx(rx).
 Pose pose(const Json& value, const JsonPath& where);
+/// The same object as frame parameters [x, y, z, rx, ry, rz] (mm, rad; frame_from_parameters):
+/// the angles as written, not extracted again from a rotation matrix, so that a frame
+/// parameter block read and written back (pose_json(position, rx_ry_rz)) keeps its digits.
+Vector6d frame(const Json& value, const JsonPath& where);
 
 /// [x, y, z], with -0 written as 0.
 Json array3(const Vector3d& v);

@@ -42,6 +42,36 @@ Vector3d log_so3(const Matrix3d& R) {
   return aa.angle() * aa.axis();
 }
 
+Matrix3d left_jacobian_so3(const Vector3d& w) {
+  // Below t = 1e-4 the series to t^4 is exact in double precision (as in exp_so3); above,
+  // the closed forms lose no more than a few ulps relative to their O(1) sum.
+  const double t2 = w.squaredNorm();
+  double b, c;  // (1 - cos t) / t^2, (t - sin t) / t^3
+  if (t2 < 1e-8) {
+    b = 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0);
+    c = 1.0 / 6.0 - t2 / 120.0 * (1.0 - t2 / 42.0);
+  } else {
+    const double t = std::sqrt(t2);
+    b = (1.0 - std::cos(t)) / t2;
+    c = (t - std::sin(t)) / (t2 * t);
+  }
+  const Matrix3d W = skew(w);
+  return Matrix3d::Identity() + b * W + c * W * W;
+}
+
+Matrix3d left_jacobian_inverse_so3(const Vector3d& w) {
+  const double t2 = w.squaredNorm();
+  double c;  // 1 / t^2 - (1 + cos t) / (2 t sin t)
+  if (t2 < 1e-8) {
+    c = 1.0 / 12.0 + t2 / 720.0 * (1.0 + t2 / 42.0);
+  } else {
+    const double t = std::sqrt(t2);
+    c = 1.0 / t2 - (1.0 + std::cos(t)) / (2.0 * t * std::sin(t));
+  }
+  const Matrix3d W = skew(w);
+  return Matrix3d::Identity() - 0.5 * W + c * W * W;
+}
+
 Pose perturb(const Pose& pose, const Vector6d& delta) {
   Pose out;
   out.translation = pose.translation + delta.head<3>();

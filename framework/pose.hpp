@@ -27,6 +27,17 @@ Matrix3d exp_so3(const Vector3d& w);
 /// Rotation vector of R (inverse of exp_so3), angle in [0, pi].
 Vector3d log_so3(const Matrix3d& R);
 
+/// Left Jacobian of SO(3): exp(w + e) = exp(J_l(w) e) exp(w) to first order in e, i.e. how
+/// the rotation vector's increment shows as a left (base-axes) perturbation.
+///   J_l(w) = I + (1 - cos t) / t^2 [w]x + (t - sin t) / t^3 [w]x^2,  t = |w|.
+Matrix3d left_jacobian_so3(const Vector3d& w);
+
+/// Inverse of the left Jacobian: log(exp(d) exp(w)) = w + J_l^-1(w) d to first order in d,
+/// the exact derivative of log_so3 under a left perturbation (a rotation error's Jacobian).
+///   J_l^-1(w) = I - [w]x / 2 + (1 / t^2 - (1 + cos t) / (2 t sin t)) [w]x^2.
+/// Unbounded as t -> pi, where the rotation vector flips (log is not smooth there).
+Matrix3d left_jacobian_inverse_so3(const Vector3d& w);
+
 /// The pose perturbed by delta = [dt; dw] under the convention above.
 Pose perturb(const Pose& pose, const Vector6d& delta);
 
