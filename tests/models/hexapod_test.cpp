@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "jacobian_check.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/models/presets.hpp"
@@ -88,6 +90,27 @@ TEST(Hexapod, ForwardKinematicsReportsUnreachableLegLengths) {
   q = VectorXd::Constant(6, std::numeric_limits<double>::quiet_NaN());
   fk = f.mechanism.forward_kinematics(f.params, q, f.mechanism.home_pose());
   EXPECT_FALSE(fk.ok());
+}
+
+TEST(Hexapod, ForwardKinematicsStartedAtASingularSolutionReportsIt) {
+  // Six vertical legs: nothing resists a horizontal shift of the platform. Started exactly
+  // at the solution, the residuals are zero but the pose has no Jacobian: singular, not a
+  // converged NaN pose.
+  HexapodGeometry g;
+  for (int leg = 0; leg < 6; ++leg) {
+    const double angle = leg * 1.0471975511965976;
+    g.base_joints[leg] = Vector3d(200 * std::cos(angle), 200 * std::sin(angle), 0);
+    g.platform_joints[leg] = g.base_joints[leg];
+  }
+  g.home.translation = Vector3d(0, 0, 300);
+  const Hexapod hexapod(g);
+  VectorXd params(hexapod.num_parameters());
+  for (int i = 0; i < params.size(); ++i) params[i] = hexapod.parameters()[i].nominal;
+  VectorXd q(6);
+  ASSERT_TRUE(hexapod.inverse_kinematics(params, hexapod.home_pose(), q).ok());
+  const auto fk = hexapod.forward_kinematics(params, q, hexapod.home_pose());
+  EXPECT_EQ(fk.status, ForwardKinematicsStatus::kSingular) << fk.describe();
+  EXPECT_TRUE(fk.pose.translation.allFinite() && fk.pose.rotation.allFinite());
 }
 
 TEST(Hexapod, ConstraintJacobianWrtPoseMatchesFiniteDifferences) {
