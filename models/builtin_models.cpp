@@ -4,12 +4,14 @@
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
+#include "kincal/models/planar_3rpr.hpp"
 
 namespace kincal {
 
 void register_builtin_models(ModelRegistry& registry) {
   register_hexapod(registry);
   register_length_gauge(registry);
+  register_planar_3rpr(registry);
 }
 
 }  // namespace kincal
