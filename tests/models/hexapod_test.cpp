@@ -113,6 +113,31 @@ TEST(Hexapod, ForwardKinematicsStartedAtASingularSolutionReportsIt) {
   EXPECT_TRUE(fk.pose.translation.allFinite() && fk.pose.rotation.allFinite());
 }
 
+TEST(Hexapod, Stewart66PresetIsAGeneral66PlatformAtZeroStrokeAtHome) {
+  const auto model = make_stewart_6_6();
+  const auto& hexapod = dynamic_cast<const Hexapod&>(model->mechanism());
+  const VectorXd params = model->parameters().nominal_values().head(hexapod.num_parameters());
+  const HexapodGeometry g = hexapod.geometry_from(params);
+  for (int i = 0; i < 6; ++i) {
+    // Joints on circles of radius 325 (base) and 125 mm (platform), Table 1's rounding.
+    EXPECT_NEAR(g.base_joints[i].head<2>().norm(), 325.0, 1e-3) << "leg " << i + 1;
+    EXPECT_NEAR(g.platform_joints[i].head<2>().norm(), 125.0, 1e-3) << "leg " << i + 1;
+    EXPECT_EQ(g.leg_offsets[i], 604.8652);
+    // 6-6: no two joints of a platform coincide.
+    for (int j = 0; j < i; ++j) {
+      EXPECT_GT((g.base_joints[i] - g.base_joints[j]).norm(), 100.0);
+      EXPECT_GT((g.platform_joints[i] - g.platform_joints[j]).norm(), 30.0);
+    }
+  }
+  // At home every leg is at its offset length: zero stroke, to Table 1's rounding.
+  VectorXd q(6);
+  ASSERT_TRUE(hexapod.home_actuators(params, q).ok());
+  EXPECT_LT(q.cwiseAbs().maxCoeff(), 1e-4) << q.transpose();
+  const auto fk = hexapod.forward_kinematics(params, VectorXd::Zero(6), hexapod.home_pose());
+  ASSERT_TRUE(fk.ok()) << fk.describe();
+  EXPECT_LT(position_error(fk.pose, hexapod.home_pose()), 1e-3);
+}
+
 TEST(Hexapod, ConstraintJacobianWrtPoseMatchesFiniteDifferences) {
   Fixture f;
   Random rng(3);
