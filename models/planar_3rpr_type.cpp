@@ -88,11 +88,11 @@ std::shared_ptr<MeasurementModel> make_planar_3rpr() {
   g.base_joints = {Eigen::Vector2d(40, 20), Eigen::Vector2d(340, 0), Eigen::Vector2d(0, 300)};
   g.platform_joints = {Eigen::Vector2d(0, 0), Eigen::Vector2d(60, 0), Eigen::Vector2d(0, 60)};
   g.leg_offsets = {168.4, 168.4, 168.4};
-  // Home: the prototype's 60 mm platform is small against its 340 mm base, and at the
-  // poses the authors commanded the three leg lines pass within millimetres of one point
-  // (near a singularity), where the 5 mm parameter errors of a simulation make forward
-  // kinematics fail. Here the leg lines are as far from concurrent as the stroke allows
-  // (legs 194, 210 and 229 mm long, at least 24 mm from either end of their stroke).
+  // Home: the prototype's 60 mm platform is small against its 340 mm base. At (230, 180),
+  // theta = 0, a pose the authors commanded, the three leg lines pass within 6 mm of one
+  // point (near a singularity), and with the 5 mm parameter errors of a simulation forward
+  // kinematics from there failed. Here they miss each other's crossing by 76 mm, and the
+  // legs (194, 210 and 229 mm) are at least 24 mm from either end of their stroke.
   g.home = {150, 180, -70 * kPi / 180};
   auto robot = std::make_shared<Planar3Rpr>(g);
   // Two draw-wire gauges in the plane, from a point left of the robot and one below it to
