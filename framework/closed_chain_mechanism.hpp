@@ -11,6 +11,8 @@
 // Eigen types (the 6 x 6 case uses the unrolled Lu6). Sizes 3 and 6 are compiled into the
 // library; a mechanism of another size includes closed_chain_mechanism_impl.hpp.
 
+#include <type_traits>
+
 #include "kincal/framework/mechanism.hpp"
 
 namespace kincal {
@@ -63,6 +65,8 @@ class ClosedChainMechanism : public Mechanism {
  protected:
   /// Spatial mechanisms (Dof = 6) need no basis: it is the identity.
   ClosedChainMechanism() : basis_(MotionBasis::Identity()) {}
+  /// Only for Dof < 6: the Dof = 6 kernels take the basis as the identity without reading it.
+  template <int D = Dof, typename = std::enable_if_t<(D < 6)>>
   explicit ClosedChainMechanism(const MotionBasis& basis) : basis_(basis) {}
 
   /// The pose moved by local coordinates `step`.

@@ -46,7 +46,16 @@ ForwardKinematicsResult ClosedChainMechanism<Dof>::forward_kinematics(
       // which stalled the solvers' end game far above their tolerances. The previous
       // iterate's factorisation serves: it is at most a step away, so the chord step
       // still lands at rounding level, and a factorisation is a tenth of the time here.
-      if (!lu) lu.emplace(J_g_pose);
+      // Converged at the start pose, there is none yet: a fresh one must be checked like
+      // every other, or a start exactly at a singular solution would divide by a zero pivot
+      // and return a NaN pose as converged.
+      if (!lu) {
+        lu.emplace(J_g_pose);
+        if (lu->near_singular(J_g_pose)) {
+          result.status = ForwardKinematicsStatus::kSingular;
+          return result;
+        }
+      }
       result.pose = moved(result.pose, -lu->solve(g));
       result.status = ForwardKinematicsStatus::kConverged;
       return result;

@@ -4,6 +4,7 @@
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
+#include "kincal/models/planar_3rpr.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
 #include "kincal/models/serial_arm.hpp"
@@ -12,8 +13,9 @@ namespace kincal {
 
 void register_builtin_models(ModelRegistry& registry) {
   register_hexapod(registry);
-  register_length_gauge(registry);
+  register_planar_3rpr(registry);
   register_serial_arm(registry);
+  register_length_gauge(registry);
   register_point_tracker(registry);
   register_pose_tracker(registry);
 }

@@ -6,7 +6,6 @@
 
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/models/hexapod.hpp"
-#include "kincal/models/length_gauge.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {
@@ -62,6 +61,12 @@ void register_hexapod(ModelRegistry& registry) {
                        "parallel manipulator using a sensor of length measurement' (Table 1), "
                        "one length gauge; the paper's 24 free joint coordinates",
                        make_cube_hexapod});
+  registry.add_preset({"stewart-6-6",
+                       "a general 6-6 Gough-Stewart platform, nominal geometry of Nategh & "
+                       "Agheli, 'A total solution to kinematic calibration of hexapod machine "
+                       "tools with a minimum number of measurement configurations and superior "
+                       "accuracies' (2009, Table 1), one length gauge",
+                       make_stewart_6_6});
 }
 
 }  // namespace kincal

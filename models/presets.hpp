@@ -25,4 +25,8 @@ std::shared_ptr<MeasurementModel> make_preset(const std::string& name);
 /// with the paper's 24 free parameters.
 std::shared_ptr<MeasurementModel> make_cube_hexapod();
 
+/// A general 6-6 Gough-Stewart platform (Nategh & Agheli 2009, Table 1), home at zero
+/// stroke, one length gauge, with the preset's free parameters (models/hexapod_presets.cpp).
+std::shared_ptr<MeasurementModel> make_stewart_6_6();
+
 }  // namespace kincal

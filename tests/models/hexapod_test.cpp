@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "jacobian_check.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/models/presets.hpp"
@@ -88,6 +90,52 @@ TEST(Hexapod, ForwardKinematicsReportsUnreachableLegLengths) {
   q = VectorXd::Constant(6, std::numeric_limits<double>::quiet_NaN());
   fk = f.mechanism.forward_kinematics(f.params, q, f.mechanism.home_pose());
   EXPECT_FALSE(fk.ok());
+}
+
+TEST(Hexapod, ForwardKinematicsStartedAtASingularSolutionReportsIt) {
+  // Six vertical legs: nothing resists a horizontal shift of the platform. Started exactly
+  // at the solution, the residuals are zero but the pose has no Jacobian: singular, not a
+  // converged NaN pose.
+  HexapodGeometry g;
+  for (int leg = 0; leg < 6; ++leg) {
+    const double angle = leg * 1.0471975511965976;
+    g.base_joints[leg] = Vector3d(200 * std::cos(angle), 200 * std::sin(angle), 0);
+    g.platform_joints[leg] = g.base_joints[leg];
+  }
+  g.home.translation = Vector3d(0, 0, 300);
+  const Hexapod hexapod(g);
+  VectorXd params(hexapod.num_parameters());
+  for (int i = 0; i < params.size(); ++i) params[i] = hexapod.parameters()[i].nominal;
+  VectorXd q(6);
+  ASSERT_TRUE(hexapod.inverse_kinematics(params, hexapod.home_pose(), q).ok());
+  const auto fk = hexapod.forward_kinematics(params, q, hexapod.home_pose());
+  EXPECT_EQ(fk.status, ForwardKinematicsStatus::kSingular) << fk.describe();
+  EXPECT_TRUE(fk.pose.translation.allFinite() && fk.pose.rotation.allFinite());
+}
+
+TEST(Hexapod, Stewart66PresetIsAGeneral66PlatformAtZeroStrokeAtHome) {
+  const auto model = make_stewart_6_6();
+  const auto& hexapod = dynamic_cast<const Hexapod&>(model->mechanism());
+  const VectorXd params = model->parameters().nominal_values().head(hexapod.num_parameters());
+  const HexapodGeometry g = hexapod.geometry_from(params);
+  for (int i = 0; i < 6; ++i) {
+    // Joints on circles of radius 325 (base) and 125 mm (platform), Table 1's rounding.
+    EXPECT_NEAR(g.base_joints[i].head<2>().norm(), 325.0, 1e-3) << "leg " << i + 1;
+    EXPECT_NEAR(g.platform_joints[i].head<2>().norm(), 125.0, 1e-3) << "leg " << i + 1;
+    EXPECT_EQ(g.leg_offsets[i], 604.8652);
+    // 6-6: no two joints of a platform coincide.
+    for (int j = 0; j < i; ++j) {
+      EXPECT_GT((g.base_joints[i] - g.base_joints[j]).norm(), 100.0);
+      EXPECT_GT((g.platform_joints[i] - g.platform_joints[j]).norm(), 30.0);
+    }
+  }
+  // At home every leg is at its offset length: zero stroke, to Table 1's rounding.
+  VectorXd q(6);
+  ASSERT_TRUE(hexapod.home_actuators(params, q).ok());
+  EXPECT_LT(q.cwiseAbs().maxCoeff(), 1e-4) << q.transpose();
+  const auto fk = hexapod.forward_kinematics(params, VectorXd::Zero(6), hexapod.home_pose());
+  ASSERT_TRUE(fk.ok()) << fk.describe();
+  EXPECT_LT(position_error(fk.pose, hexapod.home_pose()), 1e-3);
 }
 
 TEST(Hexapod, ConstraintJacobianWrtPoseMatchesFiniteDifferences) {
