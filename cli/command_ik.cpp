@@ -30,7 +30,11 @@ int run_ik(const Args& args) {
     throw CliError("--pose '" + vm["pose"].as<std::string>() + "': inverse kinematics " +
                    ik.describe() + "; expected a pose the model can reach");
   const auto& names = model->mechanism().actuator_names();
-  for (int i = 0; i < q.size(); ++i) std::printf("%-8s %.6f\n", names[i].c_str(), q[i]);
+  // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
+  const auto& actuators = model->mechanism().actuators();
+  for (int i = 0; i < q.size(); ++i)
+    std::printf(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n", names[i].c_str(),
+                q[i]);
   VectorXd readings(model->num_readings());
   model->predict_at_pose(params, pose, readings);
   const auto reading_names = model->reading_names();
