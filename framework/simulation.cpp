@@ -94,6 +94,22 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
         "noise, parameter error, range and validation size must be finite and >= 0");
   Scenario s;
   s.model = model;
+  // Readings in mm and rad weighed 1:1 would let one unit drown the other: when the model
+  // states no reading std, a simulation that knows its noise weighs by it (uniform noise
+  // U[-a, a] has std a / sqrt(3)). With a single unit the weight is a constant factor that
+  // changes nothing but the cost's scale, so it is left alone.
+  const std::vector<std::string> reading_units = model->reading_units();
+  const bool mixed_units =
+      std::find(reading_units.begin(), reading_units.end(), kMillimetre) != reading_units.end() &&
+      std::find(reading_units.begin(), reading_units.end(), kRadian) != reading_units.end();
+  if (mixed_units && !model->weighted() && options.noise_half_width > 0 &&
+      options.noise_half_width_rad > 0) {
+    auto weighted = std::make_shared<MeasurementModel>(*model);
+    const auto names = model->reading_names();
+    for (std::size_t i = 0; i < names.size(); ++i)
+      weighted->set_reading_std(names[i], options.noise_for(reading_units[i]) / std::sqrt(3.0));
+    s.model = weighted;
+  }
   s.options = options;
   s.nominal = model->parameters().nominal_values();
   s.free_indices = model->parameters().free_indices();

@@ -70,7 +70,9 @@ struct Scenario {
 };
 
 /// Draws a scenario. Configurations whose true forward kinematics fails are redrawn (from
-/// the same stream, so the result is still a function of the seed).
+/// the same stream, so the result is still a function of the seed). A model with readings in
+/// both mm and rad that states no reading std gets one from the noise (a / sqrt(3) per
+/// unit, when both are > 0), so that the fit weighs each unit by its noise.
 Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
                        const ScenarioOptions& options);
 

@@ -265,3 +265,30 @@ TEST(ReadingStd, StatedNoiseRescalesResidualsButNotTheEstimateOrItsStd) {
 
 }  // namespace
 }  // namespace kincal
+
+namespace kincal {
+namespace {
+
+TEST(ReadingStd, ASimulationOfMixedUnitsWeighsEachUnitByItsNoise) {
+  ScenarioOptions options;
+  options.noise_half_width = 0.05;      // mm
+  options.noise_half_width_rad = 2e-4;  // rad
+  options.num_configurations = 40;
+  options.num_validation = 0;
+  options.seed = 3;
+  const Scenario s = make_scenario(make_preset("ur5"), options);
+  ASSERT_TRUE(s.model->weighted());
+  const auto units = s.model->reading_units();
+  for (std::size_t i = 0; i < units.size(); ++i)
+    EXPECT_DOUBLE_EQ(s.model->reading_std()[i], (units[i] == "mm" ? 0.05 : 2e-4) / std::sqrt(3.0));
+  const CalibrationReport report = solve(*s.make_problem());
+  EXPECT_TRUE(report.weighted);
+  EXPECT_NEAR(report.uncertainty.sigma, 1.0, 0.2);  // the scatter is as stated
+  // A single-unit model is left unweighted: its figures stay those of plain least squares.
+  options.noise_half_width_rad = 0;
+  EXPECT_FALSE(make_scenario(make_preset("ur5"), options).model->weighted());
+  EXPECT_FALSE(make_scenario(make_cube_hexapod(), options).model->weighted());
+}
+
+}  // namespace
+}  // namespace kincal
