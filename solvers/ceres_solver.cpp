@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -327,22 +328,24 @@ class CeresSolver final : public Solver {
       }
     }
     // Return the best point evaluated, unless it is lower than Ceres' final point by no more
-    // than the cost's rounding error, and check a convergence claim where we return. With a
-    // robust loss Ceres' costs are robustified and none of this applies.
+    // than the cost's rounding error, with its true cost (after a FAILURE Ceres' final_cost
+    // need not be the cost of the parameters it leaves), and check a convergence claim where
+    // we return. With a robust loss Ceres' costs are robustified and none of this applies.
     evaluations.finish();
     if (loss.kind == RobustLoss::Kind::kNone) {
       VectorXd r;
       MatrixXd J;
       bool known = evaluations.jacobian_at(x, r, J);
-      if (!known && type == TerminationType::kConverged) {
+      if (!known) {
         ++summary.residual_evaluations;
         ++summary.jacobian_evaluations;
         known = problem.evaluate(x, &r, &J, nullptr, options.num_threads);
       }
+      double cost = known ? 0.5 * r.squaredNorm() : std::numeric_limits<double>::infinity();
       const double noise = known ? cost_rounding(x, r, J) : 0.0;
-      if (evaluations.best().cost() < summary.final_cost - noise) {
+      if (evaluations.best().cost() < cost - noise) {
         x = evaluations.best().x();
-        summary.final_cost = evaluations.best().cost();
+        cost = evaluations.best().cost();
         known = false;
         if (type == TerminationType::kConverged) {
           ++summary.residual_evaluations;
@@ -350,6 +353,7 @@ class CeresSolver final : public Solver {
           known = problem.evaluate(x, &r, &J, nullptr, options.num_threads);
         }
       }
+      summary.final_cost = cost;
       if (type == TerminationType::kConverged && known) {
         const detail::Verdict verdict = detail::judge_convergence(
             measure_stationarity(x, r, J, options), options, message, problem.parameter_names(),
