@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds kincal in Release, runs the accuracy study and the micro-benchmarks, draws the plots
-# into docs/img/ and refreshes the generated tables of docs/benchmarks.md.
+# Builds kincal in Release, runs the accuracy study, the micro-benchmarks and the solver test
+# suite (Moré-Garbow-Hillstrom), draws the plots into docs/img/ and refreshes the generated
+# tables of docs/benchmarks.md and docs/benchmark-results/.
 #
 #   benchmarks/run_all.sh [--trials N] [--repetitions N] [--build DIR] [--no-docs]
 #
@@ -36,7 +37,7 @@ if command -v ninja >/dev/null; then generator=(-G Ninja); fi
 # shellcheck disable=SC2086 # CMAKE_ARGS is a list of words on purpose
 cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
   -DKINCAL_BUILD_BENCHMARKS=ON ${CMAKE_ARGS:-}
-cmake --build "$build" --target accuracy_study micro_benchmarks -j "$(nproc)"
+cmake --build "$build" --target accuracy_study micro_benchmarks solver_suite_benchmark -j "$(nproc)"
 mkdir -p "$results"
 
 {
@@ -51,12 +52,17 @@ mkdir -p "$results"
 "$build/benchmarks/kincal-micro-benchmarks" --benchmark_repetitions="$repetitions" \
   --benchmark_report_aggregates_only=true --benchmark_out="$results/micro.json" \
   --benchmark_out_format=json
+"$build/benchmarks/kincal-solver-suite-benchmark" --out "$results/solver-suite"
 "$python" "$root/benchmarks/plot_results.py" "$results" "$root/docs/img"
+"$python" "$root/benchmarks/plot_solver_suite.py" "$results/solver-suite" "$root/docs/img"
 
 if [ "$update_docs" = 1 ]; then
   mkdir -p "$root/docs/benchmark-results"
   cp "$results"/{accuracy.md,micro.md,machine.md,summary.csv,summary.json,bounds.csv,traces.csv,micro.json} \
     "$root/docs/benchmark-results/"
+  mkdir -p "$root/docs/benchmark-results/solver-suite"
+  cp "$results"/solver-suite/{suite_table.md,suite.csv,dimension.csv} \
+    "$root/docs/benchmark-results/solver-suite/"
   "$python" "$root/benchmarks/update_docs.py" "$root/docs/benchmarks.md" "$results"
 fi
 echo "results in $results; plots in $root/docs/img"

@@ -35,5 +35,6 @@ int run_fk(const Args& args);
 int run_ik(const Args& args);
 int run_calibrate(const Args& args);
 int run_observability(const Args& args);
+int run_solver_suite(const Args& args);
 
 }  // namespace kincal::cli

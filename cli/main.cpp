@@ -18,6 +18,8 @@ const std::vector<Command>& commands() {
       {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
       {"observability", "which free parameters a set of configurations can determine",
        run_observability},
+      {"solver-suite", "backends on the Moré-Garbow-Hillstrom test problems, checked",
+       run_solver_suite},
   };
   return table;
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -43,12 +44,97 @@ struct FailureLog {
   }
 };
 
+// Every point Ceres evaluates, assembled from its residual blocks (Ceres evaluates all blocks
+// at one point before moving to the next, possibly on several threads): the lowest cost seen,
+// which is what we return (Ceres keeps its last accepted iterate, and rejects trial points of
+// lower cost when the gain ratio is small), and the residuals and Jacobian of the last point
+// whose Jacobian was evaluated, which at the end is Ceres' final iterate.
+class EvaluationLog {
+ public:
+  EvaluationLog(int blocks, int k, int n)
+      : k_(k),
+        cost_point_(n),
+        cost_done_(static_cast<std::size_t>(blocks), 0),
+        jacobian_point_(n),
+        jacobian_done_(static_cast<std::size_t>(blocks), 0),
+        r_(blocks * k),
+        J_(blocks * k, n),
+        best_(n) {}
+
+  void add(int block, const VectorXd& x, const Eigen::Ref<const VectorXd>& r, const MatrixXd* J) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (x != cost_point_ || !cost_started_) {
+      finish_point();
+      cost_point_ = x;
+      cost_started_ = true;
+      std::fill(cost_done_.begin(), cost_done_.end(), 0);
+      cost_blocks_ = 0;
+      cost_sum_ = 0;
+    }
+    if (!cost_done_[static_cast<std::size_t>(block)]) {
+      cost_done_[static_cast<std::size_t>(block)] = 1;
+      ++cost_blocks_;
+      cost_sum_ += r.squaredNorm();
+    }
+    if (!J) return;
+    if (x != jacobian_point_ || !jacobian_started_) {
+      jacobian_point_ = x;
+      jacobian_started_ = true;
+      std::fill(jacobian_done_.begin(), jacobian_done_.end(), 0);
+      jacobian_blocks_ = 0;
+    }
+    if (!jacobian_done_[static_cast<std::size_t>(block)]) {
+      jacobian_done_[static_cast<std::size_t>(block)] = 1;
+      ++jacobian_blocks_;
+      r_.segment(block * k_, k_) = r;
+      J_.middleRows(block * k_, k_) = *J;
+    }
+  }
+  /// Offers the point being assembled (call once Ceres has returned).
+  void finish() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    finish_point();
+  }
+  const detail::BestPoint& best() const { return best_; }
+  /// Residuals and Jacobian at x, when the last Jacobian evaluation was complete there.
+  bool jacobian_at(const VectorXd& x, VectorXd& r, MatrixXd& J) const {
+    if (!jacobian_started_ || x != jacobian_point_ ||
+        jacobian_blocks_ != static_cast<int>(jacobian_done_.size()))
+      return false;
+    r = r_;
+    J = J_;
+    return true;
+  }
+
+ private:
+  void finish_point() {
+    if (cost_started_ && cost_blocks_ == static_cast<int>(cost_done_.size()) &&
+        std::isfinite(cost_sum_))
+      best_.offer(cost_point_, 0.5 * cost_sum_);
+  }
+  std::mutex mutex_;
+  int k_;
+  VectorXd cost_point_;
+  std::vector<char> cost_done_;
+  bool cost_started_ = false;
+  int cost_blocks_ = 0;
+  double cost_sum_ = 0;
+  VectorXd jacobian_point_;
+  std::vector<char> jacobian_done_;
+  bool jacobian_started_ = false;
+  int jacobian_blocks_ = 0;
+  VectorXd r_;
+  MatrixXd J_;
+  detail::BestPoint best_;
+};
+
 // One residual block of our problem as a Ceres cost function over the single parameter block
 // x. Our Jacobian rows are column-major; Ceres wants row-major, hence the scratch copy.
 class BlockCost final : public ceres::CostFunction {
  public:
-  BlockCost(const LeastSquaresProblem& problem, int block, FailureLog& failures)
-      : problem_(problem), block_(block), failures_(failures) {
+  BlockCost(const LeastSquaresProblem& problem, int block, FailureLog& failures,
+            EvaluationLog& evaluations)
+      : problem_(problem), block_(block), failures_(failures), evaluations_(evaluations) {
     set_num_residuals(problem.residuals_per_block());
     mutable_parameter_block_sizes()->push_back(problem.num_parameters());
   }
@@ -72,8 +158,10 @@ class BlockCost final : public ceres::CostFunction {
       if (ok)
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             jacobians[0], k, n) = scratch.J;
+      if (ok && r.allFinite()) evaluations_.add(block_, scratch.x, r, &scratch.J);
     } else {
       ok = problem_.evaluate_block(block_, scratch.x, r, nullptr, &why);
+      if (ok && r.allFinite()) evaluations_.add(block_, scratch.x, r, nullptr);
     }
     if (!ok) failures_.add(why);
     return ok;
@@ -83,6 +171,7 @@ class BlockCost final : public ceres::CostFunction {
   const LeastSquaresProblem& problem_;
   int block_;
   FailureLog& failures_;
+  EvaluationLog& evaluations_;
 };
 
 // Records accepted iterates in our trace and forwards them to the user's callback. Ceres
@@ -195,9 +284,10 @@ class CeresSolver final : public Solver {
       loss_function = std::make_unique<ceres::CauchyLoss>(loss.delta);
 
     FailureLog failures;
+    EvaluationLog evaluations(problem.num_residual_blocks(), problem.residuals_per_block(), n);
     for (int b = 0; b < problem.num_residual_blocks(); ++b)
-      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures), loss_function.get(),
-                                     x.data());
+      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures, evaluations),
+                                     loss_function.get(), x.data());
     if (options.lower_bounds && options.upper_bounds) {
       for (int i = 0; i < n; ++i) {
         ceres_problem.SetParameterLowerBound(x.data(), i, (*options.lower_bounds)[i]);
@@ -235,6 +325,41 @@ class CeresSolver final : public Solver {
                   " consecutive trial points at the end where residuals could not be computed; "
                   "Ceres: " +
                   message;
+      }
+    }
+    // Return the best point evaluated, unless it is lower than Ceres' final point by no more
+    // than the cost's rounding error, with its true cost (after a FAILURE Ceres' final_cost
+    // need not be the cost of the parameters it leaves), and check a convergence claim where
+    // we return. With a robust loss Ceres' costs are robustified and none of this applies.
+    evaluations.finish();
+    if (loss.kind == RobustLoss::Kind::kNone) {
+      VectorXd r;
+      MatrixXd J;
+      bool known = evaluations.jacobian_at(x, r, J);
+      if (!known) {
+        ++summary.residual_evaluations;
+        ++summary.jacobian_evaluations;
+        known = problem.evaluate(x, &r, &J, nullptr, options.num_threads);
+      }
+      double cost = known ? 0.5 * r.squaredNorm() : std::numeric_limits<double>::infinity();
+      const double noise = known ? cost_rounding(x, r, J) : 0.0;
+      if (evaluations.best().cost() < cost - noise) {
+        x = evaluations.best().x();
+        cost = evaluations.best().cost();
+        known = false;
+        if (type == TerminationType::kConverged) {
+          ++summary.residual_evaluations;
+          ++summary.jacobian_evaluations;
+          known = problem.evaluate(x, &r, &J, nullptr, options.num_threads);
+        }
+      }
+      summary.final_cost = cost;
+      if (type == TerminationType::kConverged && known) {
+        const detail::Verdict verdict = detail::judge_convergence(
+            measure_stationarity(x, r, J, options), options, message, problem.parameter_names(),
+            trace.trailing_uncomputable_trials() > 0);
+        type = verdict.type;
+        message = verdict.message;
       }
     }
     monitor.finish(type, message);

@@ -51,7 +51,10 @@ class GaussNewtonSolver final : public Solver {
     const double runaway = runaway_factor * (1.0 + x0.lpNorm<Eigen::Infinity>());
     double cost = 0.5 * r.squaredNorm();
     summary.initial_cost = summary.final_cost = cost;
-    VectorXd best_x = x;
+    // The lowest-cost iterate, with its residuals and Jacobian: undamped steps may go uphill,
+    // and a convergence test firing later is checked again where we return.
+    VectorXd best_x = x, best_r = r;
+    MatrixXd best_J = J;
     double best_cost = cost;
 
     Eigen::ColPivHouseholderQR<MatrixXd> qr(m, n);
@@ -65,6 +68,14 @@ class GaussNewtonSolver final : public Solver {
     auto done = [&](TerminationType type, std::string message) {
       x = best_x;
       summary.final_cost = best_cost;
+      if (type == TerminationType::kConverged) {
+        // The test fired at the current iterate, which may cost more than the point returned.
+        const detail::Verdict verdict =
+            detail::judge_convergence(measure_stationarity(x, best_r, best_J, options), options,
+                                      message, problem.parameter_names());
+        type = verdict.type;
+        message = verdict.message;
+      }
       monitor.finish(type, std::move(message));
       return summary;
     };
@@ -99,6 +110,8 @@ class GaussNewtonSolver final : public Solver {
       if (cost < best_cost) {
         best_cost = cost;
         best_x = x;
+        best_r = r;
+        best_J = J;
       }
       gradient.noalias() = J.transpose() * r;
       if (!monitor.record({iteration, cost, gradient.lpNorm<Eigen::Infinity>(), dx.norm(), 0, 0},

@@ -147,6 +147,7 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
       why_ = "residuals are not finite";
     }
     if (cache_ok_ && with_jacobian) gradient_.noalias() = J_.transpose() * r_;
+    if (cache_ok_) offer_best(x, with_jacobian);
     // Ipopt only hears "false" and cuts its step back; the reason would be lost.
     if (!cache_ok_ && failures_++ == 0) first_failure_ = why_;
     last_failed_ = !cache_ok_;
@@ -162,10 +163,39 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   bool last_failed() const { return last_failed_; }
 
   bool stopped_by_callback() const { return stopped_by_callback_; }
+  /// A continued run ended because its iterate passed one of kincal's tests.
+  bool stopped_stationary() const { return stopped_stationary_; }
   /// Ipopt was stopped because its iterates had stalled against uncomputable trial points.
   bool stuck() const { return stuck_iterations_ >= kMaxStuckIterations; }
   int last_iteration() const { return last_iteration_; }
+  /// The lowest-cost point evaluated (the start included), whatever Ipopt ends on: what we
+  /// return. Its residuals and Jacobian, when they were evaluated there.
+  const VectorXd& best_x() const { return best_x_; }
+  double best_cost() const { return best_cost_; }
+  bool best_jacobian(VectorXd& r, MatrixXd& J) const {
+    if (!best_has_jacobian_) return false;
+    r = best_r_;
+    J = best_J_;
+    return true;
+  }
+  /// Residuals and Jacobian at x when an evaluation there is at hand (the last one, or the
+  /// best point's).
+  bool jacobian_at(const VectorXd& x, VectorXd& r, MatrixXd& J) const {
+    if (cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x) {
+      r = r_;
+      J = J_;
+      return true;
+    }
+    return x == best_x_ && best_jacobian(r, J);
+  }
   bool finalized() const { return finalized_; }
+  /// Prepares a continued run from `x`, its iterations numbered after `iterations`.
+  void continue_from(const VectorXd& x, int iterations) {
+    x0_ = x;
+    iteration_offset_ = iterations;
+    finalized_ = false;
+    stop_when_stationary_ = true;
+  }
   const VectorXd& final_x() const { return final_x_; }
   double final_cost() const { return final_cost_; }
 
@@ -241,6 +271,10 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
     // Restoration-phase iterates belong to another problem; there are no constraints to
     // restore here anyway.
     if (mode != Ipopt::RegularMode || !current_x(ip_data, ip_cq)) return true;
+    // A continued run (see solve) numbers its iterations after the first run's, and its
+    // iteration 0 is the first run's best point, already in the trace.
+    if (iteration_offset_ > 0 && iter == 0) return true;
+    iter += iteration_offset_;
     last_iteration_ = iter;
     const bool have_gradient = cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x_;
     const double gradient_norm = have_gradient ? gradient_.lpNorm<Eigen::Infinity>() : 0.0;
@@ -250,7 +284,14 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
       stopped_by_callback_ = true;
       return false;
     }
-    return !stuck_at_the_edge(iter, obj_value);
+    if (stuck_at_the_edge(iter, obj_value)) return false;
+    // In a continued run, stop as soon as the iterate passes one of our tests.
+    if (stop_when_stationary_ && cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x_ &&
+        measure_stationarity(x_, r_, J_, options_).claim_holds(options_, false)) {
+      stopped_stationary_ = true;
+      return false;
+    }
+    return true;
   }
 
   void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
@@ -276,11 +317,28 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
     return true;
   }
 
+  void offer_best(const VectorXd& x, bool with_jacobian) {
+    // Ipopt relaxes the bounds by bound_relax_factor (1e-8) and may evaluate just outside
+    // them; only points inside the box can be returned.
+    if (options_.lower_bounds && ((x.array() < options_.lower_bounds->array()).any() ||
+                                  (x.array() > options_.upper_bounds->array()).any()))
+      return;
+    const double cost = 0.5 * r_.squaredNorm();
+    const bool better = cost < best_cost_;
+    if (!better && !(with_jacobian && !best_has_jacobian_ && x == best_x_)) return;
+    best_cost_ = cost;
+    best_x_ = x;
+    best_r_ = r_;
+    best_has_jacobian_ = with_jacobian;
+    if (with_jacobian) best_J_ = J_;
+  }
+
   const LeastSquaresProblem& problem_;
   const SolverOptions& options_;
   Summary& summary_;
   detail::SolveMonitor& monitor_;
-  const VectorXd x0_;
+  VectorXd x0_;
+  int iteration_offset_ = 0;
   const bool exact_hessian_;
   const int n_;
 
@@ -309,6 +367,11 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   VectorXd x_, previous_x_;
   int last_iteration_ = 0;
   bool stopped_by_callback_ = false;
+  bool stop_when_stationary_ = false, stopped_stationary_ = false;
+  double best_cost_ = std::numeric_limits<double>::infinity();
+  VectorXd best_x_, best_r_;
+  MatrixXd best_J_;
+  bool best_has_jacobian_ = false;
   bool finalized_ = false;
   VectorXd final_x_;
   double final_cost_ = std::numeric_limits<double>::infinity();
@@ -369,6 +432,9 @@ class IpoptSolver final : public Solver {
     // iterations in a row (Ipopt's default of 15 wastes a dozen line searches).
     o.SetNumericValue("acceptable_obj_change_tol", std::max(options.function_tolerance, 0.0));
     o.SetIntegerValue("acceptable_iter", 3);
+    // Ipopt relaxes the bounds by 1e-8 by default, so its iterates may lie just outside them,
+    // where we may not return: keep them inside (no effect without bounds).
+    o.SetNumericValue("bound_relax_factor", 0);
     o.SetStringValue("hessian_approximation", exact_hessian ? "exact" : "limited-memory");
     o.SetStringValue("mu_strategy", mu_strategy(options));
     o.SetStringValue("linear_solver", linear_solver(options));
@@ -377,14 +443,39 @@ class IpoptSolver final : public Solver {
     Ipopt::ApplicationReturnStatus status = app->Initialize("");
     if (status == Ipopt::Solve_Succeeded)
       status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
+    // Ipopt's acceptable-level stop measures the cost change against max(1, |f|): below
+    // f = 1 it is an absolute test, which stops well short of our relative one (penalty
+    // functions, Powell singular: measured). When the point it stopped at is not stationary
+    // by our tests, Ipopt goes on from there once, with that stop disabled, until its iterate
+    // passes one of our tests (tol itself can lie below the round-off floor of J^T r).
+    if (status == Ipopt::Solved_To_Acceptable_Level && !nlp->stopped_by_callback() &&
+        nlp->last_iteration() < options.max_iterations) {
+      Endpoint end = endpoint(problem, *nlp, options, summary);
+      if (end.known &&
+          !measure_stationarity(end.x, end.r, end.J, options).claim_holds(options, false)) {
+        nlp->continue_from(end.x, nlp->last_iteration());
+        o.SetIntegerValue("acceptable_iter", 0);
+        o.SetIntegerValue("max_iter", options.max_iterations - nlp->last_iteration());
+        status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
+      }
+    }
 
     summary.backend_code = static_cast<int>(status);
     summary.iterations = nlp->last_iteration();
-    if (nlp->finalized() && nlp->final_x().allFinite()) {
-      x = nlp->final_x();
-      summary.final_cost = std::isfinite(nlp->final_cost()) ? nlp->final_cost() : problem.cost(x);
-    }
+    // Ipopt's final point, or the best point evaluated when that is lower by more than the
+    // cost's rounding error (a failed line search can end far uphill: 1e299 from a start of
+    // cost 0.39, measured).
+    Endpoint end = endpoint(problem, *nlp, options, summary);
+    x = end.x;
+    summary.final_cost = end.cost;
     auto [type, message] = termination(status, nlp->stopped_by_callback());
+    if (status == Ipopt::User_Requested_Stop && nlp->stopped_stationary()) {
+      type = TerminationType::kConverged;
+      message =
+          "relative cost change below tolerance (kincal's test, at Ipopt's iterate: Ipopt "
+          "went on after its acceptable-level stop, which measures the change against "
+          "max(1, |f|))";
+    }
     if (nlp->stuck()) {
       type = TerminationType::kDiverged;
       message = "stopped after " + std::to_string(kMaxStuckIterations) +
@@ -399,11 +490,73 @@ class IpoptSolver final : public Solver {
       if (type == TerminationType::kFailed && nlp->last_failed() && gave_up_on_the_step(status))
         type = TerminationType::kDiverged;
     }
+    // Ipopt's tests are not ours (its acceptable-level cost change is absolute below |f| = 1,
+    // and it stops on a zero Jacobian): judge its claims, and its failures and iteration limit,
+    // at the point returned.
+    if (type == TerminationType::kConverged || type == TerminationType::kFailed ||
+        type == TerminationType::kMaxIterations) {
+      if (!end.known) {
+        ++summary.residual_evaluations;
+        ++summary.jacobian_evaluations;
+        end.known = problem.evaluate(x, &end.r, &end.J, nullptr, options.num_threads);
+      }
+      if (end.known) {
+        const Stationarity at_x = measure_stationarity(x, end.r, end.J, options);
+        const auto names = problem.parameter_names();
+        const detail::Verdict verdict =
+            type == TerminationType::kConverged
+                ? detail::judge_convergence(at_x, options, message, names, nlp->last_failed())
+                : detail::judge_other_stop(at_x, options, type, message, names);
+        type = verdict.type;
+        message = verdict.message;
+      }
+    }
     monitor.finish(type, message);
     return summary;
   }
 
  private:
+  // The point to return, with its cost and, when at hand, its residuals and Jacobian.
+  struct Endpoint {
+    VectorXd x, r;
+    MatrixXd J;
+    double cost = 0;
+    bool known = false;
+  };
+  // Ipopt's final point (its last iterate), unless the best point evaluated is lower by more
+  // than the cost's rounding error there; the best point when Ipopt left none.
+  static Endpoint endpoint(const LeastSquaresProblem& problem, const LeastSquaresNlp& nlp,
+                           const SolverOptions& options, Summary& summary) {
+    Endpoint end;
+    end.x = nlp.best_x();
+    end.cost = nlp.best_cost();
+    const VectorXd& last = nlp.final_x();
+    const bool usable =
+        nlp.finalized() && last.size() == end.x.size() && last.allFinite() &&
+        (!options.lower_bounds || ((last.array() >= options.lower_bounds->array()).all() &&
+                                   (last.array() <= options.upper_bounds->array()).all()));
+    if (usable && last != nlp.best_x()) {
+      VectorXd r;
+      MatrixXd J;
+      bool known = nlp.jacobian_at(nlp.final_x(), r, J);
+      if (!known) {
+        ++summary.residual_evaluations;
+        ++summary.jacobian_evaluations;
+        known = problem.evaluate(nlp.final_x(), &r, &J, nullptr, options.num_threads);
+      }
+      if (known && nlp.best_cost() >= 0.5 * r.squaredNorm() - cost_rounding(nlp.final_x(), r, J)) {
+        end.x = nlp.final_x();
+        end.cost = 0.5 * r.squaredNorm();
+        end.r = r;
+        end.J = J;
+        end.known = true;
+        return end;
+      }
+    }
+    end.known = nlp.jacobian_at(end.x, end.r, end.J);
+    return end;
+  }
+
   std::string hessian(const SolverOptions& options) const {
     return solver_option::get_choice(name(), options, "hessian", {"gauss-newton", "limited-memory"},
                                      "gauss-newton");
@@ -426,13 +579,13 @@ class IpoptSolver final : public Solver {
     const std::string what = std::string("Ipopt ") + status_name(status);
     switch (status) {
       case Ipopt::Solve_Succeeded:
-        return {T::kConverged, what +
-                                   ": optimality error below tol (max|J^T r| for an "
-                                   "unbounded problem)"};
+        return {T::kConverged, "gradient max-norm below tolerance (" + what +
+                                   ": optimality error below tol, max|J^T r| for an unbounded "
+                                   "problem)"};
       case Ipopt::Solved_To_Acceptable_Level:
-        return {T::kConverged, what +
+        return {T::kConverged, "relative cost change below tolerance (" + what +
                                    ": acceptable_tol held for acceptable_iter iterations and "
-                                   "the cost stalled"};
+                                   "the cost stalled)"};
       case Ipopt::Maximum_Iterations_Exceeded:
         return {T::kMaxIterations, "reached max_iterations (" + what + ")"};
       case Ipopt::Maximum_CpuTime_Exceeded:

@@ -26,7 +26,10 @@ struct LmSettings {
   double min_relative_decrease = 1e-3;  // accept a step when rho exceeds this
   double max_radius_growth = 10;  // cap on the radius increase per step (Nielsen: 3; measured)
   int max_invalid_steps = 10;     // consecutive unusable trial points before giving up
-  double runaway_factor = 1e3;
+  // Off: a fixed distance from the start stopped legitimate solves (Brown badly scaled: the
+  // minimum lies 1e6 from the start); iterates that run off towards an asymptote are named by
+  // the plateau test instead.
+  double runaway_factor = std::numeric_limits<double>::infinity();
   bool geodesic_acceleration = true;
   double geodesic_step = 0.1;      // h of the finite-difference second directional derivative
   double max_acceleration = 0.75;  // use only when 2|a| <= this * |v| (Transtrum's alpha)
@@ -38,6 +41,11 @@ const char* const kSolverName = "lm";
 // fell below this fraction of its starting value (a minimum that happens to lie near it).
 constexpr int kFenceWindow = 10;
 constexpr double kStationaryGradientRatio = 1e-4;
+// The Marquardt scale of a parameter is the running maximum of its column norm (MINPACK),
+// except when the column has fallen this far below it: the model then works in another regime
+// (Brown almost-linear from 100 x0: the product's derivatives fall from 2e15 to 3e5), and a
+// scale that large damps the parameter to a standstill even at the largest trust radius.
+constexpr double kStaleScaleRatio = 1e6;
 
 LmSettings parse_settings(const SolverOptions& options) {
   using namespace solver_option;
@@ -67,7 +75,9 @@ LmSettings parse_settings(const SolverOptions& options) {
       get_double(kSolverName, options, "min_relative_decrease", s.min_relative_decrease);
   s.max_radius_growth = get_double(kSolverName, options, "max_radius_growth", s.max_radius_growth);
   s.max_invalid_steps = get_int(kSolverName, options, "max_invalid_steps", s.max_invalid_steps);
-  s.runaway_factor = get_double(kSolverName, options, "runaway_factor", s.runaway_factor);
+  const auto runaway = options.backend_options.find("runaway_factor");
+  if (runaway == options.backend_options.end() || runaway->second != "none")
+    s.runaway_factor = get_double(kSolverName, options, "runaway_factor", s.runaway_factor);
   s.geodesic_acceleration = get_choice(kSolverName, options, "geodesic_acceleration",
                                        {"true", "false"}, "true") == "true";
   s.geodesic_step = get_double(kSolverName, options, "geodesic_step", s.geodesic_step);
@@ -87,7 +97,7 @@ LmSettings parse_settings(const SolverOptions& options) {
           "min_relative_decrease must be in [0, 1)");
   require(s.max_radius_growth > 1, "max_radius_growth must be > 1");
   require(s.max_invalid_steps >= 1, "max_invalid_steps must be >= 1");
-  require(s.runaway_factor > 0, "runaway_factor must be > 0");
+  require(s.runaway_factor > 0, "runaway_factor must be > 0 (or none)");
   require(s.geodesic_step > 0 && s.geodesic_step <= 1, "geodesic_step must be in (0, 1]");
   require(s.max_acceleration > 0, "max_acceleration must be > 0");
   return s;
@@ -144,7 +154,10 @@ class LmWorkspace {
         dx_velocity(n),
         x_trial(n),
         active(n, 0),
-        llt(n) {
+        llt(n),
+        scratch(m, n),
+        best(n) {
+    at_x.dead_parameters.reserve(static_cast<std::size_t>(n));
     if (linear_solver == LinearSolver::kQr) {
       qr = Eigen::HouseholderQR<MatrixXd>(m, n);
       augmented = MatrixXd(2 * n, n);
@@ -170,6 +183,9 @@ class LmWorkspace {
   Eigen::HouseholderQR<MatrixXd> qr, augmented_qr;
   MatrixXd augmented;
   VectorXd rhs;
+  StationarityScratch scratch;  // checking a convergence test at the iterate
+  Stationarity at_x;
+  detail::BestPoint best;  // over every point evaluated: iterates, trials, probes
 };
 
 // 1/2 sum rho(r_i^2): the robustified cost.
@@ -242,6 +258,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     return summary;
   }
   summary.initial_cost = summary.final_cost = cost;
+  ws.best.offer(x, cost);
   ws.column_scale.setZero();
 
   // Prepares the linear model at the current (accepted) iterate: robust correction,
@@ -251,8 +268,11 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     ws.r_raw = ws.r;
     apply_loss_correction(loss, ws.r, ws.J, ws.row_scale);
     ws.gradient.noalias() = ws.J.transpose() * ws.r;
-    for (int j = 0; j < n; ++j)
-      ws.column_scale[j] = std::max(ws.column_scale[j], ws.J.col(j).norm());
+    for (int j = 0; j < n; ++j) {
+      const double norm = ws.J.col(j).norm();
+      ws.column_scale[j] =
+          ws.column_scale[j] > kStaleScaleRatio * norm ? norm : std::max(ws.column_scale[j], norm);
+    }
     // A column that never moved the residuals gets a tiny positive scale: its damping row
     // then pins that parameter (y_j = 0) instead of dividing by zero.
     const double floor = 1e-12 * std::max(1.0, max_norm(ws.column_scale));
@@ -328,7 +348,28 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   int failed_trials = 0, last_failed_iteration = -1;
   std::string first_failure;
   auto done = [&](TerminationType type, std::string message) {
-    summary.final_cost = cost;  // x is always the best point: only decreasing steps are taken
+    // The lowest cost evaluated may be a geodesic probe or a trial the gain ratio rejected
+    // rather than the iterate: return it (the contract), and check a convergence claim again
+    // there, which needs its Jacobian. Not when it is lower by less than the cost's rounding
+    // error: near a noisy minimum (the hexapod's) that is noise, and the iterate is the point
+    // the tests were passed at.
+    if (ws.best.cost() < cost - cost_rounding(x, ws.r, ws.J)) {
+      x = ws.best.x();
+      cost = ws.best.cost();
+      if (type == TerminationType::kConverged) {
+        ++summary.residual_evaluations;
+        ++summary.jacobian_evaluations;
+        if (problem.evaluate(x, &ws.r, &ws.J, &why, options.num_threads)) {
+          apply_loss_correction(loss, ws.r, ws.J, ws.row_scale);
+          measure_stationarity(x, ws.r, ws.J, options, ws.scratch, ws.at_x);
+          const detail::Verdict verdict =
+              detail::judge_convergence(ws.at_x, options, message, problem.parameter_names());
+          type = verdict.type;
+          message = verdict.message;
+        }
+      }
+    }
+    summary.final_cost = cost;
     if (failed_trials > 0) {
       // "Converged" right after trials failed, with a gradient that has not vanished,
       // means the iterates were stopped by the edge of the region where residuals can be
@@ -346,6 +387,21 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     monitor.finish(type, std::move(message));
     return summary;
   };
+  // A convergence test fired at the current iterate (r, J prepared there): measures it and
+  // says whether to stop, i.e. whether the iterate passes the test (docs/solvers.md, the
+  // honesty contract) or is on a plateau, where nothing more can be done. Does not allocate.
+  auto test_holds = [&](bool gradient_claim) {
+    measure_stationarity(x, ws.r, ws.J, options, ws.scratch, ws.at_x);
+    return ws.at_x.on_plateau() || ws.at_x.claim_holds(options, gradient_claim);
+  };
+  // Ends the solve on the test that fired, as judged at the iterate by test_holds.
+  auto conclude = [&](const std::string& message) {
+    const bool near_uncomputable =
+        failed_trials > 0 && summary.iterations - last_failed_iteration <= kFenceWindow;
+    const detail::Verdict verdict = detail::judge_convergence(
+        ws.at_x, options, message, problem.parameter_names(), near_uncomputable);
+    return done(verdict.type, verdict.message);
+  };
   // Ceres' (and Nielsen's) response to a bad trial: shrink ever faster.
   auto reject = [&] {
     radius /= decrease_factor;
@@ -354,10 +410,15 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
 
   int consecutive_invalid = 0;
   for (int iteration = 1;; ++iteration) {
-    if (gradient_norm <= options.gradient_tolerance)
-      return done(TerminationType::kConverged, "gradient max-norm below tolerance");
-    if (radius < settings.min_trust_radius)
-      return done(TerminationType::kConverged, "trust region radius below min_trust_radius");
+    // These two end the solve either way: no step can be found (the verdict may be a stall).
+    if (gradient_norm <= options.gradient_tolerance) {
+      test_holds(true);
+      return conclude("gradient max-norm below tolerance");
+    }
+    if (radius < settings.min_trust_radius) {
+      test_holds(false);
+      return conclude("trust region radius below min_trust_radius");
+    }
     if (iteration > options.max_iterations)
       return done(TerminationType::kMaxIterations, "reached max_iterations");
     summary.iterations = iteration;
@@ -384,7 +445,9 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
       ws.residual_temp.noalias() = ws.J * ws.dx_velocity;
       const double model_decrease =
           -(ws.gradient.dot(ws.dx_velocity) + 0.5 * ws.residual_temp.squaredNorm());
-      if (model_decrease <= options.function_tolerance * cost) {
+      // The iterate must pass the test as the contract recomputes it; when it does not (the
+      // damping still shapes the step), the iteration goes on.
+      if (model_decrease <= options.function_tolerance * cost && test_holds(false)) {
         ws.x_trial = x + ws.dx_velocity;
         ++summary.residual_evaluations;
         if (problem.evaluate(ws.x_trial, &ws.r_trial, nullptr, nullptr, options.num_threads)) {
@@ -392,13 +455,13 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
           if (cost_trial < cost) {
             x.swap(ws.x_trial);
             cost = cost_trial;
+            ws.best.offer(x, cost);
             if (!monitor.record(
                     {iteration, cost, gradient_norm, ws.dx_velocity.norm(), 1.0 / radius, 0}, x))
               return done(TerminationType::kUserStopped, "stopped by the callback");
           }
         }
-        return done(TerminationType::kConverged,
-                    "predicted relative cost decrease below tolerance");
+        return conclude("predicted relative cost decrease below tolerance");
       }
     }
 
@@ -413,6 +476,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
       ++summary.residual_evaluations;
       if (problem.evaluate(ws.x_trial, &ws.r_trial, nullptr, nullptr, options.num_threads) &&
           ws.r_trial.allFinite()) {
+        ws.best.offer(ws.x_trial, robust_cost(loss, ws.r_trial));
         // Directional second derivative of the corrected residuals along v.
         ws.residual_temp.noalias() = ws.J * ws.dx_velocity;
         ws.residual_temp =
@@ -434,8 +498,9 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     ws.dx = ws.x_trial - x;
     // Not after unusable trials: a step shrunk to nothing because the residuals cannot be
     // computed ahead says nothing about convergence.
-    if (consecutive_invalid == 0 && detail::small_step(ws.dx, x, options.parameter_tolerance))
-      return done(TerminationType::kConverged, "relative step below tolerance");
+    if (consecutive_invalid == 0 && detail::small_step(ws.dx, x, options.parameter_tolerance) &&
+        test_holds(false))
+      return conclude("relative step below tolerance");
     if ((ws.x_trial - x0).lpNorm<Eigen::Infinity>() > runaway)
       return done(TerminationType::kDiverged, "parameters ran away (moved more than " +
                                                   std::to_string(runaway) + " from the start)");
@@ -458,6 +523,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
       continue;
     }
     consecutive_invalid = 0;
+    ws.best.offer(ws.x_trial, cost_trial);
 
     // Gain ratio rho = actual / predicted reduction of the (robust-corrected) linear model.
     // With acceleration the prediction is that of the velocity alone: the correction is
@@ -491,7 +557,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     } else {
       reject();
     }
-    if (cost_flat) return done(TerminationType::kConverged, "relative cost change below tolerance");
+    if (cost_flat && test_holds(false)) return conclude("relative cost change below tolerance");
   }
 }
 

@@ -89,9 +89,13 @@ bool runs_in_this_build(int algorithm) {
 constexpr double kDefaultBoxHalfWidth = 10;
 // Cost reported at points where the residuals cannot be computed, times the worst cost seen.
 constexpr double kPenaltyFactor = 10;
+// A stop within this many times (n + 1) evaluations of an uncomputable point, at a point that
+// is not stationary, is a stop at the edge of the region where residuals exist (lm's window
+// is 10 iterations; an iteration of a gradient method costs about n + 1 evaluations' worth).
+constexpr int kRecentEvaluations = 10;
 
 // Why we forced NLopt to stop from inside the objective.
-enum class ForcedStop { kNone, kCallback, kGradient, kBudget, kNonFinite };
+enum class ForcedStop { kNone, kCallback, kConverged, kBudget, kNonFinite };
 
 // Objective state: evaluation counts, the best point so far, the trace.
 struct Objective {
@@ -105,12 +109,23 @@ struct Objective {
   detail::SolveMonitor& monitor;
   nlopt::opt* opt = nullptr;
 
+  // kincal's tests, checked at every new best point that comes with a gradient: NLopt has no
+  // gradient test, and its relative tests fire on short steps that need not end at a
+  // stationary point. The residuals and Jacobian of the best point are kept for the verdict.
+  StationarityScratch scratch{static_cast<int>(problem.num_residuals()), problem.num_parameters()};
+  Stationarity at_best;
+  std::string passed_test;  // the test that stopped the run (ForcedStop::kConverged)
+  VectorXd best_r;
+  MatrixXd best_J;
+  bool best_has_jacobian = false;
+
   VectorXd x, r, gradient;
   MatrixXd J;
   // NLopt works on z = scale .* x (see the "scaling" option); the rest of us on x.
   VectorXd scale;
   int evaluations = 0;       // calls from NLopt, which is what maxeval counts
   int failures = 0;          // calls where the residuals could not be computed
+  int last_failure_at = 0;   // the evaluation count at the most recent of them
   bool last_failed = false;  // the most recent call was one of them
   std::string last_failure;
   ForcedStop forced = ForcedStop::kNone;
@@ -178,6 +193,7 @@ struct Objective {
       // early claiming xtol and NEWUOA returns NaN. The gradient is zero: no direction to
       // follow from there.
       ++failures;
+      last_failure_at = evaluations;
       if (want_gradient) std::fill(grad, grad + n, 0.0);
       return std::max(kPenaltyFactor * worst_cost, 1.0);
     }
@@ -188,17 +204,39 @@ struct Objective {
       const double step = (x - best_x).norm();
       best_cost = cost;
       best_x = x;
+      best_r = r;
+      best_has_jacobian = want_gradient;
+      if (want_gradient) best_J = J;
       const double gradient_norm = want_gradient ? gradient.lpNorm<Eigen::Infinity>() : 0.0;
       if (!monitor.record({evaluations, cost, gradient_norm, step, 0, 0}, x)) {
         forced = ForcedStop::kCallback;
         opt->force_stop();
-      } else if (want_gradient && gradient_norm <= options.gradient_tolerance) {
-        // NLopt has no gradient test; ours matches the other backends.
-        forced = ForcedStop::kGradient;
+      } else if (want_gradient && converged_here()) {
+        forced = ForcedStop::kConverged;
         opt->force_stop();
       }
     }
     return cost;
+  }
+
+  // Whether the best point, with r and J just evaluated there, passes one of kincal's tests
+  // (or lies on a plateau, where nothing more can be learnt); names the test.
+  bool converged_here() {
+    measure_stationarity(best_x, r, J, options, scratch, at_best);
+    if (at_best.on_plateau()) {
+      passed_test = "gradient max-norm below tolerance";
+      return true;
+    }
+    if (at_best.gradient_test(options))
+      passed_test = "gradient max-norm below tolerance";
+    else if (at_best.cost_test(options))
+      passed_test = "relative cost change below tolerance";
+    else if (at_best.step_test(options))
+      passed_test = "relative step below tolerance";
+    else
+      return false;
+    passed_test += " (kincal's test, at the best point)";
+    return true;
   }
 
   static double call(unsigned n, const double* x, double* grad, void* self) {
@@ -261,6 +299,9 @@ class NloptSolver final : public Solver {
       return summary;
     }
     objective.best_x = x;
+    objective.best_r = objective.r;
+    objective.best_has_jacobian = derivatives;
+    if (derivatives) objective.best_J = objective.J;
     objective.scale = VectorXd::Ones(n);
     if (scaling(options) == "jacobian" && derivatives)
       for (int j = 0; j < n; ++j) {
@@ -276,8 +317,9 @@ class NloptSolver final : public Solver {
       monitor.finish(TerminationType::kUserStopped, "stopped by the callback");
       return summary;
     }
-    if (derivatives && gradient_norm <= options.gradient_tolerance) {
-      monitor.finish(TerminationType::kConverged, "gradient max-norm below tolerance");
+    if (derivatives && objective.converged_here()) {
+      finish_judged(problem, objective, TerminationType::kConverged, objective.passed_test, monitor,
+                    summary);
       return summary;
     }
     // NLopt reads maxeval = 0 as "no limit".
@@ -317,11 +359,39 @@ class NloptSolver final : public Solver {
     summary.iterations = objective.evaluations;
     summary.backend_code = static_cast<int>(result);
     const auto [type, message] = termination(result, objective, nlopt_error);
-    monitor.finish(type, message);
+    finish_judged(problem, objective, type, message, monitor, summary);
     return summary;
   }
 
  private:
+  // Ends the solve; a convergence claim is judged at the best point, whose Jacobian a
+  // derivative-free run has to evaluate for that (counted).
+  static void finish_judged(const LeastSquaresProblem& problem, Objective& objective,
+                            TerminationType type, std::string message,
+                            detail::SolveMonitor& monitor, Summary& summary) {
+    const int n = problem.num_parameters();
+    if (type == TerminationType::kConverged) {
+      bool known = objective.best_has_jacobian;
+      if (!known) {
+        ++summary.residual_evaluations;
+        ++summary.jacobian_evaluations;
+        known = problem.evaluate(objective.best_x, &objective.best_r, &objective.best_J, nullptr,
+                                 objective.options.num_threads);
+      }
+      if (known) {
+        const detail::Verdict verdict = detail::judge_convergence(
+            measure_stationarity(objective.best_x, objective.best_r, objective.best_J,
+                                 objective.options),
+            objective.options, message, problem.parameter_names(),
+            objective.failures > 0 &&
+                objective.evaluations - objective.last_failure_at <= kRecentEvaluations * (n + 1));
+        type = verdict.type;
+        message = verdict.message;
+      }
+    }
+    monitor.finish(type, std::move(message));
+  }
+
   std::string local_algorithm(const SolverOptions& options) const {
     if (!takes_local_optimizer(algorithm_name_)) return "";
     const auto it = options.backend_options.find("local_algorithm");
@@ -330,7 +400,7 @@ class NloptSolver final : public Solver {
   }
 
   std::string scaling(const SolverOptions& options) const {
-    return solver_option::get_choice(name(), options, "scaling", {"jacobian", "none"}, "none");
+    return solver_option::get_choice(name(), options, "scaling", {"jacobian", "none"}, "jacobian");
   }
 
   // Everything NLopt sees is in z = scale .* x.
@@ -351,8 +421,12 @@ class NloptSolver final : public Solver {
       opt.set_lower_bounds(to_std((x0.array() - w).matrix()));
       opt.set_upper_bounds(to_std((x0.array() + w).matrix()));
     }
-    opt.set_ftol_rel(options.function_tolerance);
-    opt.set_xtol_rel(options.parameter_tolerance);
+    // With derivatives, kincal's own tests decide convergence (checked at every new best
+    // point, see Objective::converged_here): NLopt's relative tests fire on short steps that
+    // need not end at a stationary point (SLSQP: measured on the MGH suite). Without, NLopt's.
+    const bool ours = uses_derivatives(algorithm_name_);
+    opt.set_ftol_rel(ours ? 0.0 : options.function_tolerance);
+    opt.set_xtol_rel(ours ? 0.0 : options.parameter_tolerance);
     // 0 is NLopt's default (no absolute test), but setting it allocates the array: NLopt
     // 2.7.1 copies it, unallocated, into the default local optimiser of GN_MLSL/GD_MLSL and
     // their _LDS variants, and crashes (memcpy from null in nlopt_set_xtol_abs).
@@ -383,8 +457,8 @@ class NloptSolver final : public Solver {
     switch (objective.forced) {
       case ForcedStop::kCallback:
         return {T::kUserStopped, "stopped by the callback"};
-      case ForcedStop::kGradient:
-        return {T::kConverged, "gradient max-norm below tolerance"};
+      case ForcedStop::kConverged:
+        return {T::kConverged, objective.passed_test};
       case ForcedStop::kBudget:
         return {T::kMaxIterations, "reached max_iterations (" +
                                        std::to_string(objective.evaluations) +

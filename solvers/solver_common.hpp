@@ -5,8 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
 
 #include "kincal/framework/solver.hpp"
+#include "kincal/framework/stationarity.hpp"
 
 namespace kincal::detail {
 
@@ -52,5 +56,54 @@ inline bool small_step(const VectorXd& dx, const VectorXd& x, double tol) {
 inline bool small_cost_change(double cost_old, double cost_new, double tol) {
   return std::abs(cost_old - cost_new) <= tol * cost_old;
 }
+
+/// The lowest-cost point a backend evaluated: every computable evaluation is offered, so that
+/// the backend can return it whatever else happened (the contract: x is the best point seen).
+class BestPoint {
+ public:
+  explicit BestPoint(int n) : x_(n) {}
+  /// True when `cost` is a new best (x is then copied, without allocating).
+  bool offer(const VectorXd& x, double cost) {
+    if (!(cost < cost_)) return false;
+    cost_ = cost;
+    x_ = x;
+    return true;
+  }
+  double cost() const { return cost_; }
+  const VectorXd& x() const { return x_; }
+
+ private:
+  VectorXd x_;
+  double cost_ = std::numeric_limits<double>::infinity();
+};
+
+/// What a backend reports for a stop.
+struct Verdict {
+  TerminationType type;
+  std::string message;
+};
+
+/// Whether `message` claims the gradient test (it then has to hold at the returned point
+/// itself); other claims (relative step, relative cost change, ...) are about the last step,
+/// and the returned point must pass any of the three tests instead.
+bool claims_gradient_test(const std::string& message);
+
+/// The verdict on a convergence test that fired (`message`) at the point about to be returned,
+/// whose stationarity is `at_x`: converged when that point passes the claimed test (see
+/// claims_gradient_test), with any parameters that no longer affect the residuals named as a
+/// plateau; on a plateau of every free parameter, failed (the gradient vanished because the
+/// model saturated); otherwise, when trial points near the end could not be computed
+/// (`near_uncomputable`), diverged as stopped at the edge of the region where residuals
+/// exist, and failed as stalled if not, with the measures. `names` name parameters.
+Verdict judge_convergence(const Stationarity& at_x, const SolverOptions& options,
+                          const std::string& message, const std::vector<std::string>& names,
+                          bool near_uncomputable = false);
+
+/// The same for a stop that was not a convergence claim (iteration limit, library failure):
+/// converged, naming the test and keeping the backend's words, when the point passes one of
+/// the three tests; otherwise the given termination and message unchanged.
+Verdict judge_other_stop(const Stationarity& at_x, const SolverOptions& options,
+                         TerminationType type, const std::string& message,
+                         const std::vector<std::string>& names);
 
 }  // namespace kincal::detail

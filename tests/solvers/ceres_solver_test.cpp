@@ -98,7 +98,10 @@ TEST_F(CeresSolver, RobustLossesDownWeightOutliers) {
     options.max_iterations = 300;
     if (!loss.empty()) options.backend_options["loss"] = loss;
     const Summary summary = ceres_solver()->solve(problem, x, options);
-    EXPECT_NE(summary.termination, TerminationType::kFailed) << summary.brief_report();
+    // The plain fit ends stalled, honestly: Ceres' relative cost test fires where the
+    // Gauss-Newton model still promises a relative decrease of 1e-11 (> 1e-12).
+    EXPECT_TRUE(summary.converged() || (loss.empty() && kincal::testing::stalled(summary)))
+        << loss << ": " << summary.brief_report();
     return rms_error(scenario, problem.full_parameters(x));
   };
   const double plain = error_with("");
@@ -114,7 +117,10 @@ TEST_F(CeresSolver, StaysInsideTheBox) {
   options.lower_bounds = x.array() - 2.0;  // the truth is up to 5 mm away
   options.upper_bounds = x.array() + 2.0;
   const Summary summary = ceres_solver()->solve(*problem, x, options);
-  EXPECT_NE(summary.termination, TerminationType::kFailed) << summary.brief_report();
+  // Ceres' projected steps stall 0.19 mm short of a bound the gradient pushes against (its
+  // step test fires; the projected gradient there is 0.19): reported as a stall.
+  EXPECT_TRUE(summary.converged() || kincal::testing::stalled(summary)) << summary.brief_report();
+  EXPECT_LT(summary.final_cost, 1e-3 * summary.initial_cost);
   EXPECT_TRUE((x.array() >= options.lower_bounds->array() - 1e-12).all());
   EXPECT_TRUE((x.array() <= options.upper_bounds->array() + 1e-12).all());
 }

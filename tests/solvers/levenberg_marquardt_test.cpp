@@ -170,7 +170,12 @@ TEST(LevenbergMarquardt, RobustLossesDownWeightOutliers) {
     options.max_iterations = 300;
     if (!loss.empty()) options.backend_options["loss"] = loss;
     const Summary summary = lm()->solve(problem, x, options);
-    EXPECT_NE(summary.termination, TerminationType::kFailed) << summary.brief_report();
+    // The plain fit ends stalled, honestly: with three gross errors its trust region
+    // collapses next to configurations where forward kinematics fails, at a point that is
+    // not stationary (it used to call that convergence).
+    if (!loss.empty()) {
+      EXPECT_TRUE(summary.converged()) << loss << ": " << summary.brief_report();
+    }
     const VectorXd estimate = problem.full_parameters(x);
     double sum = 0;
     for (int i : scenario.free_indices) sum += std::pow(estimate[i] - scenario.truth[i], 2);

@@ -70,6 +70,13 @@ inline std::string why_not_built(const std::string& name) {
   }
 }
 
+/// A stop where the backend's own test fired at a point that is not stationary by kincal's
+/// tests (docs/solvers.md, "The honesty contract"): reported `failed`, "stalled: ...".
+inline bool stalled(const Summary& summary) {
+  return summary.termination == TerminationType::kFailed &&
+         summary.message.rfind("stalled", 0) == 0;
+}
+
 /// Residuals that cannot be computed anywhere, as when forward kinematics fails.
 class NowhereComputable : public ExponentialFit {
  public:

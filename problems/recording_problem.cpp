@@ -1,0 +1,58 @@
+#include "kincal/problems/recording_problem.hpp"
+
+#include <limits>
+
+namespace kincal::problems {
+
+bool RecordingProblem::evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                                      Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {
+  const bool ok = inner_.evaluate_block(block, x, residuals, jacobian, why);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++block_evaluations_;
+  Point& point = points_[std::vector<double>(x.data(), x.data() + x.size())];
+  if (point.done.empty()) point.done.assign(static_cast<std::size_t>(num_residual_blocks()), 0);
+  if (!ok) {
+    point.failed = true;
+  } else if (!point.done[static_cast<std::size_t>(block)]) {
+    point.done[static_cast<std::size_t>(block)] = 1;
+    ++point.blocks_done;
+    point.sum += residuals.squaredNorm();
+  }
+  return ok;
+}
+
+int RecordingProblem::complete_points() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  int count = 0;
+  for (const auto& [x, point] : points_)
+    count += !point.failed && point.blocks_done == num_residual_blocks();
+  return count;
+}
+
+double RecordingProblem::best_cost() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [x, point] : points_)
+    if (!point.failed && point.blocks_done == num_residual_blocks() && 0.5 * point.sum < best)
+      best = 0.5 * point.sum;
+  return best;
+}
+
+VectorXd RecordingProblem::best_point() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  double best = std::numeric_limits<double>::infinity();
+  VectorXd at;
+  for (const auto& [x, point] : points_)
+    if (!point.failed && point.blocks_done == num_residual_blocks() && 0.5 * point.sum < best) {
+      best = 0.5 * point.sum;
+      at = Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    }
+  return at;
+}
+
+long RecordingProblem::block_evaluations() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return block_evaluations_;
+}
+
+}  // namespace kincal::problems
