@@ -1,12 +1,11 @@
 #include "kincal/models/model_io.hpp"
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
+#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 
@@ -30,7 +29,8 @@ void check_keys(const Json& object, const std::string& source, const std::string
     if (allowed.count(item.key())) continue;
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    fail(source, where, "unknown key '" + item.key() + "' (expected " + list + ")");
+    fail(source, where,
+         "unknown key '" + message_excerpt(item.key()) + "' (expected " + list + ")");
   }
 }
 
@@ -50,7 +50,7 @@ const Json& object_at(const Json& object, const std::string& key, const std::str
 }
 
 double number(const Json& value, const std::string& source, const std::string& where) {
-  if (!value.is_number()) fail(source, where, "expected a number, got " + value.dump());
+  if (!value.is_number()) fail(source, where, "expected a number, got " + json_excerpt(value));
   const double v = value.get<double>();
   if (!std::isfinite(v)) fail(source, where, "expected a finite number");
   return v;
@@ -58,7 +58,7 @@ double number(const Json& value, const std::string& source, const std::string& w
 
 Vector3d vector3(const Json& value, const std::string& source, const std::string& where) {
   if (!value.is_array() || value.size() != 3)
-    fail(source, where, "expected an array of 3 numbers [x, y, z], got " + value.dump());
+    fail(source, where, "expected an array of 3 numbers [x, y, z], got " + json_excerpt(value));
   Vector3d v;
   for (int a = 0; a < 3; ++a)
     v[a] = number(value[a], source, where + "[" + std::to_string(a) + "]");
@@ -181,18 +181,20 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
   check_keys(j, source, "", {"format", "version", "units", "mechanism", "sensors", "free"});
   const Json& format = member(j, "format", source, "");
   if (format != kModelFormat)
-    fail(source, "format", "expected \"" + std::string(kModelFormat) + "\", got " + format.dump());
+    fail(source, "format",
+         "expected \"" + std::string(kModelFormat) + "\", got " + json_excerpt(format));
   const Json& version = member(j, "version", source, "");
   if (version != kModelFormatVersion)
     fail(source, "version",
-         "expected " + std::to_string(kModelFormatVersion) + ", got " + version.dump());
+         "expected " + std::to_string(kModelFormatVersion) + ", got " + json_excerpt(version));
   const Json& units = member(j, "units", source, "");
-  if (units != "mm") fail(source, "units", "expected \"mm\", got " + units.dump());
+  if (units != "mm") fail(source, "units", "expected \"mm\", got " + json_excerpt(units));
 
   const Json& mechanism = object_at(j, "mechanism", source, "");
   const std::string type = type_of(mechanism, source, "mechanism");
   if (type != "hexapod-6ups")
-    fail(source, "mechanism.type", "expected \"hexapod-6ups\", got \"" + type + "\"");
+    fail(source, "mechanism.type",
+         "expected \"hexapod-6ups\", got \"" + message_excerpt(type) + "\"");
   auto hexapod = hexapod_from_json(mechanism, source);
 
   const Json& sensors_json = member(j, "sensors", source, "");
@@ -205,18 +207,20 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     if (!sensors_json[s].is_object()) fail(source, at, "expected a sensor object");
     const std::string sensor_type = type_of(sensors_json[s], source, at);
     if (sensor_type != "length-gauge")
-      fail(source, at + ".type", "expected \"length-gauge\", got \"" + sensor_type + "\"");
+      fail(source, at + ".type",
+           "expected \"length-gauge\", got \"" + message_excerpt(sensor_type) + "\"");
     auto gauge = gauge_from_json(sensors_json[s], source, at);
     // The hexapod's actuators are columns leg1..leg6 and its parameters leg<i>.*: a sensor
     // named leg... could collide with either.
     if (gauge->name().rfind("leg", 0) == 0)
       fail(source, at + ".name",
-           "'" + gauge->name() +
+           "'" + message_excerpt(gauge->name()) +
                "': names starting with 'leg' are reserved for the hexapod's legs; expected "
                "another name (e.g. gauge)");
     if (!names.insert(gauge->name()).second)
       fail(source, at + ".name",
-           "'" + gauge->name() + "' is already used by another sensor; expected unique names");
+           "'" + message_excerpt(gauge->name()) +
+               "' is already used by another sensor; expected unique names");
     sensors.push_back(gauge);
   }
   auto model = std::make_shared<MeasurementModel>(hexapod, sensors);
@@ -229,7 +233,7 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     try {
       model->parameters().set_free(free[k].get<std::string>(), true);
     } catch (const std::invalid_argument& e) {
-      fail(source, at, e.what());
+      fail(source, at, message_excerpt(e.what(), 200));
     }
   }
   return model;
@@ -237,8 +241,8 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
 
 namespace {
 
-// nlohmann's what() starts with "[json.exception.parse_error.101] "; the reader needs only
-// the rest ("parse error at line 3, column 5: ...").
+// nlohmann's what() starts with "[json.exception.type_error.302] "; the reader needs only
+// the rest.
 std::string without_json_tag(const std::string& what) {
   const auto pos = what.find("] ");
   return pos == std::string::npos ? what : what.substr(pos + 2);
@@ -247,24 +251,8 @@ std::string without_json_tag(const std::string& what) {
 }  // namespace
 
 std::shared_ptr<MeasurementModel> load_model(const std::string& path) {
-  // An ifstream opens a directory fine and fails only on the first read, with a message
-  // that does not name the file.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw std::invalid_argument(path + ": is a directory, expected a model file (JSON)");
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open model file (missing or unreadable)");
-  Json j;
-  try {
-    j = Json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(path + ": malformed JSON: " + without_json_tag(e.what()));
-  } catch (const nlohmann::json::exception& e) {
-    // e.g. out_of_range.406 "number overflow parsing '1e999'".
-    throw std::invalid_argument(path + ": unreadable JSON: " + without_json_tag(e.what()));
-  } catch (const std::ios_base::failure& e) {
-    throw std::invalid_argument(path + ": cannot read model file (" + e.what() + ")");
-  }
+  // Size and nesting limits, duplicate keys and malformed JSON: framework/json_input.hpp.
+  const Json j = read_json_file(path, "model file");
   try {
     return model_from_json(j, path);
   } catch (const nlohmann::json::exception& e) {

@@ -124,6 +124,52 @@ TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
   }
 }
 
+// nlohmann keeps the last of two equal keys: a second "free" turned 24 free parameters into 1.
+TEST(ModelIo, ARepeatedKeyIsAnError) {
+  std::string text =
+      model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values())
+          .dump(2);
+  text.insert(text.rfind('}'), ",\n  \"free\": [\"gauge.offset\"]\n");
+  const std::string what = load_error(text);
+  EXPECT_NE(what.find("key 'free' appears twice in the top-level object"), std::string::npos)
+      << what;
+}
+
+// The release binary crashed (stack overflow in the parser and in dump()) from a nesting
+// depth of about 60,000, a file of 120 KB.
+TEST(ModelIo, DeepNestingIsAnErrorNotACrash) {
+  const std::string deep = std::string(200'000, '[') + std::string(200'000, ']');
+  EXPECT_EQ(load_error(deep),
+            ": line 1, column 65: nesting deeper than 64 levels of objects and "
+            "arrays; expected at most 64");
+  EXPECT_NE(load_error("{\"format\": " + deep + "}").find("nesting deeper than 64"),
+            std::string::npos);
+}
+
+// At a depth of 40,000 the message quoted the whole value: an 80 KB line.
+TEST(ModelIo, MessagesQuoteShortExcerptsOfLongValues) {
+  const auto good =
+      model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values());
+  std::string long_array = "[";
+  for (int i = 0; i < 20'000; ++i) long_array += (i ? ",1" : "1");
+  long_array += "]";
+  auto with = [&](const std::string& key, const std::string& value) {
+    std::string text = good.dump();
+    const auto at = text.find("\"" + key + "\":");
+    const auto end = text.find_first_of(",}", text.find(':', at));
+    return text.substr(0, at) + "\"" + key + "\":" + value + text.substr(end);
+  };
+  for (const std::string& text :
+       {with("format", long_array),
+        with("version", "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]"),
+        with("units", "\"" + std::string(50'000, 'u') + "\""),
+        with("format", "\"" + std::string(50'000, 'f') + "\"")}) {
+    const std::string what = load_error(text);
+    EXPECT_LT(what.size(), 200u) << what.substr(0, 300);
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
+}
+
 TEST(ModelIo, MissingFileIsAnError) {
   EXPECT_THROW(load_model("/nonexistent/M.json"), std::invalid_argument);
 }
