@@ -14,6 +14,9 @@ int run_ik(const Args& args) {
       "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)");
   po::variables_map vm;
   if (!parse_command_line("ik", args, options, vm)) return 0;
+  OutputPlan plan;  // no outputs; standard output must not be the model file
+  if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
+  plan.check();
   if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz is required");
   const auto model = load_model_option(vm);
   const auto v =
@@ -25,10 +28,15 @@ int run_ik(const Args& args) {
   const VectorXd params = model->parameters().nominal_values();
   VectorXd q(model->mechanism().num_actuators());
   model->mechanism().inverse_kinematics(params.head(model->mechanism().num_parameters()), pose, q);
-  const auto& names = model->mechanism().actuator_names();
-  for (int i = 0; i < q.size(); ++i) std::printf("%-8s %.6f\n", names[i].c_str(), q[i]);
   VectorXd readings(model->num_readings());
   model->predict_at_pose(params, pose, readings);
+  // Finite input can still overflow (1e308 squared): say so instead of printing inf.
+  if (!q.allFinite() || !readings.allFinite())
+    throw CliError("--pose '" + vm["pose"].as<std::string>() +
+                   "': the leg lengths or readings at this pose are not finite numbers (the "
+                   "arithmetic overflows); expected a pose near the machine's workspace");
+  const auto& names = model->mechanism().actuator_names();
+  for (int i = 0; i < q.size(); ++i) std::printf("%-8s %.6f\n", names[i].c_str(), q[i]);
   const auto reading_names = model->reading_names();
   for (int k = 0; k < readings.size(); ++k)
     std::printf("%-8s %.6f\n", reading_names[k].c_str(), readings[k]);
