@@ -41,16 +41,18 @@ std::string message_excerpt(const std::string& text, std::size_t max_chars) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
     if (c >= 0x20 && c < 0x7F) {
       out += text[i++];
+      ++shown;
     } else if (const std::size_t n = c >= 0x80 ? utf8_length(text, i) : 0) {
       out.append(text, i, n);
       i += n;
+      ++shown;
     } else {
       char hex[8];
       std::snprintf(hex, sizeof hex, "\\x%02X", c);
       out += hex;
       ++i;
+      shown += 4;
     }
-    ++shown;
   }
   return out;
 }

@@ -7,8 +7,9 @@
 
 namespace kincal {
 
-/// `text` with control characters and bytes outside valid UTF-8 written as \xNN, cut after
-/// `max_chars` characters (of the result) with "..." appended. Never contains a line break.
+/// `text` with control characters and bytes outside valid UTF-8 written as \xNN, cut with
+/// "..." once `max_chars` characters of the result are shown (an escape counts as its four).
+/// Never contains a line break.
 std::string message_excerpt(const std::string& text, std::size_t max_chars = 60);
 
 }  // namespace kincal

@@ -125,6 +125,9 @@ TEST(MessageExcerpt, EscapesControlBytesAndBrokenUtf8AndCuts) {
   EXPECT_EQ(message_excerpt("\xC2\x85"), "\\xC2\\x85");           // C1 line break
   EXPECT_EQ(message_excerpt(std::string(1000, 'x'), 5), "xxxxx...");
   EXPECT_EQ(message_excerpt("abc", 3), "abc");
+  // An escape counts as the four characters it shows (a fuzzer found 300 DEL bytes making
+  // a 1,200-character message).
+  EXPECT_EQ(message_excerpt(std::string(100, '\x7F'), 8), "\\x7F\\x7F...");
 }
 
 }  // namespace
