@@ -6,6 +6,36 @@
 
 namespace kincal::cli {
 
+namespace {
+
+// "%name%" somewhere in `text`: a placeholder of boost's messages.
+bool has_placeholder(const std::string& text) {
+  for (auto open = text.find('%'); open != std::string::npos; open = text.find('%', open + 1)) {
+    const auto close = text.find('%', open + 1);
+    if (close == std::string::npos) return false;
+    const std::string name = text.substr(open + 1, close - open - 1);
+    if (!name.empty() && name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos)
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::string option_error_message(const po::error& e, const Args& args) {
+  for (const auto& arg : args) {
+    if (!has_placeholder(arg)) continue;
+    std::string option;
+    if (const auto* named = dynamic_cast<const po::error_with_option_name*>(&e))
+      option = named->get_option_name();
+    return "bad command line" + (option.empty() ? std::string() : " at option '" + option + "'") +
+           ": argument '" + arg +
+           "' holds a %name% sequence, which the option parser cannot quote in its message; "
+           "check the options (kincal <command> --help)";
+  }
+  return e.what();
+}
+
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm) {
   options.add_options()("help,h", "show this help");
@@ -16,7 +46,7 @@ bool parse_command_line(const std::string& command, const Args& args,
     po::store(po::command_line_parser(args).options(options).positional(no_positional).run(), vm);
     po::notify(vm);
   } catch (const po::error& e) {
-    throw CliError(e.what());
+    throw CliError(option_error_message(e, args));
   }
   if (vm.count("help")) {
     std::cout << "usage: kincal " << command << " [options]\n" << options << "\n";

@@ -22,6 +22,12 @@ namespace po = boost::program_options;
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm);
 
+/// boost's message for `e`, except when an argument holds a "%name%" sequence: boost fills
+/// its messages' %placeholders% in a loop that never ends when the text it fills in holds
+/// the same placeholder (fuzz_cli_options found `--x%original_token%` hanging the program),
+/// so then a message of our own names the option and the argument.
+std::string option_error_message(const po::error& e, const Args& args);
+
 /// A random seed on the command line: a whole number >= 0. Boost's own unsigned parsing
 /// would turn "-1" into 18446744073709551615 without a word.
 struct Seed {

@@ -22,7 +22,7 @@ int run_list(const Args& args) {
     }
     po::notify(vm);
   } catch (const po::error& e) {
-    throw CliError(std::string(e.what()) + " (usage: kincal list solvers|models)");
+    throw CliError(option_error_message(e, args) + " (usage: kincal list solvers|models)");
   }
   if (what == "solvers") {
     for (const auto& info : SolverRegistry::global().list()) {

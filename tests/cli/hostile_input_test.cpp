@@ -193,6 +193,25 @@ TEST(CliSimulateOutcome, ASolverThatFailsIsExitCode1WithItsOutputsWritten) {
   EXPECT_TRUE(j["termination"] == "diverged" || j["termination"] == "failed") << j["termination"];
 }
 
+// Boost.ProgramOptions fills "%name%" placeholders into its messages until none is left,
+// forever when the argument itself holds one (found by fuzz_cli_options; it hung the
+// program). `timeout` turns a hang into a failure.
+TEST(CliMessages, AnArgumentHoldingABoostPlaceholderDoesNotHang) {
+  for (const char* args :
+       {"reproduce '--trial%original_token%s' 3", "simulate --poses %value%",
+        "calibrate --data D.csv --no-such-%canonical_option%", "list %option%"}) {
+    const auto r = run_cli(args, "timeout 60 ");
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("error"), std::string::npos) << args << ": " << r.err;
+  }
+  // A '%' that is not a placeholder keeps boost's own message.
+  const auto plain = run_cli("simulate --poses 50%", "timeout 60 ");
+  EXPECT_NE(plain.err.find("the argument ('50%') for option '--poses' is invalid"),
+            std::string::npos)
+      << plain.err;
+}
+
 // Whatever a path or value holds, an error is one line.
 TEST(CliMessages, AreOneLineWhateverTheInputHolds) {
   TempDir dir("one-line");
