@@ -19,6 +19,14 @@ if(KINCAL_SANITIZE)
   add_compile_options(-fsanitize=${KINCAL_SANITIZE} -fno-sanitize-recover=all
                       -fno-omit-frame-pointer)
   add_link_options(-fsanitize=${KINCAL_SANITIZE} -fno-sanitize-recover=all)
+  # g++ 12 under -fsanitize=address reports -Wmaybe-uninitialized on copies and assignments of
+  # a disengaged std::optional<VectorXd> (SolverOptions::lower_bounds, in
+  # conformance_test.cpp and ipopt_solver_test.cpp): the instrumentation hides that the
+  # payload is only read when engaged. The warning stays an error in the normal build, which
+  # compiles the same code without instrumentation.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    add_compile_options(-Wno-maybe-uninitialized)
+  endif()
 endif()
 
 if(KINCAL_BUILD_FUZZERS)
