@@ -15,7 +15,9 @@ namespace kincal {
 namespace {
 
 std::string load_error(const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / "kincal-model-io-test.json";
+  // One file per process: ctest runs the tests of this file in parallel processes.
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("kincal-model-io-test-" + std::to_string(::getpid()) + ".json");
   std::ofstream(path) << text;
   try {
     load_model(path.string());
