@@ -102,10 +102,11 @@ int run_reproduce(const Args& args) {
                       model->num_readings() * solve_bytes_per_row(model->parameters().num_free())) +
       base.num_validation * kConfigurationBytes;
   const int workers = threads == 0 ? hardware_threads() : threads;
-  check_memory("--trials " + std::to_string(num_trials), num_trials, per_trial, "trial",
-               workers * per_worker);
+  // The validation set first: it is part of every worker's share in the check of --trials.
   check_memory("--validation " + std::to_string(base.num_validation), base.num_validation,
                workers * kConfigurationBytes, "pose", workers * largest_case * 4096.0);
+  check_memory("--trials " + std::to_string(num_trials), num_trials, per_trial, "trial",
+               workers * per_worker);
   if (static_cast<long long>(num_trials) * num_cases > std::numeric_limits<int>::max())
     throw CliError("--trials " + std::to_string(num_trials) + ": expected at most " +
                    std::to_string(std::numeric_limits<int>::max() / num_cases));
