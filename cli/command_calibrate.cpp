@@ -1,10 +1,13 @@
 // kincal calibrate: estimates a model's free parameters from a measurement file and writes
 // the calibrated model (same schema) and a report with uncertainty and identifiability.
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
+#include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/sha256.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
@@ -65,31 +68,64 @@ RobustLoss loss_option(const po::variables_map& vm, SolverChoice& choice) {
   return loss;
 }
 
-// Output paths are checked before the data is read, so a typo does not cost a solve.
-void check_outputs(const po::variables_map& vm) {
-  for (const char* option : {"out", "report"})
-    if (vm.count(option)) check_writable(vm[option].as<std::string>(), option);
-  if (vm.count("out") && vm.count("report")) {
-    const std::string out = vm["out"].as<std::string>(), report = vm["report"].as<std::string>();
-    const OutputTarget a = resolve_output(out, "--out '" + out + "'");
-    const OutputTarget b = resolve_output(report, "--report '" + report + "'");
-    if (a.kind == OutputTarget::Kind::kFile && b.kind == OutputTarget::Kind::kFile &&
-        a.real == b.real)
-      throw CliError("--out '" + out + "' and --report '" + report +
-                     "' are the same file; expected two different files");
+// Whether JSON can hold `text` as a string (its dump() throws otherwise).
+bool is_valid_utf8(const std::string& text) {
+  try {
+    (void)nlohmann::json(text).dump();
+    return true;
+  } catch (const nlohmann::json::type_error&) {
+    return false;
   }
+}
+
+// The files of this run: no output may be an input or the other output. Checked before
+// the data is read, so a typo does not cost a solve.
+OutputPlan plan_files(const po::variables_map& vm) {
+  OutputPlan plan;
+  for (const char* option : {"model", "data"})
+    if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
+  for (const char* option : {"out", "report"})
+    if (vm.count(option)) plan.output(std::string("--") + option, vm[option].as<std::string>());
+  // The report is JSON and names the files: a name JSON cannot hold would fail at the end.
+  if (vm.count("report"))
+    for (const char* option : {"model", "data", "out"})
+      if (vm.count(option) && !is_valid_utf8(vm[option].as<std::string>()))
+        throw CliError("--" + std::string(option) +
+                       ": the file name is not valid UTF-8, so the "
+                       "report (JSON) cannot name it; expected a UTF-8 name (rename the file)");
+  plan.check();
+  return plan;
+}
+
+// The readings at the starting values must give a finite cost: a reading such as 1e308 is a
+// number but makes ½|r|² overflow, and the solver could only say that it failed at the
+// start. Names the line with the largest residual.
+void check_cost_is_finite(const std::string& data_file, const VectorXd& r,
+                          const std::vector<int>& lines, int readings_per_row,
+                          const std::vector<std::string>& reading_names) {
+  if (std::isfinite(0.5 * r.squaredNorm())) return;
+  Eigen::Index worst = 0;
+  r.cwiseAbs().maxCoeff(&worst);
+  const int row = static_cast<int>(worst) / readings_per_row;
+  char residual[32];
+  std::snprintf(residual, sizeof residual, "%.3g", r[worst]);
+  throw CliError(data_file + ":" + std::to_string(lines[row]) + ": field '" +
+                 reading_names[worst % readings_per_row] + "': predicted - measured is " +
+                 residual +
+                 " at the model's values, which makes the sum of squares overflow; "
+                 "expected readings on the scale of the machine");
 }
 
 // The calibrated model file. It lists what this run estimated as free: a model written after
 // --allow-rank-deficient must not stop again on the parameters that had to be fixed.
-OutputFile calibrated_model_file(const std::string& path, MeasurementModel& model,
-                                 const VectorXd& values, const std::vector<std::string>& fixed) {
+std::string calibrated_model_text(const std::string& path, MeasurementModel& model,
+                                  const VectorXd& values, const std::vector<std::string>& fixed) {
   for (const auto& name : fixed) model.parameters().set_free(name, false);
   if (!fixed.empty())
     note("calibrate", path + ": lists only the " + std::to_string(model.parameters().num_free()) +
                           " estimated parameters as free (the " + std::to_string(fixed.size()) +
                           " fixed above are fixed there)");
-  return {path, model_to_json(model, values).dump(2) + "\n"};
+  return model_to_json(model, values).dump(2) + "\n";
 }
 
 }  // namespace
@@ -121,7 +157,7 @@ int run_calibrate(const Args& args) {
   reject_loss_as_solver_option(vm);
   SolverChoice choice = make_solver_choice(vm);
   const RobustLoss loss = loss_option(vm, choice);
-  check_outputs(vm);
+  const OutputPlan plan = plan_files(vm);
 
   const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
   const std::string data_file = vm["data"].as<std::string>();
@@ -130,8 +166,11 @@ int run_calibrate(const Args& args) {
   const VectorXd nominal = model->parameters().nominal_values();
   std::vector<int> free = model->parameters().free_indices();
   if (free.empty()) throw CliError("no free parameters: nothing to calibrate (use --free)");
-  const LoadedData loaded =
-      load_measurements("calibrate", data_file, *model, nominal, vm["skip-bad-rows"].as<bool>());
+  const LoadedData loaded = load_measurements("calibrate", data_file, *model, nominal,
+                                              vm["skip-bad-rows"].as<bool>(), model_file);
+  check_memory(data_file, loaded.data.size(),
+               model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
+               "configuration");
   const int readings = loaded.data.size() * model->num_readings();
   if (readings < static_cast<int>(free.size()))
     throw CliError(data_file + ": " + std::to_string(loaded.data.size()) +
@@ -149,6 +188,7 @@ int run_calibrate(const Args& args) {
     std::string why;
     if (!probe.evaluate(probe.initial_free_parameters(), &r, &J, &why))
       throw CliError(data_file + ": " + why);
+    check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
     const Identifiability a = analyze_identifiability(J, probe.parameter_names(), id_options);
     if (a.rank_deficient()) {
       if (!vm["allow-rank-deficient"].as<bool>())
@@ -188,17 +228,25 @@ int run_calibrate(const Args& args) {
 
   const bool solved = summary.termination == TerminationType::kConverged ||
                       summary.termination == TerminationType::kMaxIterations;
-  const bool report_to_stdout = vm.count("report") && vm["report"].as<std::string>() == "-";
+  const bool report_to_stdout = vm.count("report") && plan.to_stdout("--report");
   if (!report_to_stdout) std::cout << to_text(report);
-  // Model and report are written together or not at all (write_files_atomically), so a
-  // failure cannot leave a new report beside an old model or the reverse.
-  std::vector<OutputFile> outputs;
-  if (solved && vm.count("out"))
-    outputs.push_back(calibrated_model_file(vm["out"].as<std::string>(), *model,
-                                            problem.full_parameters(x), fixed_by_identifiability));
-  if (vm.count("report"))
-    outputs.push_back({vm["report"].as<std::string>(), to_json(report).dump(2) + "\n"});
-  write_files_atomically(outputs);
+  // Model and report are written together or not at all while the process runs. Under a
+  // crash between the two renames the report, renamed first, is new and the model old: the
+  // report records the SHA-256 of the model written with it, and `kincal verify` tells.
+  nlohmann::ordered_json report_json = to_json(report);
+  std::vector<std::pair<std::string, std::string>> outputs;
+  std::string model_text;
+  if (solved && vm.count("out")) {
+    model_text = calibrated_model_text(vm["out"].as<std::string>(), *model,
+                                       problem.full_parameters(x), fixed_by_identifiability);
+    report_json["calibrated_model"] = {{"file", vm["out"].as<std::string>()},
+                                       {"sha256", sha256_hex(model_text)}};
+  } else {
+    report_json["calibrated_model"] = nullptr;
+  }
+  if (vm.count("report")) outputs.push_back({"--report", report_json.dump(2) + "\n"});
+  if (!model_text.empty()) outputs.push_back({"--out", model_text});
+  plan.write(outputs);
   if (!solved) {
     std::cerr << "kincal calibrate: error: the solver did not reach a solution ("
               << to_string(summary.termination) << ": " << summary.message

@@ -22,6 +22,9 @@ int run_fk(const Args& args) {
       "legs", po::value<std::string>(), "the same as --actuators (its older name)");
   po::variables_map vm;
   if (!parse_command_line("fk", args, options, vm)) return 0;
+  OutputPlan plan;  // no outputs; standard output must not be the model file
+  if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
+  plan.check();
   if (vm.count("actuators") && vm.count("legs"))
     throw CliError("give --actuators or --legs (the same option), not both");
   const std::string option = vm.count("legs") ? "legs" : "actuators";
@@ -41,13 +44,17 @@ int run_fk(const Args& args) {
   if (!fk.ok())
     throw CliError("--" + option + " '" + vm[option].as<std::string>() + "': forward kinematics " +
                    fk.describe() + "; expected actuator values the model can reach");
+  VectorXd readings(model->num_readings());
+  model->predict_at_pose(params, fk.pose, readings);
+  if (!readings.allFinite())
+    throw CliError("--" + option + " '" + vm[option].as<std::string>() +
+                   "': the readings at this pose are not finite numbers (the arithmetic "
+                   "overflows); expected actuator values of the machine's workspace");
   const Vector3d& t = fk.pose.translation;
   const Vector3d zyx = euler_zyx(fk.pose.rotation) * kDegrees;
   std::printf("position_mm   %.6f %.6f %.6f\n", t[0], t[1], t[2]);
   std::printf("rotation_deg  %.6f %.6f %.6f   (rx ry rz, R = Rz(rz) Ry(ry) Rx(rx))\n", zyx[2],
               zyx[1], zyx[0]);
-  VectorXd readings(model->num_readings());
-  model->predict_at_pose(params, fk.pose, readings);
   const auto names = model->reading_names();
   for (int k = 0; k < readings.size(); ++k)
     std::printf("%-13s %.6f\n", names[k].c_str(), readings[k]);

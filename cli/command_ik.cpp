@@ -14,6 +14,9 @@ int run_ik(const Args& args) {
       "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)");
   po::variables_map vm;
   if (!parse_command_line("ik", args, options, vm)) return 0;
+  OutputPlan plan;  // no outputs; standard output must not be the model file
+  if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
+  plan.check();
   if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz is required");
   const auto model = load_model_option(vm);
   const auto v =
@@ -29,14 +32,19 @@ int run_ik(const Args& args) {
   if (!ik.ok())
     throw CliError("--pose '" + vm["pose"].as<std::string>() + "': inverse kinematics " +
                    ik.describe() + "; expected a pose the model can reach");
+  VectorXd readings(model->num_readings());
+  model->predict_at_pose(params, pose, readings);
+  // Finite input can still overflow (1e308 squared): say so instead of printing inf.
+  if (!q.allFinite() || !readings.allFinite())
+    throw CliError("--pose '" + vm["pose"].as<std::string>() +
+                   "': the actuator values or readings at this pose are not finite numbers (the "
+                   "arithmetic overflows); expected a pose near the machine's workspace");
   const auto& names = model->mechanism().actuator_names();
   // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
   const auto& actuators = model->mechanism().actuators();
   for (int i = 0; i < q.size(); ++i)
     std::printf(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n", names[i].c_str(),
                 q[i]);
-  VectorXd readings(model->num_readings());
-  model->predict_at_pose(params, pose, readings);
   const auto reading_names = model->reading_names();
   for (int k = 0; k < readings.size(); ++k)
     std::printf("%-8s %.6f\n", reading_names[k].c_str(), readings[k]);

@@ -58,7 +58,7 @@ int run_list(const Args& args) {
     }
     po::notify(vm);
   } catch (const po::error& e) {
-    throw CliError(std::string(e.what()) + " (" + kUsage + ")");
+    throw CliError(option_error_message(e, args) + " (" + kUsage + ")");
   }
   const std::vector<std::pair<const char*, void (*)()>> sections = {{"solvers", list_solvers},
                                                                     {"models", list_models},

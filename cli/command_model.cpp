@@ -21,8 +21,11 @@ int run_model(const Args& args) {
     throw CliError(std::string("--preset: ") + e.what());
   }
   apply_free_fix(vm, *model);
-  write_file_atomically(vm["out"].as<std::string>(),
-                        model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n");
+  OutputPlan plan;
+  plan.output("--out", vm["out"].as<std::string>());
+  plan.check();
+  plan.write(
+      {{"--out", model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n"}});
   return 0;
 }
 

@@ -1,8 +1,10 @@
 // kincal observability: identifiability of a model's free parameters from a measurement
 // file or from simulated configurations, before any solving.
 
+#include <cmath>
 #include <iostream>
 
+#include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration_report.hpp"
@@ -31,7 +33,11 @@ int run_observability(const Args& args) {
   IdentifiabilityOptions id_options;
   id_options.rcond = vm["rcond"].as<double>();
   if (!(id_options.rcond > 0 && id_options.rcond < 1)) throw CliError("--rcond must be in (0, 1)");
-  if (vm.count("json")) check_writable(vm["json"].as<std::string>(), "json");
+  OutputPlan plan;
+  for (const char* option : {"model", "data"})
+    if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
+  if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
+  plan.check();
 
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
@@ -42,8 +48,11 @@ int run_observability(const Args& args) {
   Measurements data;
   if (vm.count("data")) {
     data = load_measurements("observability", vm["data"].as<std::string>(), *model, values,
-                             vm["skip-bad-rows"].as<bool>())
+                             vm["skip-bad-rows"].as<bool>(), vm["model"].as<std::string>())
                .data;
+    check_memory(vm["data"].as<std::string>(), data.size(),
+                 model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
+                 "configuration");
   } else {
     ScenarioOptions s;
     s.num_configurations = vm["poses"].as<int>();
@@ -58,6 +67,10 @@ int run_observability(const Args& args) {
     s.param_error_half_width = s.param_error_half_width_rad = 0;
     s.num_validation = 0;
     if (s.num_configurations < 1) throw CliError("--poses must be at least 1");
+    check_memory("--poses " + std::to_string(s.num_configurations), s.num_configurations,
+                 kConfigurationBytes +
+                     model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
+                 "configuration");
     auto exact = std::make_shared<MeasurementModel>(*model);
     exact->parameters().for_each_matching("*", [](Parameter& p) { p.error_half_width = 0; });
     data = make_scenario(exact, s).calibration;
@@ -70,15 +83,14 @@ int run_observability(const Args& args) {
   if (!problem.evaluate(problem.initial_free_parameters(), &residuals, &J, &why))
     throw CliError("cannot evaluate the identification Jacobian: " + why);
   const Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
-  const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";
+  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) {
     std::cout << data.size() << " configurations\n" << to_text(a);
     if (a.num_residuals < a.num_parameters)
       std::cout << "fewer readings (" << a.num_residuals << ") than free parameters ("
                 << a.num_parameters << "): measure more configurations\n";
   }
-  if (vm.count("json"))
-    write_file_atomically(vm["json"].as<std::string>(), to_json(a).dump(2) + "\n");
+  if (vm.count("json")) plan.write({{"--json", to_json(a).dump(2) + "\n"}});
   return 0;
 }
 

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
+#include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/parallel.hpp"
 #include "kincal/framework/random.hpp"
@@ -82,14 +84,38 @@ int run_reproduce(const Args& args) {
   const int num_trials = vm["trials"].as<int>();
   if (num_trials < 1) throw CliError("--trials must be at least 1");
   const int threads = vm["threads"].as<int>();
-  if (threads < 0) throw CliError("--threads must be >= 0");
+  if (threads < 0 || threads > 1024) throw CliError("--threads must be from 0 to 1024");
   int unused_case = 0;
   const ScenarioOptions base = scenario_options_from(vm, &unused_case);
   const SolverChoice choice = make_solver_choice(vm);
   const std::string out_dir = vm["out"].as<std::string>();
-  ensure_directory(out_dir);
-
   const auto model = make_cube_hexapod();
+  const int num_cases = static_cast<int>(paper_cases().size());
+  // Each trial keeps its validation errors per iteration (about 30 on these cases) and a row
+  // of each table; each worker holds one scenario and its solve at a time.
+  int largest_case = 0;
+  for (const PaperCase& paper : paper_cases())
+    largest_case = std::max(largest_case, paper.num_configurations);
+  const double per_trial = num_cases * (sizeof(TrialResult) + 31 * sizeof(PoseErrorStats) + 512);
+  const double per_worker =
+      largest_case * (kConfigurationBytes +
+                      model->num_readings() * solve_bytes_per_row(model->parameters().num_free())) +
+      base.num_validation * kConfigurationBytes;
+  const int workers = threads == 0 ? hardware_threads() : threads;
+  // The validation set first: it is part of every worker's share in the check of --trials.
+  check_memory("--validation " + std::to_string(base.num_validation), base.num_validation,
+               workers * kConfigurationBytes, "pose", workers * largest_case * 4096.0);
+  check_memory("--trials " + std::to_string(num_trials), num_trials, per_trial, "trial",
+               workers * per_worker);
+  if (static_cast<long long>(num_trials) * num_cases > std::numeric_limits<int>::max())
+    throw CliError("--trials " + std::to_string(num_trials) + ": expected at most " +
+                   std::to_string(std::numeric_limits<int>::max() / num_cases));
+  // The directory is replaced whole at the end, so a crash leaves the old tables or the
+  // new ones, never a mix.
+  OutputPlan plan;
+  plan.output_directory("--out", out_dir, {"summary.csv", "trials.csv", "trace.csv"});
+  plan.check();
+
   std::vector<CaseResult> cases;
   for (const PaperCase& paper : paper_cases()) cases.push_back({paper, {}});
   for (auto& c : cases) c.trials.resize(num_trials);
@@ -189,9 +215,9 @@ int run_reproduce(const Args& args) {
     for (std::size_t i = 0; i < trace.size(); ++i)
       trace_csv << c.paper.id << ',' << i << ',' << trace[i][0] << ',' << trace[i][1] << '\n';
   }
-  write_files_atomically({{out_dir + "/summary.csv", summary_csv.str()},
-                          {out_dir + "/trials.csv", trials_csv.str()},
-                          {out_dir + "/trace.csv", trace_csv.str()}});
+  plan.write_directory("--out", {{"summary.csv", summary_csv.str()},
+                                 {"trials.csv", trials_csv.str()},
+                                 {"trace.csv", trace_csv.str()}});
   std::printf(
       "pose errors are means over the validation poses (before = nominal geometry); "
       "median/p90 over trials;\nunreachable = trials whose calibrated model cannot reach "

@@ -6,7 +6,9 @@
 #include <iostream>
 #include <set>
 
+#include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/sha256.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/framework/units.hpp"
@@ -16,6 +18,8 @@
 namespace kincal::cli {
 
 namespace {
+
+constexpr const char* kTruthLabel = "--write-data's true model";
 
 void print_errors(const char* label, const PoseErrorStats& e) {
   std::printf(
@@ -97,17 +101,20 @@ int run_simulate(const Args& args) {
   const ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
   SolverChoice choice = make_solver_choice(vm);
 
-  // Every output path is checked before the run, so a typo does not cost a solve.
+  // Every file is checked before the run, so a typo does not cost a solve.
+  OutputPlan plan;
+  if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
   for (const char* option : {"json", "trace"})
-    if (vm.count(option)) check_writable(vm[option].as<std::string>(), option);
+    if (vm.count(option)) plan.output(std::string("--") + option, vm[option].as<std::string>());
   std::string truth_file;
   if (vm.count("write-data")) {
     const std::string data_file = vm["write-data"].as<std::string>();
     if (data_file == "-") throw CliError("--write-data needs a file name (it writes two files)");
     truth_file = std::filesystem::path(data_file).replace_extension(".truth.json").string();
-    check_writable(data_file, "write-data");
-    check_writable(truth_file, "write-data");
+    plan.output("--write-data", data_file);
+    plan.output(kTruthLabel, truth_file);
   }
+  plan.check();
   if (vm.count("preset") && vm.count("model"))
     throw CliError("give either --preset NAME or --model FILE, not both");
   std::string model_name = "cube-hexapod";
@@ -123,10 +130,18 @@ int run_simulate(const Args& args) {
       throw CliError(std::string("--preset: ") + e.what());
     }
   }
+  const int free_parameters = model->parameters().num_free();
+  check_memory("--poses " + std::to_string(scenario_options.num_configurations),
+               scenario_options.num_configurations,
+               kConfigurationBytes + model->num_readings() * solve_bytes_per_row(free_parameters),
+               "configuration");
+  check_memory("--validation " + std::to_string(scenario_options.num_validation),
+               scenario_options.num_validation, kConfigurationBytes, "pose");
   const Scenario scenario = make_scenario(model, scenario_options);
   // As in calibrate: fewer readings than unknowns cannot determine them (the paper needs
   // m > n), and a solver would report a perfect fit of a wrong geometry.
-  const int readings = scenario.calibration.size() * scenario.model->num_readings();
+  const long long readings =
+      static_cast<long long>(scenario.calibration.size()) * scenario.model->num_readings();
   const int unknowns = static_cast<int>(scenario.free_indices.size());
   if (readings < unknowns)
     throw CliError("--poses " + std::to_string(scenario.calibration.size()) + ": " +
@@ -137,16 +152,16 @@ int run_simulate(const Args& args) {
                    " configurations; see kincal observability)");
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
 
-  const bool json_to_stdout = vm.count("json") && vm["json"].as<std::string>() == "-";
+  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) print_report(scenario, run, case_id, model_name);
-  // All outputs or none (write_files_atomically): data without its truth file is useless.
-  std::vector<OutputFile> outputs;
+  // All outputs or none while the process runs (data without its truth file is useless);
+  // the data file names its truth file's SHA-256, for a check after a crash.
+  std::vector<std::pair<std::string, std::string>> outputs;
   if (vm.count("json"))
-    outputs.push_back(
-        {vm["json"].as<std::string>(), to_json(scenario, run, case_id, model_name).dump(2) + "\n"});
-  if (vm.count("trace")) outputs.push_back({vm["trace"].as<std::string>(), trace_csv(run)});
+    outputs.push_back({"--json", to_json(scenario, run, case_id, model_name).dump(2) + "\n"});
+  if (vm.count("trace")) outputs.push_back({"--trace", trace_csv(run)});
   if (vm.count("write-data")) {
-    const MeasurementModel& model = *scenario.model;
+    const std::string truth = model_to_json(*model, scenario.truth).dump(2) + "\n";
     char noise[96];
     std::snprintf(noise, sizeof noise, "%g mm, %g rad", scenario_options.noise_half_width,
                   scenario_options.noise_half_width_rad);
@@ -154,13 +169,20 @@ int run_simulate(const Args& args) {
                                 std::to_string(scenario_options.num_configurations) +
                                 " configurations, reading noise U[-a, a] with a = " + noise +
                                 ", seed " + std::to_string(scenario_options.seed) +
-                                "\ntrue model: " + truth_file;
-    outputs.push_back({truth_file, model_to_json(model, scenario.truth).dump(2) + "\n"});
-    outputs.push_back({vm["write-data"].as<std::string>(),
-                       measurements_to_csv(scenario.calibration, model.mechanism().actuator_names(),
-                                           model.reading_names(), comment)});
+                                "\ntrue model: " + truth_file + " (sha256 " + sha256_hex(truth) +
+                                ")";
+    outputs.push_back({kTruthLabel, truth});
+    outputs.push_back({"--write-data", measurements_to_csv(scenario.calibration,
+                                                           model->mechanism().actuator_names(),
+                                                           model->reading_names(), comment)});
   }
-  write_files_atomically(outputs);
+  plan.write(outputs);
+  // As calibrate: a solve that reached no solution is exit code 1, outputs written.
+  if (!run.summary.converged() && run.summary.termination != TerminationType::kMaxIterations) {
+    std::cerr << "kincal simulate: error: the solver did not reach a solution ("
+              << to_string(run.summary.termination) << ": " << run.summary.message << ")\n";
+    return 1;
+  }
   return 0;
 }
 

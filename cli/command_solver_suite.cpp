@@ -8,6 +8,7 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite_runner.hpp"
@@ -113,8 +114,10 @@ int run_solver_suite(const Args& args) {
     }
   }
   const bool json = vm.count("json") > 0;
-  const bool json_to_stdout = json && vm["json"].as<std::string>() == "-";
-  if (json) check_writable(vm["json"].as<std::string>(), "json");
+  OutputPlan plan;
+  if (json) plan.output("--json", vm["json"].as<std::string>());
+  plan.check();
+  const bool json_to_stdout = json && plan.to_stdout("--json");
 
   nlohmann::json out = {{"problems", selected.size()}, {"solvers", nlohmann::json::array()}};
   std::ostream& text = json_to_stdout ? std::cerr : std::cout;
@@ -156,7 +159,7 @@ int run_solver_suite(const Args& args) {
       out["skipped"].push_back({{"name", missing.name}, {"reason", missing.reason}});
     }
   }
-  if (json) write_file_atomically(vm["json"].as<std::string>(), out.dump(2) + "\n");
+  if (json) plan.write({{"--json", out.dump(2) + "\n"}});
   return broken > 0 ? 1 : 0;
 }
 

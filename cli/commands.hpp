@@ -1,8 +1,9 @@
 #pragma once
 // One function per sub-command, each in its own cli/command_<name>.cpp. A command receives
 // the arguments after its name, prints to stdout, and returns the exit code. Bad input is
-// thrown as std::exception (usually CliError) and main() turns it into one line on stderr
-// and exit code 2.
+// thrown as std::exception (usually CliError) and run() (cli/run.cpp) turns it into one line
+// on stderr and exit code 2. Every file a command reads or writes goes through an OutputPlan
+// (output_plan.hpp).
 
 #include <functional>
 #include <stdexcept>
@@ -24,7 +25,7 @@ struct Command {
   std::function<int(const Args&)> run;
 };
 
-/// The command table, in the order `kincal --help` lists them (cli/main.cpp).
+/// The command table, in the order `kincal --help` lists them (cli/run.cpp).
 const std::vector<Command>& commands();
 
 int run_list(const Args& args);
@@ -36,5 +37,6 @@ int run_ik(const Args& args);
 int run_calibrate(const Args& args);
 int run_observability(const Args& args);
 int run_solver_suite(const Args& args);
+int run_verify(const Args& args);
 
 }  // namespace kincal::cli

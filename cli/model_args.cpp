@@ -1,13 +1,8 @@
 #include "kincal/cli/model_args.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <iostream>
 
 #include "kincal/framework/measurement_file.hpp"
@@ -42,9 +37,37 @@ void apply_free_fix(const po::variables_map& vm, MeasurementModel& model) {
   }
 }
 
+namespace {
+
+// What cannot be computed with the model's own values at its own home pose, or "".
+std::string unusable_values(const MeasurementModel& model) {
+  const Mechanism& mechanism = model.mechanism();
+  const VectorXd params = model.parameters().nominal_values();
+  const auto mech = params.head(mechanism.num_parameters());
+  VectorXd q(mechanism.num_actuators());
+  const InverseKinematicsResult home = mechanism.home_actuators(mech, q);
+  if (!home.ok()) return "the home actuator values: inverse kinematics " + home.describe();
+  if (!q.allFinite()) return "the home actuator values are not finite";
+  const ForwardKinematicsResult fk = mechanism.forward_kinematics(
+      mech, q, mechanism.home_pose(), model.forward_kinematics_options());
+  if (!fk.ok()) return "forward kinematics at the home actuator values " + fk.describe();
+  VectorXd readings(model.num_readings());
+  model.predict_at_pose(params, fk.pose, readings);
+  if (!readings.allFinite()) return "the sensors' readings at the home pose are not finite";
+  return "";
+}
+
+}  // namespace
+
 std::shared_ptr<MeasurementModel> load_model_option(const po::variables_map& vm) {
   if (!vm.count("model")) throw CliError("--model FILE is required");
-  return load_model(vm["model"].as<std::string>());
+  const std::string path = vm["model"].as<std::string>();
+  auto model = load_model(path);
+  const std::string why = unusable_values(*model);
+  if (!why.empty())
+    throw CliError(path + ": the model's values cannot be computed with: " + why +
+                   "; expected the geometry of a real machine (check the values in the file)");
+  return model;
 }
 
 std::vector<double> parse_numbers(const std::string& text, int count, const std::string& option,
@@ -69,33 +92,23 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
   return values;
 }
 
-void check_writable(const std::string& path, const std::string& option) {
-  const std::string what = "--" + option + " '" + path + "'";
-  const OutputTarget target = resolve_output(path, what);
-  if (target.kind != OutputTarget::Kind::kFile) return;  // stdout, a device or a pipe
-  // Probe with the same kind of file the write will create: a new one beside the target.
-  const std::filesystem::path real(target.real);
-  const std::string probe =
-      (real.parent_path() / (".kincal-write-check-" + std::to_string(::getpid()))).string();
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0)
-    throw CliError(what + ": cannot create a file in '" + real.parent_path().string() + "' (" +
-                   std::error_code(errno, std::generic_category()).message() + ")");
-  ::close(fd);
-  ::unlink(probe.c_str());
-}
-
 void note(const std::string& command, const std::string& text) {
   std::cerr << "kincal " << command << ": note: " << text << "\n";
 }
 
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
-                             bool skip_bad_rows) {
+                             bool skip_bad_rows, const std::string& model_file) {
   MeasurementTable table = read_measurements(path, model);
   for (const auto& n : table.notices) note(command, n);
   LoadedData loaded;
   const auto bad = find_unreachable_rows(model, params, table.data);
+  if (!bad.empty() && static_cast<int>(bad.size()) == table.data.size())
+    throw CliError(path + ": forward kinematics of the model " + model_file +
+                   " fails at every row (line " + std::to_string(table.line_numbers[bad[0].row]) +
+                   ": " + bad[0].reason +
+                   "); expected actuator values that this model can "
+                   "reach: check the model's values against the machine, or the data's columns");
   if (!bad.empty() && !skip_bad_rows) {
     std::string list;
     for (std::size_t i = 0; i < bad.size() && i < 5; ++i)

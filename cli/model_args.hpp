@@ -17,16 +17,15 @@ void add_free_fix_options(po::options_description& options);
 /// an error naming the option and the pattern.
 void apply_free_fix(const po::variables_map& vm, MeasurementModel& model);
 
-/// The model file of --model (load_model with its errors).
+/// The model file of --model (load_model with its errors), checked to be usable: inverse
+/// and forward kinematics at its home pose and its predicted readings there must be finite
+/// (values such as 1e200 are numbers, but nothing can be computed with them), so that such
+/// a file is blamed, not the data read with it.
 std::shared_ptr<MeasurementModel> load_model_option(const po::variables_map& vm);
 
 /// "a,b,c" -> exactly `count` finite numbers; throws CliError naming `option` otherwise.
 std::vector<double> parse_numbers(const std::string& text, int count, const std::string& option,
                                   const std::string& expected);
-
-/// Throws CliError when `path` (an output of `option`) cannot be created: checked before
-/// long work so that a typo in a path does not cost a solve. "-" is always writable.
-void check_writable(const std::string& path, const std::string& option);
 
 /// One "kincal <command>: note: ..." line on stderr.
 void note(const std::string& command, const std::string& text);
@@ -39,9 +38,10 @@ struct LoadedData {
 };
 /// Reads `path` for `model`, then checks that forward kinematics works at `params` for
 /// every row: unreachable rows are an error naming their lines, or, with `skip_bad_rows`,
-/// dropped with a note.
+/// dropped with a note. When no row at all is reachable the message names the model file
+/// `model_file` too: then its values are as likely to be wrong as the data.
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
-                             bool skip_bad_rows);
+                             bool skip_bad_rows, const std::string& model_file);
 
 }  // namespace kincal::cli

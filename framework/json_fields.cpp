@@ -3,6 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/message_excerpt.hpp"
+
 namespace kincal {
 
 namespace {
@@ -12,7 +15,9 @@ constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 JsonPath JsonPath::operator/(const std::string& key) const {
-  return JsonPath(source_, path_.empty() ? key : path_ + "." + key);
+  // Keys come from files: a 60 KB key must not become a 60 KB message.
+  const std::string shown = message_excerpt(key);
+  return JsonPath(source_, path_.empty() ? shown : path_ + "." + shown);
 }
 
 JsonPath JsonPath::operator[](std::size_t index) const {
@@ -30,12 +35,12 @@ void check_keys(const Json& object, const JsonPath& where, const std::set<std::s
     if (allowed.count(item.key())) continue;
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    where.fail("unknown key '" + item.key() + "' (expected " + list + ")");
+    where.fail("unknown key '" + message_excerpt(item.key()) + "' (expected " + list + ")");
   }
 }
 
 const Json& object(const Json& value, const JsonPath& where) {
-  if (!value.is_object()) where.fail("expected an object, got " + value.dump());
+  if (!value.is_object()) where.fail("expected an object, got " + json_excerpt(value));
   return value;
 }
 
@@ -51,7 +56,7 @@ const Json* optional(const Json& object, const std::string& key) {
 }
 
 double number(const Json& value, const JsonPath& where) {
-  if (!value.is_number()) where.fail("expected a number, got " + value.dump());
+  if (!value.is_number()) where.fail("expected a number, got " + json_excerpt(value));
   const double v = value.get<double>();
   if (!std::isfinite(v)) where.fail("expected a finite number");
   return v;
@@ -64,7 +69,7 @@ double number_or(const Json& object, const std::string& key, double fallback,
 }
 
 std::string string(const Json& value, const JsonPath& where) {
-  if (!value.is_string()) where.fail("expected a string, got " + value.dump());
+  if (!value.is_string()) where.fail("expected a string, got " + json_excerpt(value));
   return value.get<std::string>();
 }
 
@@ -74,13 +79,13 @@ std::string name(const Json& value, const JsonPath& where) {
     where.fail(
         "expected a non-empty name without commas, spaces, '#', quotes, '*', '?' or '.' (it "
         "names measurement-file columns and prefixes parameter names), got " +
-        value.dump());
+        json_excerpt(value));
   return text;
 }
 
 Vector3d vector3(const Json& value, const JsonPath& where) {
   if (!value.is_array() || value.size() != 3)
-    where.fail("expected an array of 3 numbers [x, y, z], got " + value.dump());
+    where.fail("expected an array of 3 numbers [x, y, z], got " + json_excerpt(value));
   Vector3d v;
   for (int a = 0; a < 3; ++a) v[a] = number(value[a], where[a]);
   return v;

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -10,6 +11,8 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+
+#include "kincal/framework/message_excerpt.hpp"
 
 namespace kincal {
 
@@ -42,25 +45,82 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
-// strtod accepts "nan" and "inf", and stops at the first bad character: check both.
+// strtod accepts "nan" and "inf", and stops at the first bad character (an embedded NUL
+// included): check both. Underflow (1e-400) rounds to zero or a subnormal number, as any
+// decimal rounds to the nearest double; overflow (1e999) has no double to round to.
 double parse_value(const std::string& field, const std::string& where) {
   if (field.empty()) throw std::invalid_argument(where + " is empty, expected a number");
   const char* begin = field.c_str();
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(begin, &end);
-  if (end == begin || *end != '\0')
-    throw std::invalid_argument(where + ": '" + field + "' is not a number");
-  if (!std::isfinite(v) || errno == ERANGE)
-    throw std::invalid_argument(where + ": '" + field + "' is not a finite number");
+  if (end != begin + field.size())
+    throw std::invalid_argument(where + ": '" + message_excerpt(field) + "' is not a number");
+  if (!std::isfinite(v) && errno != ERANGE)
+    throw std::invalid_argument(where + ": '" + message_excerpt(field) +
+                                "' is not a finite number");
+  if (!std::isfinite(v))
+    throw std::invalid_argument(where + ": '" + message_excerpt(field) +
+                                "' is beyond the range of a double (magnitude above 1.8e308)");
   return v;
 }
+
+// Lines of the file within `limits`. A line longer than the limit, a file larger than it
+// or a NUL byte (a binary file, /dev/zero) stops with a message naming the line, after
+// reading at most one line past what is allowed.
+class LineReader {
+ public:
+  LineReader(std::istream& in, const std::string& source, const CsvLimits& limits)
+      : in_(in), source_(source), limits_(limits), buffer_(limits.max_line_bytes + 1) {}
+
+  // The next line without its line break; false at the end of the input or at a read error.
+  bool next(std::string& line) {
+    if (!in_) return false;
+    in_.getline(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    const auto count = static_cast<std::size_t>(in_.gcount());
+    if (count == 0 && in_.eof()) return false;
+    if (in_.bad()) return false;
+    ++line_number_;
+    const bool too_long = in_.fail() && !in_.eof();  // getline stopped at the buffer's end
+    const std::size_t stored = too_long || in_.eof() ? count : count - 1;
+    const std::string at = source_ + ":" + std::to_string(line_number_);
+    if (const void* nul = std::memchr(buffer_.data(), '\0', stored))
+      throw std::invalid_argument(
+          at + ": NUL byte at column " +
+          std::to_string(static_cast<const char*>(nul) - buffer_.data() + 1) +
+          "; expected a text file (CSV)");
+    if (too_long)
+      throw std::invalid_argument(at + ": line longer than the limit of " +
+                                  std::to_string(limits_.max_line_bytes) +
+                                  " bytes; expected a measurement file (CSV)");
+    bytes_ += count;
+    if (bytes_ > limits_.max_file_bytes)
+      throw std::invalid_argument(
+          source_ + ": larger than the limit of " + std::to_string(limits_.max_file_bytes >> 20) +
+          " MiB (" + std::to_string(limits_.max_file_bytes) + " bytes) for a measurement file");
+    line.assign(buffer_.data(), stored);
+    // Spreadsheets save "CSV UTF-8" with a byte order mark, which would join the first name.
+    if (line_number_ == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    return true;
+  }
+
+  int line_number() const { return line_number_; }
+
+ private:
+  std::istream& in_;
+  const std::string& source_;
+  CsvLimits limits_;
+  std::vector<char> buffer_;
+  int line_number_ = 0;
+  std::size_t bytes_ = 0;
+};
 
 }  // namespace
 
 MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& actuator_names,
-                                   const std::vector<std::string>& reading_names) {
+                                   const std::vector<std::string>& reading_names,
+                                   const CsvLimits& limits) {
   // An ifstream opens a directory and then reads nothing, which would read as "no header".
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
@@ -69,7 +129,7 @@ MeasurementTable read_measurements(const std::string& path,
   if (!in)
     throw std::invalid_argument(path + ": cannot open measurement file (missing or unreadable)");
   try {
-    return parse_measurements(in, path, actuator_names, reading_names);
+    return parse_measurements(in, path, actuator_names, reading_names, limits);
   } catch (const std::ios_base::failure& e) {
     throw std::invalid_argument(path + ": cannot read measurement file (" + e.what() + ")");
   }
@@ -77,21 +137,21 @@ MeasurementTable read_measurements(const std::string& path,
 
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                     const std::vector<std::string>& actuator_names,
-                                    const std::vector<std::string>& reading_names) {
+                                    const std::vector<std::string>& reading_names,
+                                    const CsvLimits& limits) {
   MeasurementTable table;
   std::vector<std::string> wanted = actuator_names;
   wanted.insert(wanted.end(), reading_names.begin(), reading_names.end());
   const std::string expected = "expected columns " + join(wanted);
 
+  LineReader reader(in, source, limits);
   std::string line;
-  int line_number = 0;
   std::vector<std::string> header;
   int header_line = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
+  while (reader.next(line)) {
     if (is_skipped(trim(line))) continue;
     header = split_fields(line);
-    header_line = line_number;
+    header_line = reader.line_number();
     break;
   }
   if (in.bad()) throw std::invalid_argument(source + ": read error before the header row");
@@ -103,7 +163,7 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   for (int c = 0; c < static_cast<int>(header.size()); ++c) {
     const auto [it, inserted] = column_of.emplace(header[c], c);
     if (!inserted)
-      throw std::invalid_argument(at_header + ": column '" + header[c] +
+      throw std::invalid_argument(at_header + ": column '" + message_excerpt(header[c]) +
                                   "' appears twice (fields " + std::to_string(it->second + 1) +
                                   " and " + std::to_string(c + 1) + ")");
   }
@@ -119,16 +179,16 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
     bool used = false;
     for (const auto& name : wanted) used = used || name == field;
     if (!used)
-      table.notices.push_back(at_header + ": ignoring column '" + field +
+      table.notices.push_back(at_header + ": ignoring column '" + message_excerpt(field) +
                               "' (not an actuator or reading of the model)");
   }
 
   const int num_actuators = static_cast<int>(actuator_names.size());
   std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    ++line_number;
+  while (reader.next(line)) {
     if (is_skipped(trim(line))) continue;
     const auto fields = split_fields(line);
+    const int line_number = reader.line_number();
     const std::string at = source + ":" + std::to_string(line_number);
     if (fields.size() != header.size())
       throw std::invalid_argument(at + ": " + std::to_string(fields.size()) + " fields, expected " +
@@ -146,9 +206,10 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
     rows.push_back(std::move(values));
     table.line_numbers.push_back(line_number);
   }
-  // getline stops at a read error as at the end of the file: tell them apart.
+  // Reading stops at a read error as at the end of the file: tell them apart.
   if (in.bad())
-    throw std::invalid_argument(source + ": read error after line " + std::to_string(line_number));
+    throw std::invalid_argument(source + ": read error after line " +
+                                std::to_string(reader.line_number()));
   if (rows.empty()) throw std::invalid_argument(source + ": no measurement rows after the header");
 
   const int m = static_cast<int>(rows.size());

@@ -5,8 +5,10 @@
 // ignored with a notice; blank lines and lines starting with '#' are skipped. Fields are
 // plain numbers separated by commas (no quoting); surrounding spaces are ignored. An empty
 // reading field is a reading the sensor did not take (NaN in Measurements): it contributes
-// no residual. A sensor's readings in one row are all given or all empty.
+// no residual. A sensor's readings in one row are all given or all empty. A UTF-8 byte
+// order mark at the start is skipped. Lines and files have size limits (CsvLimits).
 
+#include <cstddef>
 #include <istream>
 #include <string>
 #include <vector>
@@ -15,6 +17,13 @@
 #include "kincal/framework/measurement_model.hpp"
 
 namespace kincal {
+
+/// Bounds on what is read, so that a wrong file (/dev/zero, a binary, a log of gigabytes)
+/// fails fast with a message instead of filling memory.
+struct CsvLimits {
+  std::size_t max_line_bytes = std::size_t{64} << 10;  ///< 64 KiB, line break not counted
+  std::size_t max_file_bytes = std::size_t{64} << 20;  ///< 64 MiB
+};
 
 struct MeasurementTable {
   Measurements data;
@@ -26,11 +35,13 @@ struct MeasurementTable {
 
 /// Reads `path`. Throws std::invalid_argument with "<path>:<line>: <what was expected>" for a
 /// missing file or a directory, a missing or duplicated column, a row with the wrong number of
-/// fields, an empty actuator value, a non-numeric, NaN or infinite value, a read error, or a
-/// file without data rows.
+/// fields, an empty actuator value, a non-numeric, NaN or infinite value or one beyond the
+/// range of a double, a NUL byte, a line or a file beyond `limits`, a read error, or a file
+/// without data rows.
 MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& actuator_names,
-                                   const std::vector<std::string>& reading_names);
+                                   const std::vector<std::string>& reading_names,
+                                   const CsvLimits& limits = {});
 
 /// read_measurements for `model`'s actuators and readings, then check_sensor_readings.
 MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model);
@@ -44,7 +55,8 @@ void check_sensor_readings(const MeasurementModel& model, MeasurementTable& tabl
 /// The same from a stream; `source` names it in messages.
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                     const std::vector<std::string>& actuator_names,
-                                    const std::vector<std::string>& reading_names);
+                                    const std::vector<std::string>& reading_names,
+                                    const CsvLimits& limits = {});
 
 /// CSV text of `data` (header, then one row per configuration, full precision). Each line
 /// of `comment` becomes a leading "# " line.

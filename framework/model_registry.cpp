@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "kincal/framework/message_excerpt.hpp"
+
 namespace kincal {
 
 namespace {
@@ -14,7 +16,7 @@ const Entry& find(const std::vector<Entry>& entries, const std::string& wanted, 
     if (name_of(e) == wanted) return e;
     known += (known.empty() ? "" : ", ") + name_of(e);
   }
-  throw std::invalid_argument("unknown " + std::string(what) + " '" + wanted +
+  throw std::invalid_argument("unknown " + std::string(what) + " '" + message_excerpt(wanted) +
                               "' (available: " + known + ")");
 }
 

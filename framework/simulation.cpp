@@ -60,8 +60,9 @@ void draw_configurations(const MeasurementModel& model, const VectorXd& truth,
   actuators.resize(count, na);
   poses.assign(count, Pose{});
   VectorXd q(na);
-  const int max_attempts = 1000 * std::max(count, 1);
-  int attempts = 0;
+  // 64 bits: 1000 attempts per configuration overflow an int beyond 2.1 million of them.
+  const long long max_attempts = 1000LL * std::max(count, 1);
+  long long attempts = 0;
   for (int j = 0; j < count;) {
     if (++attempts > max_attempts)
       throw std::runtime_error(
@@ -201,8 +202,9 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   run.before = validation_errors(scenario, scenario.nominal);
   double tracking_seconds = 0;
   std::vector<double> tracking_before;  // tracking time spent before each trace record
+  // Outlives the solve: the callback below refers to it.
+  const IterationCallback user_callback = options.callback;
   if (track_iterations) {
-    IterationCallback user_callback = options.callback;
     options.callback = [&](const IterationRecord& record, const VectorXd& x) {
       tracking_before.push_back(tracking_seconds);
       const auto start = std::chrono::steady_clock::now();

@@ -5,9 +5,10 @@
 #include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
+#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/model_registry.hpp"
 
 namespace kincal {
@@ -107,15 +108,17 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
               "config_range", "reading_std"});
   const Json& format = member(j, "format", root);
   if (format != kModelFormat)
-    (root / "format").fail("expected \"" + std::string(kModelFormat) + "\", got " + format.dump());
+    (root / "format")
+        .fail("expected \"" + std::string(kModelFormat) + "\", got " + json_excerpt(format));
   const Json& version = member(j, "version", root);
   if (version != kModelFormatVersion)
     (root / "version")
-        .fail("expected " + std::to_string(kModelFormatVersion) + ", got " + version.dump());
+        .fail("expected " + std::to_string(kModelFormatVersion) + ", got " + json_excerpt(version));
   const Json& units = member(j, "units", root);
   if (units != "mm")
     (root / "units")
-        .fail("expected \"mm\" (lengths in mm; angles in keys ending _deg), got " + units.dump());
+        .fail("expected \"mm\" (lengths in mm; angles in keys ending _deg), got " +
+              json_excerpt(units));
 
   const ModelRegistry& registry = ModelRegistry::global();
   const JsonPath mechanism_at = root / "mechanism";
@@ -147,7 +150,7 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     auto sensor = entry->read(sensors_json[s], at);
     if (!names.insert(sensor->name()).second)
       (at / "name")
-          .fail("'" + sensor->name() +
+          .fail("'" + message_excerpt(sensor->name()) +
                 "' is already used by another sensor; expected unique names");
     sensors.push_back(sensor);
   }
@@ -168,7 +171,7 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     try {
       model->parameters().set_free(free[k].get<std::string>(), true);
     } catch (const std::invalid_argument& e) {
-      at.fail(e.what());
+      at.fail(message_excerpt(e.what(), 200));
     }
   }
   if (const Json* param_error = json_field::optional(j, "param_error"))
@@ -192,8 +195,8 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
 
 namespace {
 
-// nlohmann's what() starts with "[json.exception.parse_error.101] "; the reader needs only
-// the rest ("parse error at line 3, column 5: ...").
+// nlohmann's what() starts with "[json.exception.type_error.302] "; the reader needs only
+// the rest.
 std::string without_json_tag(const std::string& what) {
   const auto pos = what.find("] ");
   return pos == std::string::npos ? what : what.substr(pos + 2);
@@ -202,24 +205,8 @@ std::string without_json_tag(const std::string& what) {
 }  // namespace
 
 std::shared_ptr<MeasurementModel> load_model(const std::string& path) {
-  // An ifstream opens a directory fine and fails only on the first read, with a message
-  // that does not name the file.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw std::invalid_argument(path + ": is a directory, expected a model file (JSON)");
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open model file (missing or unreadable)");
-  Json j;
-  try {
-    j = Json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(path + ": malformed JSON: " + without_json_tag(e.what()));
-  } catch (const nlohmann::json::exception& e) {
-    // e.g. out_of_range.406 "number overflow parsing '1e999'".
-    throw std::invalid_argument(path + ": unreadable JSON: " + without_json_tag(e.what()));
-  } catch (const std::ios_base::failure& e) {
-    throw std::invalid_argument(path + ": cannot read model file (" + e.what() + ")");
-  }
+  // Size and nesting limits, duplicate keys and malformed JSON: framework/json_input.hpp.
+  const Json j = read_json_file(path, "model file");
   try {
     return model_from_json(j, path);
   } catch (const nlohmann::json::exception& e) {

@@ -4,6 +4,7 @@
 //                  "legs": [ { "name": "leg1", "base": [x, y], "platform": [x, y],
 //                              "offset": 0 }, ... three ] }
 
+#include "kincal/framework/json_input.hpp"
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/planar_3rpr.hpp"
@@ -19,7 +20,7 @@ constexpr double kPi = 3.14159265358979323846;
 Eigen::Vector2d vector2(const Json& value, const JsonPath& where) {
   if (!value.is_array() || value.size() != 2)
     where.fail("expected an array of 2 numbers [x, y] (the robot moves in the plane z = 0), got " +
-               value.dump());
+               json_excerpt(value));
   return Eigen::Vector2d(number(value[0], where[0]), number(value[1], where[1]));
 }
 

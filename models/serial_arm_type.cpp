@@ -30,6 +30,7 @@
 #include <cmath>
 #include <set>
 
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/models/serial_arm.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
@@ -53,7 +54,8 @@ SerialJoint read_joint(const Json& j, const JsonPath& at, int index) {
     if (type == "prismatic")
       joint.type = JointType::kPrismatic;
     else if (type != "revolute")
-      (at / "type").fail("expected \"revolute\" or \"prismatic\", got \"" + type + "\"");
+      (at / "type")
+          .fail("expected \"revolute\" or \"prismatic\", got \"" + message_excerpt(type) + "\"");
   }
   const bool revolute = joint.type == JointType::kRevolute;
   if (const Json* c = optional(j, "convention")) {
@@ -61,7 +63,8 @@ SerialJoint read_joint(const Json& j, const JsonPath& at, int index) {
     if (convention == "hayati")
       joint.convention = LinkConvention::kHayati;
     else if (convention != "dh")
-      (at / "convention").fail("expected \"dh\" or \"hayati\", got \"" + convention + "\"");
+      (at / "convention")
+          .fail("expected \"dh\" or \"hayati\", got \"" + message_excerpt(convention) + "\"");
     if (!revolute && joint.convention == LinkConvention::kHayati)
       (at / "convention")
           .fail(

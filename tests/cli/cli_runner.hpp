@@ -63,6 +63,21 @@ inline CliResult run_cli(const std::string& args, const std::string& shell_prefi
   return result;
 }
 
+/// Runs the binary with its standard output appended to `path` (kincal ... >>path); stderr
+/// and the exit code are captured as by run_cli, `out` stays empty.
+inline CliResult run_cli_appending_stdout_to(const std::string& args, const std::string& path) {
+  const auto err_file = std::filesystem::temp_directory_path() /
+                        ("kincal-cli-err-append-" + std::to_string(::getpid()));
+  const std::string command = std::string(KINCAL_CLI_PATH) + " " + args + " >>" + path + " 2>" +
+                              err_file.string() + " </dev/null";
+  const int status = std::system(command.c_str());
+  CliResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.err = read_text(err_file.string());
+  std::filesystem::remove(err_file);
+  return result;
+}
+
 /// Shell prefix for run_cli: no file the program writes may grow beyond `blocks` blocks of
 /// 512 bytes (1024 when /bin/sh is bash), so writing a larger file fails with EFBIG ("File
 /// too large") once it is under way. Unlike permission bits this also stops root. SIGXFSZ

@@ -106,7 +106,7 @@ TEST(CliOutputFiles, MissingDirectoryAndSymlinkLoopAreOneLine) {
     const auto r = run_cli("model --out " + target);
     EXPECT_EQ(r.exit_code, 2) << target;
     EXPECT_EQ(count_lines(r.err), 1) << r.err;
-    EXPECT_NE(r.err.find("cannot write '" + target + "': " + expected), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--out '" + target + "': " + expected), std::string::npos) << r.err;
   }
 }
 

@@ -74,7 +74,8 @@ TEST(MeasurementFile, EveryMalformedInputNamesFileLineAndExpectation) {
       {header + "1,2,3,4,5,6,12.5mm\n", "D.csv:2: field 'gauge': '12.5mm' is not a number"},
       {header + "1,2,3,4,5,nan,7\n", "D.csv:2: field 'leg6': 'nan' is not a finite number"},
       {header + "1,2,3,4,5,6,-inf\n", "D.csv:2: field 'gauge': '-inf' is not a finite number"},
-      {header + "1,2,3,4,5,6,1e999\n", "D.csv:2: field 'gauge': '1e999' is not a finite number"},
+      {header + "1,2,3,4,5,6,1e999\n",
+       "D.csv:2: field 'gauge': '1e999' is beyond the range of a double (magnitude above 1.8e308)"},
       {header + "1,,3,4,5,6,7\n", "D.csv:2: field 'leg2' is empty, expected a number"},
   };
   for (const auto& [text, expected] : cases) {
@@ -82,6 +83,77 @@ TEST(MeasurementFile, EveryMalformedInputNamesFileLineAndExpectation) {
     EXPECT_NE(what.find(expected), std::string::npos) << "got: " << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
   }
+}
+
+// strtod stops at a NUL byte, so "336.81\0junk" used to read as 336.81.
+TEST(MeasurementFile, ANulByteIsAnErrorNotTheEndOfTheValue) {
+  const std::string header = "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n";
+  const std::string text =
+      header + "1,2,3,4,5,6,7\n1,2,3,4,5,6," + std::string("336.81\0junk", 11) + "\n";
+  EXPECT_EQ(error_of(text), "D.csv:3: NUL byte at column 19; expected a text file (CSV)");
+  EXPECT_EQ(error_of(std::string("leg1\0", 5)),
+            "D.csv:1: NUL byte at column 5; expected a text file (CSV)");
+}
+
+// Spreadsheets write "CSV UTF-8" with a byte order mark; it read as part of the first name.
+TEST(MeasurementFile, AByteOrderMarkIsSkipped) {
+  const auto t = parse("\xEF\xBB\xBFleg1,leg2,leg3,leg4,leg5,leg6,gauge\n1,2,3,4,5,6,7\n");
+  ASSERT_EQ(t.data.size(), 1);
+  EXPECT_EQ(t.data.actuators(0, 0), 1);
+  EXPECT_TRUE(t.notices.empty());
+}
+
+// 1e-400 is a number; it rounds to zero as 0.1 rounds to the nearest double. It used to be
+// called "not a finite number".
+TEST(MeasurementFile, UnderflowRoundsToZero) {
+  const auto t = parse("leg1,leg2,leg3,leg4,leg5,leg6,gauge\n1e-400,2,3,4,5,6,-1e-320\n");
+  EXPECT_EQ(t.data.actuators(0, 0), 0.0);
+  EXPECT_LT(t.data.readings(0, 0), 0.0);  // a subnormal number, sign kept
+  EXPECT_GT(t.data.readings(0, 0), -1e-319);
+}
+
+// A file without line breaks (/dev/zero, a binary, a huge log) used to be read whole into one
+// line before anything was said.
+TEST(MeasurementFile, LinesAndFilesHaveSizeLimits) {
+  const std::string header = "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n";
+  const std::string long_line = header + std::string(100'000, '1') + "\n";
+  EXPECT_EQ(
+      error_of(long_line),
+      "D.csv:2: line longer than the limit of 65536 bytes; expected a measurement file (CSV)");
+  // Exactly at the limit is fine (the value is then read and judged as a number).
+  CsvLimits limits;
+  limits.max_line_bytes = 13;
+  limits.max_file_bytes = 60;
+  auto parse_limited = [&](const std::string& text) {
+    std::istringstream in(text);
+    return parse_measurements(in, "D.csv", {"a", "b"}, {"g"}, limits);
+  };
+  EXPECT_EQ(parse_limited("a,b,g\n1.0000001,2,3\n").data.size(), 1);
+  EXPECT_THROW(parse_limited("a,b,g\n1.00000001,2,3\n"), std::invalid_argument);
+  try {
+    parse_limited(
+        "a,b,g\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n");  // 66
+                                                                                           // bytes
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "D.csv: larger than the limit of 0 MiB (60 bytes) for a measurement file");
+  }
+  // /dev/zero: stops at once, on the first NUL byte.
+  try {
+    read_measurements("/dev/zero", kActuators, kReadings);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "/dev/zero:1: NUL byte at column 1; expected a text file (CSV)");
+  }
+}
+
+TEST(MeasurementFile, MessagesQuoteAtMostAShortExcerpt) {
+  const std::string header = "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n";
+  const std::string what = error_of(header + "1,2,3,4,5,6," + std::string(60'000, 'x') + "\n");
+  EXPECT_LT(what.size(), 200u) << what;
+  EXPECT_NE(what.find("D.csv:2: field 'gauge': 'xxxx"), std::string::npos) << what;
+  EXPECT_NE(what.find("...' is not a number"), std::string::npos) << what;
 }
 
 TEST(MeasurementFile, MissingFileIsAnError) {

@@ -15,7 +15,9 @@ namespace kincal {
 namespace {
 
 std::string load_error(const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / "kincal-model-io-test.json";
+  // One file per process: ctest runs the tests of this file in parallel processes.
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("kincal-model-io-test-" + std::to_string(::getpid()) + ".json");
   std::ofstream(path) << text;
   try {
     load_model(path.string());
@@ -121,6 +123,52 @@ TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
     const std::string what = load_error(text);
     EXPECT_EQ(what.rfind(expected, 0), 0u) << "expected '" << expected << "', got '" << what << "'";
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+// nlohmann keeps the last of two equal keys: a second "free" turned 24 free parameters into 1.
+TEST(ModelIo, ARepeatedKeyIsAnError) {
+  std::string text =
+      model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values())
+          .dump(2);
+  text.insert(text.rfind('}'), ",\n  \"free\": [\"gauge.offset\"]\n");
+  const std::string what = load_error(text);
+  EXPECT_NE(what.find("key 'free' appears twice in the top-level object"), std::string::npos)
+      << what;
+}
+
+// The release binary crashed (stack overflow in the parser and in dump()) from a nesting
+// depth of about 60,000, a file of 120 KB.
+TEST(ModelIo, DeepNestingIsAnErrorNotACrash) {
+  const std::string deep = std::string(200'000, '[') + std::string(200'000, ']');
+  EXPECT_EQ(load_error(deep),
+            ": line 1, column 65: nesting deeper than 64 levels of objects and "
+            "arrays; expected at most 64");
+  EXPECT_NE(load_error("{\"format\": " + deep + "}").find("nesting deeper than 64"),
+            std::string::npos);
+}
+
+// At a depth of 40,000 the message quoted the whole value: an 80 KB line.
+TEST(ModelIo, MessagesQuoteShortExcerptsOfLongValues) {
+  const auto good =
+      model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values());
+  std::string long_array = "[";
+  for (int i = 0; i < 20'000; ++i) long_array += (i ? ",1" : "1");
+  long_array += "]";
+  auto with = [&](const std::string& key, const std::string& value) {
+    std::string text = good.dump();
+    const auto at = text.find("\"" + key + "\":");
+    const auto end = text.find_first_of(",}", text.find(':', at));
+    return text.substr(0, at) + "\"" + key + "\":" + value + text.substr(end);
+  };
+  for (const std::string& text :
+       {with("format", long_array),
+        with("version", "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]"),
+        with("units", "\"" + std::string(50'000, 'u') + "\""),
+        with("format", "\"" + std::string(50'000, 'f') + "\"")}) {
+    const std::string what = load_error(text);
+    EXPECT_LT(what.size(), 200u) << what.substr(0, 300);
+    EXPECT_EQ(what.find('\n'), std::string::npos);
   }
 }
 

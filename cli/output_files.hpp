@@ -1,0 +1,87 @@
+#pragma once
+// How the commands write files: through temporary files (and, for a directory, a temporary
+// directory) beside the target, flushed to disk and renamed into place. Commands do not call
+// these directly but through OutputPlan (output_plan.hpp), which first checks that no output
+// is an input or another output. docs/reliability.md states what holds after a crash.
+//
+// Temporary names are ".<target name>.kincal-tmp-<pid>-<random>", in the target's
+// directory. A write first removes such names whose process no longer runs (a write killed
+// half-way), so they do not pile up.
+
+#include <sys/types.h>
+#include <string>
+#include <vector>
+
+namespace kincal::cli {
+
+/// Where an output path really leads. Symbolic links are followed, so a link to a file
+/// writes that file and stays a link.
+struct OutputTarget {
+  enum class Kind {
+    kStdout,  ///< "-"
+    kFile,    ///< a regular file, existing or new: replaced through a temporary file
+    kStream,  ///< a character device or FIFO (/dev/null, a terminal, a pipe, /dev/stdout
+              ///< and other /proc/self/fd links): written directly, it cannot be replaced
+  };
+  Kind kind = Kind::kFile;
+  std::string path;             ///< as given, for messages
+  std::string real;             ///< symbolic links resolved (the directory made absolute)
+  bool exists = false;          ///< kFile: the file is there already
+  unsigned permissions = 0666;  ///< kFile: mode bits of the existing file
+};
+
+/// Resolves `path`. Throws CliError "<what>: <reason>" when it names a directory, another
+/// kind of special file (block device, socket), a missing directory, or a symlink loop;
+/// `what` names the path in the message (e.g. "--out 'C.json'" or "cannot write 'C.json'").
+OutputTarget resolve_output(const std::string& path, const std::string& what);
+
+/// Throws CliError "<what>: cannot create a file in '<dir>' (...)" when a new file cannot be
+/// created beside `target` (a read-only directory): checked before long work.
+void check_can_create_beside(const OutputTarget& target, const std::string& what);
+
+/// One file to write.
+struct OutputFile {
+  std::string path;
+  std::string content;
+};
+
+/// Writes every file or none, as long as the process runs: each regular file goes to a
+/// temporary file beside its real target (same directory, so the rename is atomic), is
+/// flushed to disk and takes over the old file's permission bits; only when all of them are
+/// written are they renamed over their targets, in the order given. A failure removes the
+/// temporary files and leaves every existing file as it was. A crash (kill -9, power loss)
+/// between two renames leaves the first ones new and the others old, each file whole.
+/// Streams (kStream, "-" for stdout) are written after the renames. Throws CliError
+/// "cannot write '<path>': <reason>".
+void write_files_atomically(const std::vector<OutputFile>& files);
+
+/// A directory that a command owns and replaces whole (reproduce --out).
+struct DirectoryTarget {
+  std::string path;  ///< as given
+  std::string real;  ///< absolute, symbolic links resolved
+  bool exists = false;
+  unsigned permissions = 0777;  ///< of the existing directory
+};
+
+/// Resolves `path` as a directory that may hold only the files named in `owned` (and is
+/// replaced whole): throws CliError "<what>: <reason>" when it is not a directory, holds
+/// anything else, is the current directory or one of its parents, or is a mount point.
+/// A missing directory is fine (its parents are created when written); its nearest
+/// existing parent must allow creating a directory.
+DirectoryTarget resolve_output_directory(const std::string& path, const std::string& what,
+                                         const std::vector<std::string>& owned);
+
+/// Replaces directory `target` by one holding exactly `files` (names without a directory),
+/// atomically even under a crash: the files are written and flushed into a new temporary
+/// directory beside it, which is then swapped with the old one in one step (Linux
+/// renameat2 RENAME_EXCHANGE) or renamed to it when there was none; the old one is removed
+/// afterwards. On a file system without RENAME_EXCHANGE it fails and changes nothing.
+void write_directory_atomically(const DirectoryTarget& target,
+                                const std::vector<OutputFile>& files);
+
+/// Test hook for the crash tests: with KINCAL_TEST_KILL_AT_WRITE_STEP=N in the environment,
+/// the process kills itself with SIGKILL at the N-th step of writing files (each creation,
+/// write, flush, rename and removal is a step). Without it, nothing happens.
+void write_step();
+
+}  // namespace kincal::cli

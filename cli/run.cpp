@@ -1,0 +1,82 @@
+// The command table and dispatch of the kincal program. Thin: parse, call the library,
+// print.
+
+#include "kincal/cli/run.hpp"
+
+#include <iostream>
+#include <new>
+
+#include "kincal/cli/commands.hpp"
+#include "kincal/cli/output_plan.hpp"
+#include "kincal/framework/message_excerpt.hpp"
+
+namespace kincal::cli {
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> table = {
+      {"list", "list solver backends, preset models, mechanism and sensor types", run_list},
+      {"simulate", "run one simulated calibration of a preset or a model file", run_simulate},
+      {"reproduce", "Monte Carlo of the paper's five Table 2 cases", run_reproduce},
+      {"model", "write a built-in model as an editable model file", run_model},
+      {"fk", "forward kinematics of a model file: actuator values -> pose", run_fk},
+      {"ik", "inverse kinematics of a model file: pose -> actuator values", run_ik},
+      {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
+      {"observability", "which free parameters a set of configurations can determine",
+       run_observability},
+      {"solver-suite", "backends on the Moré-Garbow-Hillstrom test problems, checked",
+       run_solver_suite},
+      {"verify", "check that a calibrated model is the one its report was written with",
+       run_verify},
+  };
+  return table;
+}
+
+namespace {
+
+void print_usage(std::ostream& out) {
+  out << "usage: kincal <command> [options]   (kincal <command> --help for its options)\n\n"
+         "commands:\n";
+  for (const auto& c : commands()) {
+    std::string name = c.name;
+    name.resize(14, ' ');
+    out << "  " << name << c.summary << "\n";
+  }
+}
+
+// One line whatever the message holds (a path with a line break, a 60 KB field).
+void print_error(const std::string& command, const std::string& what) {
+  std::cerr << "kincal " << command << ": error: " << message_excerpt(what, 4000) << "\n";
+}
+
+}  // namespace
+
+int run(int argc, const char* const* argv) {
+  if (argc < 2) {
+    print_usage(std::cerr);
+    return 2;
+  }
+  const std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    print_usage(std::cout);
+    return 0;
+  }
+  for (const auto& command : commands()) {
+    if (name != command.name) continue;
+    try {
+      return command.run(Args(argv + 2, argv + argc));
+    } catch (const OptionsChecked&) {
+      return 0;  // the fuzzer's stop before any work (stop_after_option_checks)
+    } catch (const std::bad_alloc&) {
+      print_error(name, "out of memory");
+      return 2;
+    } catch (const std::exception& e) {
+      print_error(name, e.what());
+      return 2;
+    }
+  }
+  std::cerr << "kincal: error: unknown command '" << message_excerpt(name)
+            << "' (try kincal --help)\n";
+  return 2;
+}
+
+}  // namespace kincal::cli

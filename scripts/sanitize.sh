@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# The sanitizer suite and the fuzzers (docs/reliability.md). Installs what they need on
+# Debian 12 (clang 14 and its runtime libraries; gcc's come with build-essential), then:
+#   clang  build-asan-clang/: clang++-14 with KINCAL_SANITIZE=address,undefined and the
+#          libFuzzer targets; the whole ctest suite, each fuzzer's seed corpus included;
+#   gcc    build-asan-gcc/: g++ with the same sanitizers; the whole ctest suite;
+#   fuzz   each fuzzer for FUZZ_SECONDS seconds (default 60) from its seed corpus, with the
+#          clang build (stage clang builds it if needed). New inputs go to a scratch corpus;
+#          a crash leaves its input under build-asan-clang/fuzz-findings/.
+# Usage: scripts/sanitize.sh [clang] [gcc] [fuzz]   (no argument: all three, in that order)
+# Every stage prints its wall time. Extra CMake arguments: SANITIZE_CMAKE_ARGS.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+stages=("$@")
+if ((${#stages[@]} == 0)); then stages=(clang gcc fuzz); fi
+
+packages=(clang-14 libclang-rt-14-dev llvm-14)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "sanitize: installing ${missing[*]}" >&2
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+jobs=$(nproc)
+# Every report stops the program; symbolized stacks (llvm-symbolizer from llvm-14).
+export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer-14
+
+# -O1 -g1 and no NDEBUG: fast enough to run the suite, line numbers in reports, and Eigen's
+# and our assertions on.
+configure() {  # dir, compiler, extra args...
+  local dir=$1 compiler=$2
+  shift 2
+  if [ ! -f "$dir/CMakeCache.txt" ]; then
+    cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER="$compiler" \
+      -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+      -DKINCAL_SANITIZE=address,undefined -DKINCAL_BUILD_BENCHMARKS=OFF \
+      -DKINCAL_BUILD_EXAMPLES=OFF "$@" ${SANITIZE_CMAKE_ARGS:-} >/dev/null
+  fi
+}
+
+timed() {  # label, command...
+  local label=$1 start=$SECONDS
+  shift
+  echo "== $label" >&2
+  "$@"
+  echo "== $label: $((SECONDS - start)) s" >&2
+}
+
+build_clang() {
+  configure build-asan-clang clang++-14 -DKINCAL_BUILD_FUZZERS=ON
+  cmake --build build-asan-clang --parallel "$jobs"
+}
+
+build_gcc() {
+  configure build-asan-gcc g++
+  cmake --build build-asan-gcc --parallel "$jobs"
+}
+
+# Fuzzes fuzz_<target> for `seconds` from its seed corpus; new inputs go to a scratch
+# corpus. Prints libFuzzer's first and last status lines and its final statistics.
+fuzz() {  # target, seconds
+  local target=$1 seconds=$2 findings=$PWD/build-asan-clang/fuzz-findings
+  local log=build-asan-clang/fuzz-logs/$target.log scratch status=0
+  mkdir -p "$findings" build-asan-clang/fuzz-logs
+  scratch=$(mktemp -d)
+  local dict=()
+  if [ -f "fuzz/$target.dict" ]; then dict=(-dict="$PWD/fuzz/$target.dict"); fi
+  # Absolute paths: fuzz_cli_options works in a directory of its own.
+  "$PWD/build-asan-clang/fuzz/fuzz_$target" "$scratch" "$PWD/fuzz/corpus/$target" \
+    -max_total_time="$seconds" -max_len=4096 -timeout=10 -rss_limit_mb=4096 \
+    -artifact_prefix="$findings/$target-" -print_final_stats=1 "${dict[@]}" >"$log" 2>&1 ||
+    status=$?
+  rm -rf "$scratch"
+  grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb)" "$log" >&2 || true
+  if ((status != 0)); then
+    tail -n 60 "$log" >&2
+    echo "sanitize: fuzz_$target failed (exit $status); input under $findings/" >&2
+    return 1
+  fi
+}
+
+for stage in "${stages[@]}"; do
+  case $stage in
+    clang)
+      timed "clang sanitizer build" build_clang
+      timed "clang sanitizer tests" ctest --test-dir build-asan-clang --output-on-failure -j"$jobs"
+      ;;
+    gcc)
+      timed "gcc sanitizer build" build_gcc
+      timed "gcc sanitizer tests" ctest --test-dir build-asan-gcc --output-on-failure -j"$jobs"
+      ;;
+    fuzz)
+      [ -x build-asan-clang/fuzz/fuzz_cli_options ] || timed "clang sanitizer build" build_clang
+      for target in measurement_file model_file cli_options; do
+        timed "fuzz $target (${FUZZ_SECONDS:-60} s)" fuzz "$target" "${FUZZ_SECONDS:-60}"
+      done
+      ;;
+    *)
+      echo "sanitize: unknown stage '$stage' (expected clang, gcc or fuzz)" >&2
+      exit 2
+      ;;
+  esac
+done

@@ -1,0 +1,41 @@
+// run_calibration's iteration tracking and the caller's own callback.
+
+#include "kincal/framework/simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+Scenario small_scenario() {
+  ScenarioOptions options;
+  options.num_configurations = 30;
+  options.num_validation = 5;
+  options.seed = 3;
+  return make_scenario(make_cube_hexapod(), options);
+}
+
+// The tracking callback wraps the caller's one. It used to refer to a copy that had gone out
+// of scope by the time the solver called it (stack-use-after-scope under AddressSanitizer,
+// in every simulate and reproduce run).
+TEST(Simulation, TrackingCallsTheCallersCallbackAtEveryIteration) {
+  const Scenario scenario = small_scenario();
+  const auto solver = SolverRegistry::global().create("gn");
+  SolverOptions options;
+  int calls = 0;
+  options.callback = [&calls](const IterationRecord& record, const VectorXd&) {
+    ++calls;
+    return record.iteration >= 2 ? CallbackAction::kStop : CallbackAction::kContinue;
+  };
+  const CalibrationRun run = run_calibration(scenario, *solver, options, true);
+  EXPECT_EQ(run.summary.termination, TerminationType::kUserStopped) << run.summary.brief_report();
+  EXPECT_EQ(calls, 3);  // iterations 0, 1 and 2
+  EXPECT_EQ(run.trace_errors.size(), run.summary.trace.size());
+  EXPECT_EQ(run.summary.trace.size(), 3u);
+}
+
+}  // namespace
+}  // namespace kincal
