@@ -20,6 +20,10 @@ struct Parameter {
   /// Half-width (in `unit`) of the uniform error a simulation adds to this parameter when it
   /// is free; NaN = the simulation's value for the unit. Set per parameter in model files.
   double error_half_width = std::numeric_limits<double>::quiet_NaN();
+  /// Standard deviation (in `unit`) of a Gaussian prior on this parameter around `nominal`
+  /// (e.g. its manufacturing tolerance); 0 = no prior. Set per parameter in model files.
+  double prior_std = 0;
+  bool has_prior() const { return prior_std > 0; }
 };
 
 /// True when `name` matches the glob `pattern` ('*' any run, '?' one character).

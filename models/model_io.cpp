@@ -87,6 +87,10 @@ Json model_to_json(const MeasurementModel& model, const VectorXd& values) {
   for (const auto& p : model.parameters().all())
     if (!std::isnan(p.error_half_width)) param_error[p.name] = p.error_half_width;
   if (!param_error.empty()) out["param_error"] = param_error;
+  Json prior_std = Json::object();
+  for (const auto& p : model.parameters().all())
+    if (p.has_prior()) prior_std[p.name] = p.prior_std;
+  if (!prior_std.empty()) out["prior_std"] = prior_std;
   Json config_range = Json::object();
   for (int i = 0; i < mechanism.num_actuators(); ++i)
     if (model.actuator_ranges()[i] != mechanism.actuators()[i].default_range)
@@ -105,7 +109,7 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
   if (!j.is_object()) root.fail("expected a JSON object (a kincal model file)");
   check_keys(j, root,
              {"format", "version", "units", "mechanism", "sensors", "free", "param_error",
-              "config_range", "reading_std"});
+              "prior_std", "config_range", "reading_std"});
   const Json& format = member(j, "format", root);
   if (format != kModelFormat)
     (root / "format")
@@ -180,6 +184,15 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
                        model->parameters().for_each_matching(
                            pattern, [value](Parameter& p) { p.error_half_width = value; });
                      });
+  if (const Json* prior_std = json_field::optional(j, "prior_std"))
+    for_each_pattern(
+        *prior_std, root / "prior_std",
+        [&](const std::string& pattern, double value, const JsonPath&) {
+          if (!(value > 0))  // for_each_pattern names where
+            throw std::invalid_argument("expected a prior std > 0 (omit it for no prior)");
+          model->parameters().for_each_matching(pattern,
+                                                [value](Parameter& p) { p.prior_std = value; });
+        });
   if (const Json* reading_std = json_field::optional(j, "reading_std"))
     for_each_pattern(*reading_std, root / "reading_std",
                      [&](const std::string& pattern, double value, const JsonPath&) {

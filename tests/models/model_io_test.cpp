@@ -69,6 +69,30 @@ TEST(ModelIo, HandWrittenFreeListMayUsePatterns) {
   EXPECT_EQ(model->parameters().num_free(), 6 + 7);
 }
 
+TEST(ModelIo, PriorStdIsPerParameterAndRoundTrips) {
+  auto j = model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values());
+  EXPECT_FALSE(j.contains("prior_std"));  // no prior unless stated
+  j["prior_std"] = {{"leg?.base.*", 0.5}, {"gauge.offset", 2.0}};
+  const auto model = model_from_json(j, "M.json");
+  int with_prior = 0;
+  for (const auto& p : model->parameters().all()) with_prior += p.has_prior();
+  EXPECT_EQ(with_prior, 6 * 3 + 1);
+  EXPECT_EQ(model->parameters()[model->parameters().index_of("leg3.base.y")].prior_std, 0.5);
+  EXPECT_FALSE(model->parameters()[model->parameters().index_of("leg3.platform.y")].has_prior());
+  const auto back =
+      model_from_json(model_to_json(*model, model->parameters().nominal_values()), "M2.json");
+  for (int i = 0; i < model->parameters().size(); ++i)
+    EXPECT_EQ(back->parameters()[i].prior_std, model->parameters()[i].prior_std);
+  j["prior_std"] = {{"gauge.offset", 0.0}};
+  EXPECT_THROW(model_from_json(j, "M.json"), std::invalid_argument);
+  try {
+    model_from_json(j, "M.json");
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "M.json: prior_std.gauge.offset: expected a prior std > 0 (omit it for no prior)");
+  }
+}
+
 TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
   const auto good =
       model_to_json(*make_cube_hexapod(), make_cube_hexapod()->parameters().nominal_values());
