@@ -1,5 +1,6 @@
 #include "kincal/cli/export_formats.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -119,6 +120,14 @@ const char* kLegConvention =
     "actuator value L - offset; an encoder that reads 0 at a reference mark has as offset the "
     "leg length at that mark";
 
+// Text for an XML comment, which may not contain "--".
+std::string comment_text(const std::string& text) {
+  std::string out = xml_escape(text);
+  for (std::size_t at = out.find("--"); at != std::string::npos; at = out.find("--", at))
+    out.replace(at, 2, "-&#45;");
+  return out;
+}
+
 }  // namespace
 
 std::string export_urdf(const MeasurementModel& model, const ExportSource& source) {
@@ -130,7 +139,7 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
   const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
   const double m = metres_per(kMillimetre);
   std::string out = "<?xml version=\"1.0\"?>\n<!-- kincal export: calibrated serial arm from " +
-                    xml_escape(source.model_file) + " (sha256 " + source.sha256 +
+                    comment_text(source.model_file) + " (sha256 " + source.sha256 +
                     ").\n     Lengths in metres, angles in radians. Joint i's origin is the "
                     "calibrated constant part of link i-1\n     (DH: Rz(theta) Tz(d) Tx(a) "
                     "Rx(alpha); Hayati: Rz(theta) Tx(a) Rx(alpha) Ry(beta)), the base frame "
@@ -164,8 +173,11 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
 }
 
 std::string export_csv(const MeasurementModel& model, const ExportSource& source) {
-  std::string out = "# kincal export: calibrated " + model.mechanism().type() + " from " +
-                    source.model_file + " (sha256 " + source.sha256 + ")\n";
+  std::string file = source.model_file;  // one comment line, whatever the name holds
+  std::replace_if(
+      file.begin(), file.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  std::string out = "# kincal export: calibrated " + model.mechanism().type() + " from " + file +
+                    " (sha256 " + source.sha256 + ")\n";
   if (const SerialArm* arm = as_serial_arm(model)) {
     const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
     out +=

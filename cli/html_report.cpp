@@ -211,7 +211,8 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
     } else {
       out.push_back({L::kNote,
                      "The noise estimated from the residuals is sigma_hat = " + fmt(sigma, 3) +
-                         " " + sigma_unit +
+                         " " +
+                         (sigma_unit == "mixed" ? "(mm and rad pooled, unweighted)" : sigma_unit) +
                          ". The model states no sensor noise, so kincal cannot tell whether "
                          "that is the sensor or a model error.",
                      "State your sensor's accuracy as reading_std in the model file: the report "

@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # The URDF kincal export writes is XML that a standard parser reads: every preset arm, with
-# its joints chained from base_link to tool0. Skipped (77) only without python3.
+# its joints chained from base_link to tool0, even from a model file whose name holds XML's
+# special characters. Skipped (77) only without python3.
 set -euo pipefail
 kincal=$1
 command -v python3 >/dev/null 2>&1 || { echo "skipped: python3 is not installed"; exit 77; }
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 for preset in puma560 ur5; do
-  "$kincal" model --preset "$preset" --out "$dir/$preset.json"
-  "$kincal" export --model "$dir/$preset.json" --format urdf --out "$dir/$preset.urdf"
+  # A file name that an XML comment or attribute could choke on: "--", "&", "<".
+  model="$dir/${preset}--a&b<c.json"
+  "$kincal" model --preset "$preset" --out "$model"
+  "$kincal" export --model "$model" --format urdf --out "$dir/$preset.urdf"
   python3 - "$dir/$preset.urdf" <<'PY'
 import sys, xml.etree.ElementTree as ET
 robot = ET.parse(sys.argv[1]).getroot()
