@@ -665,6 +665,9 @@ std::string identifiability_html(const Json& r) {
   for (const auto& v : sv) s.push_back(num(v));
   const double threshold = num(member(id, "numerical_rank_threshold"));
   const double s1 = s[0];
+  if (!(s1 > 0) || !std::isfinite(s1))
+    return "<p>The identification Jacobian is zero or not finite: no reading depends on the "
+           "free parameters.</p>";
   double lo = s1;
   for (double v : s)
     if (v > 0 && std::isfinite(v)) lo = std::min(lo, v);

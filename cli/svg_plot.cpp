@@ -55,8 +55,13 @@ std::vector<double> nice_ticks(double lo, double hi, int count) {
       step = m * magnitude;
       break;
     }
-  for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * step; t += step)
+  // Counted, not accumulated: t += step could stall where step is below t's precision.
+  const double first = std::ceil(lo / step);
+  for (int k = 0; k <= 2 * count + 2; ++k) {
+    const double t = (first + k) * step;
+    if (t > hi + 1e-9 * step) break;
     ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  }
   return ticks;
 }
 
@@ -100,6 +105,7 @@ void SvgChart::draw_axes(bool x_ticks, bool y_ticks) {
   auto ticks_of = [](const Axis& a) {
     if (!a.log) return nice_ticks(a.lo, a.hi, 5);
     std::vector<double> t;
+    if (!(a.lo > 0 && a.hi > a.lo && std::isfinite(a.hi))) return t;
     const int first = static_cast<int>(std::ceil(std::log10(a.lo) - 1e-9));
     const int last = static_cast<int>(std::floor(std::log10(a.hi) + 1e-9));
     const int stride = std::max(1, (last - first) / 6 + 1);

@@ -183,6 +183,25 @@ TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   EXPECT_NE(html.find("prior share"), std::string::npos);
 }
 
+// Degenerate reports (a failed solve: no residuals, no std, a zero Jacobian, nulls where
+// numbers were expected) still give a well-formed page that says so.
+TEST(HtmlReport, DegenerateReportsGiveAWellFormedPage) {
+  Json r = hostile_report();
+  r["termination"] = "failed";
+  r["residuals"] = Json::array();
+  r["sigma_hat"] = nullptr;
+  r["correlation"] = Json::array();
+  for (auto& p : r["parameters"]) p["std"] = nullptr;
+  r["identifiability"]["singular_values"] = {0.0, 0.0};
+  r["identifiability"]["condition_number"] = nullptr;
+  const std::string html = render_calibration_html(r);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("did not reach a solution"), std::string::npos);
+  EXPECT_NE(html.find("No residuals"), std::string::npos);
+  EXPECT_NE(html.find("zero or not finite"), std::string::npos);
+  EXPECT_EQ(markup_problem(render_calibration_html(Json::object())), "");
+}
+
 TEST(HtmlReport, CalibrateWritesItNextToTheJsonReport) {
   TempDir dir("html-report");
   const std::string m = dir / "nominal.json", d = dir / "data.csv";
