@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <iostream>
 
+#include "kincal/cli/html_report.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/data_checks.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
 
@@ -84,10 +86,10 @@ OutputPlan plan_files(const po::variables_map& vm) {
   OutputPlan plan;
   for (const char* option : {"model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
-  for (const char* option : {"out", "report"})
+  for (const char* option : {"out", "report", "html"})
     if (vm.count(option)) plan.output(std::string("--") + option, vm[option].as<std::string>());
   // The report is JSON and names the files: a name JSON cannot hold would fail at the end.
-  if (vm.count("report"))
+  if (vm.count("report") || vm.count("html"))
     for (const char* option : {"model", "data", "out"})
       if (vm.count(option) && !is_valid_utf8(vm[option].as<std::string>()))
         throw CliError("--" + std::string(option) +
@@ -136,6 +138,8 @@ int run_calibrate(const Args& args) {
       "data", po::value<std::string>(), "measurement file (CSV)")(
       "out", po::value<std::string>(), "write the calibrated model (JSON, same schema) to FILE")(
       "report", po::value<std::string>(), "write the report (JSON) to FILE, or - for stdout")(
+      "html", po::value<std::string>(),
+      "write the report for people to FILE: one self-contained HTML page with plots")(
       "loss", po::value<std::string>(),
       "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)")(
       "allow-rank-deficient", po::bool_switch(),
@@ -171,6 +175,9 @@ int run_calibrate(const Args& args) {
   check_memory(data_file, loaded.data.size(),
                model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
                "configuration");
+  // A wrong home_pose gives other valid poses: say so when the data lands far from it.
+  const HomePoseCheck home_check = check_poses_near_home(*model, nominal, loaded.data);
+  if (home_check.far) note("calibrate", home_check.warning);
   const int readings = loaded.data.size() * model->num_readings();
   if (readings < static_cast<int>(free.size()))
     throw CliError(data_file + ": " + std::to_string(loaded.data.size()) +
@@ -225,10 +232,12 @@ int run_calibrate(const Args& args) {
   report.data_file = data_file;
   report.fixed_by_identifiability = fixed_by_identifiability;
   report.skipped_lines = loaded.skipped_lines;
+  if (home_check.far) report.warnings.push_back(home_check.warning);
 
   const bool solved = summary.termination == TerminationType::kConverged ||
                       summary.termination == TerminationType::kMaxIterations;
-  const bool report_to_stdout = vm.count("report") && plan.to_stdout("--report");
+  const bool report_to_stdout = (vm.count("report") && plan.to_stdout("--report")) ||
+                                (vm.count("html") && plan.to_stdout("--html"));
   if (!report_to_stdout) std::cout << to_text(report);
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
@@ -245,6 +254,7 @@ int run_calibrate(const Args& args) {
     report_json["calibrated_model"] = nullptr;
   }
   if (vm.count("report")) outputs.push_back({"--report", report_json.dump(2) + "\n"});
+  if (vm.count("html")) outputs.push_back({"--html", render_calibration_html(report_json)});
   if (!model_text.empty()) outputs.push_back({"--out", model_text});
   plan.write(outputs);
   if (!solved) {

@@ -2,15 +2,65 @@
 // file or from simulated configurations, before any solving.
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/fixed_parameter_sensitivity.hpp"
 #include "kincal/framework/simulation.hpp"
 
 namespace kincal::cli {
+
+namespace {
+
+// The sensitivity table: what an error in each fixed parameter leaves after calibration.
+std::string sensitivity_text(const SensitivityResult& s) {
+  std::string out =
+      "sensitivity to fixed parameters (each one off by the step below, the free ones "
+      "re-calibrated; first order):\n";
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "  %-22s %10s %14s %12s %12s %14s %14s\n", "parameter", "error",
+                "residual RMS", "pos. mean", "pos. max", "orient. mean", "orient. max");
+  out += buf;
+  std::snprintf(buf, sizeof buf, "  %-22s %10s %14s %12s %12s %14s %14s\n", "", "", "(readings)",
+                "(mm)", "(mm)", "(mrad)", "(mrad)");
+  out += buf;
+  for (const auto& r : s.rows) {
+    char error[40];
+    if (r.unit == kRadian)
+      std::snprintf(error, sizeof error, "%g mrad", r.delta * 1000);
+    else
+      std::snprintf(error, sizeof error, "%g %s", r.delta, r.unit.c_str());
+    std::snprintf(buf, sizeof buf, "  %-22s %10s %14.3g %12.4g %12.4g %14.4g %14.4g\n",
+                  r.name.c_str(), error, r.residual_rms, r.position_mean, r.position_max,
+                  r.orientation_mean * 1000, r.orientation_max * 1000);
+    out += buf;
+  }
+  if (s.free_rank < s.num_free)
+    out += "  (the free parameters are rank deficient: " + std::to_string(s.free_rank) + " of " +
+           std::to_string(s.num_free) +
+           " determined; the re-calibration takes the smallest correction)\n";
+  return out;
+}
+
+nlohmann::ordered_json sensitivity_json(const SensitivityResult& s) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const auto& r : s.rows)
+    rows.push_back({{"name", r.name},
+                    {"unit", r.unit},
+                    {"error", r.delta},
+                    {"residual_rms", r.residual_rms},
+                    {"position_mean_mm", r.position_mean},
+                    {"position_max_mm", r.position_max},
+                    {"orientation_mean_rad", r.orientation_mean},
+                    {"orientation_max_rad", r.orientation_max}});
+  return rows;
+}
+
+}  // namespace
 
 int run_observability(const Args& args) {
   po::options_description options("kincal observability");
@@ -24,7 +74,12 @@ int run_observability(const Args& args) {
       "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
       "numerical rank threshold relative to the largest scaled singular value")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
-      "json", po::value<std::string>(), "write the analysis as JSON to FILE, or - for stdout");
+      "json", po::value<std::string>(), "write the analysis as JSON to FILE, or - for stdout")(
+      "sensitivity", po::bool_switch(),
+      "also: for each fixed parameter, the pose error an error in it leaves after calibrating "
+      "the free ones (over the same configurations)")(
+      "sensitivity-step", po::value<std::string>()->default_value("1mm,0.001rad"),
+      "the error assumed in each fixed parameter, per unit");
   add_free_fix_options(options);
   po::variables_map vm;
   if (!parse_command_line("observability", args, options, vm)) return 0;
@@ -83,14 +138,30 @@ int run_observability(const Args& args) {
   if (!problem.evaluate(problem.initial_free_parameters(), &residuals, &J, &why))
     throw CliError("cannot evaluate the identification Jacobian: " + why);
   const Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
+  SensitivityResult sensitivity;
+  const bool want_sensitivity = vm["sensitivity"].as<bool>();
+  if (want_sensitivity) {
+    const UnitValues step = unit_values_option(vm, "sensitivity-step");
+    try {
+      sensitivity = fixed_parameter_sensitivity(
+          model, values, data, data, free, step.get(kMillimetre, 1.0), step.get(kRadian, 1e-3));
+    } catch (const std::runtime_error& e) {
+      throw CliError(std::string("--sensitivity: ") + e.what());
+    }
+  }
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) {
     std::cout << data.size() << " configurations\n" << to_text(a);
     if (a.num_residuals < a.num_parameters)
       std::cout << "fewer readings (" << a.num_residuals << ") than free parameters ("
                 << a.num_parameters << "): measure more configurations\n";
+    if (want_sensitivity) std::cout << sensitivity_text(sensitivity);
   }
-  if (vm.count("json")) plan.write({{"--json", to_json(a).dump(2) + "\n"}});
+  if (vm.count("json")) {
+    nlohmann::ordered_json out = to_json(a);
+    if (want_sensitivity) out["sensitivity"] = sensitivity_json(sensitivity);
+    plan.write({{"--json", out.dump(2) + "\n"}});
+  }
   return 0;
 }
 

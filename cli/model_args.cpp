@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "kincal/framework/data_checks.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/models/model_io.hpp"
 
@@ -103,12 +104,17 @@ LoadedData load_measurements(const std::string& command, const std::string& path
   for (const auto& n : table.notices) note(command, n);
   LoadedData loaded;
   const auto bad = find_unreachable_rows(model, params, table.data);
+  // Strokes instead of lengths fail at most rows: say what to do about it.
+  const std::string stroke_hint =
+      encoder_stroke_hint(model, params, table.data, static_cast<int>(bad.size()));
+  const std::string hint = stroke_hint.empty() ? "" : "; hint: " + stroke_hint;
   if (!bad.empty() && static_cast<int>(bad.size()) == table.data.size())
     throw CliError(path + ": forward kinematics of the model " + model_file +
                    " fails at every row (line " + std::to_string(table.line_numbers[bad[0].row]) +
                    ": " + bad[0].reason +
                    "); expected actuator values that this model can "
-                   "reach: check the model's values against the machine, or the data's columns");
+                   "reach: check the model's values against the machine, or the data's columns" +
+                   hint);
   if (!bad.empty() && !skip_bad_rows) {
     std::string list;
     for (std::size_t i = 0; i < bad.size() && i < 5; ++i)
@@ -118,7 +124,8 @@ LoadedData load_measurements(const std::string& command, const std::string& path
     throw CliError(path + ": forward kinematics of the model fails at line" +
                    (bad.size() > 1 ? "s " : " ") + list +
                    "; expected actuator values the model reaches (fix the rows, or drop them with "
-                   "--skip-bad-rows)");
+                   "--skip-bad-rows)" +
+                   hint);
   }
   std::vector<int> rows;
   for (const auto& b : bad) {
@@ -127,6 +134,7 @@ LoadedData load_measurements(const std::string& command, const std::string& path
     note(command, path + ":" + std::to_string(table.line_numbers[b.row]) +
                       ": skipped, forward kinematics " + b.reason);
   }
+  if (!stroke_hint.empty()) note(command, stroke_hint);
   loaded.data = drop_rows(table.data, rows);
   std::size_t next = 0;
   for (int r = 0; r < table.data.size(); ++r) {

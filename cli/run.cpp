@@ -27,6 +27,8 @@ const std::vector<Command>& commands() {
        run_solver_suite},
       {"verify", "check that a calibrated model is the one its report was written with",
        run_verify},
+      {"export", "a calibrated model as URDF (serial arms), joint-coordinate CSV or JSON",
+       run_export},
   };
   return table;
 }

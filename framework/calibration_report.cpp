@@ -62,6 +62,7 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   r.reading_names = model.reading_names();
   r.reading_units = model.reading_units();
   r.weighted = model.weighted();
+  r.reading_std = model.reading_std();
   r.lines = lines;
   const Measurements& data = problem.data();
   const Eigen::VectorXi present = data.present_per_column();
@@ -179,6 +180,14 @@ Json to_json(const CalibrationReport& r) {
   out["residual_rms_by_unit"] = r.residual_rms;
   out["residual_max_by_unit"] = r.residual_max;
   out["weighted"] = r.weighted;
+  Json reading_units = Json::object(), reading_std = Json::object();
+  for (std::size_t k = 0; k < r.reading_names.size(); ++k) {
+    reading_units[r.reading_names[k]] = r.reading_units[k];
+    reading_std[r.reading_names[k]] =
+        r.weighted && r.reading_std.size() ? number(r.reading_std[static_cast<int>(k)]) : Json();
+  }
+  out["reading_units"] = reading_units;
+  out["reading_std"] = reading_std;  // null: not stated by the model
   out["sigma_hat"] = number(r.uncertainty.sigma);
   out["sigma_hat_unit"] = sigma_unit(r);
   out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
@@ -208,6 +217,7 @@ Json to_json(const CalibrationReport& r) {
     out["residuals"].push_back(row);
   }
   out["identifiability"] = to_json(r.identifiability);
+  out["warnings"] = r.warnings;
   return out;
 }
 
@@ -306,6 +316,7 @@ std::string to_text(const CalibrationReport& r) {
     out << "largest correlation " << format("%+.3f", r.uncertainty.correlation(wi, wj))
         << " between " << r.names[wi] << " and " << r.names[wj] << "\n";
   out << to_text(r.identifiability);
+  for (const auto& warning : r.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }
 

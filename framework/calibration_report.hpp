@@ -25,6 +25,8 @@ struct CalibrationReport {
   ParameterUncertainty uncertainty;
   int num_configurations = 0;
   std::vector<std::string> reading_names, reading_units;
+  /// Each reading's stated noise std (its unit) when the model states reading_std (weighted).
+  VectorXd reading_std;
   /// Readings measured (not missing), per sensor, in the model's sensor order.
   std::vector<std::pair<std::string, int>> readings_per_sensor;
   int num_readings = 0;  ///< measured readings in all: the residuals of the fit
@@ -45,6 +47,9 @@ struct CalibrationReport {
   /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
   std::vector<std::string> fixed_by_identifiability;
   std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)
+  /// Plain-language warnings about the data or the model found by the checks around the
+  /// solve (e.g. forward kinematics of the data far from home_pose); one sentence each.
+  std::vector<std::string> warnings;
 };
 
 /// Fills everything but the file names and the two lists above from the problem solved at x

@@ -11,6 +11,7 @@ packages=(
   libboost-program-options-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib
+  chromium  # tests: the HTML report rendered headless (ctest html_report_renders_in_chromium)
 )
 missing=()
 for p in "${packages[@]}"; do

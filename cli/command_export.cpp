@@ -1,0 +1,52 @@
+// kincal export: a calibrated model in a form a controller or robot description takes
+// (URDF for serial arms, a joint-coordinate CSV, plain JSON); cli/export_formats.hpp.
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "kincal/cli/export_formats.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/cli/sha256.hpp"
+
+namespace kincal::cli {
+
+int run_export(const Args& args) {
+  po::options_description options("kincal export");
+  options.add_options()("model", po::value<std::string>(), "model file (JSON), e.g. calibrated")(
+      "format", po::value<std::string>(), "urdf (serial arms), csv or json")(
+      "out", po::value<std::string>()->default_value("-"), "file to write, - for stdout");
+  po::variables_map vm;
+  if (!parse_command_line("export", args, options, vm)) return 0;
+  if (!vm.count("model")) throw CliError("--model FILE is required");
+  if (!vm.count("format")) throw CliError("--format urdf|csv|json is required");
+  const std::string format = vm["format"].as<std::string>();
+  if (format != "urdf" && format != "csv" && format != "json")
+    throw CliError("--format '" + format + "': expected urdf, csv or json");
+  OutputPlan plan;
+  plan.input("--model", vm["model"].as<std::string>());
+  plan.output("--out", vm["out"].as<std::string>());
+  plan.check();
+
+  const std::shared_ptr<MeasurementModel> model = load_model_option(vm);
+  ExportSource source;
+  source.model_file = vm["model"].as<std::string>();
+  std::ifstream in(source.model_file, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  source.sha256 = sha256_hex(bytes.str());
+  std::string text;
+  try {
+    text = format == "urdf"  ? export_urdf(*model, source)
+           : format == "csv" ? export_csv(*model, source)
+                             : export_json(*model, source);
+  } catch (const ExportError& e) {
+    throw CliError(source.model_file + ": " + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    throw CliError(source.model_file + ": cannot be written as JSON (" + e.what() + ")");
+  }
+  plan.write({{"--out", text}});
+  return 0;
+}
+
+}  // namespace kincal::cli

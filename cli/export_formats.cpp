@@ -1,0 +1,279 @@
+#include "kincal/cli/export_formats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "kincal/cli/svg_plot.hpp"
+#include "kincal/framework/pose.hpp"
+#include "kincal/framework/units.hpp"
+#include "kincal/models/serial_arm.hpp"
+
+namespace kincal::cli {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+constexpr double kDegreesPerRadian = 180 / 3.14159265358979323846;
+
+std::string full(double v) {
+  if (v == 0) v = 0;  // no "-0" in a table a person reads
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// Metres per unit of a length: URDF is in metres, kincal's lengths carry their unit.
+double metres_per(const std::string& unit) {
+  if (unit == kMillimetre) return 1e-3;
+  throw ExportError("length unit '" + unit + "' has no conversion to metres");
+}
+
+VectorXd mechanism_values(const MeasurementModel& model) {
+  return model.parameters().nominal_values().head(
+      static_cast<int>(model.mechanism().parameters().size()));
+}
+
+const SerialArm* as_serial_arm(const MeasurementModel& model) {
+  return dynamic_cast<const SerialArm*>(&model.mechanism());
+}
+
+// The constant part of link i (everything but the joint's own motion Rz(q) or Tz(q), which
+// comes first in A_i): Rz(theta) Tz(d) Tx(a) Rx(alpha) or Rz(theta) Tx(a) Rx(alpha) Ry(beta).
+Pose link_constant(const SerialJoint& j) {
+  const Matrix3d Rz = Eigen::AngleAxisd(j.theta, Vector3d::UnitZ()).toRotationMatrix();
+  const Matrix3d Rx = Eigen::AngleAxisd(j.alpha, Vector3d::UnitX()).toRotationMatrix();
+  Pose p;
+  if (j.convention == LinkConvention::kDh) {
+    p.translation = Vector3d(0, 0, j.d) + Rz * Vector3d(j.a, 0, 0);
+    p.rotation = Rz * Rx;
+  } else {
+    const Matrix3d Ry = Eigen::AngleAxisd(j.beta, Vector3d::UnitY()).toRotationMatrix();
+    p.translation = Rz * Vector3d(j.a, 0, 0);
+    p.rotation = Rz * Rx * Ry;
+  }
+  return p;
+}
+
+Pose compose(const Pose& a, const Pose& b) {
+  Pose c;
+  c.rotation = a.rotation * b.rotation;
+  c.translation = a.translation + a.rotation * b.translation;
+  return c;
+}
+
+std::string origin(const Pose& p, double metres) {
+  const Vector6d f = frame_parameters(p);
+  return "<origin xyz=\"" + full(f[0] * metres) + " " + full(f[1] * metres) + " " +
+         full(f[2] * metres) + "\" rpy=\"" + full(f[3]) + " " + full(f[4]) + " " + full(f[5]) +
+         "\"/>";
+}
+
+Json pose_json(const Pose& p) {
+  const Vector6d f = frame_parameters(p);
+  return {{"position", {f[0], f[1], f[2]}}, {"rotation_zyx_rad", {f[3], f[4], f[5]}}};
+}
+
+// A parallel mechanism's legs by the naming convention <actuator>.base.{x,y[,z]},
+// <actuator>.platform.{x,y[,z]}, <actuator>.offset.
+struct Leg {
+  std::string name;
+  Vector3d base = Vector3d::Zero(), platform = Vector3d::Zero();
+  double offset = 0, home_actuator = NAN;
+};
+
+std::vector<Leg> parallel_legs(const MeasurementModel& model) {
+  const Mechanism& m = model.mechanism();
+  const VectorXd values = mechanism_values(model);
+  auto value_of = [&](const std::string& name, double fallback, bool required) {
+    for (std::size_t i = 0; i < m.parameters().size(); ++i)
+      if (m.parameters()[i].name == name) return values[static_cast<int>(i)];
+    if (required)
+      throw ExportError("mechanism '" + m.type() + "' has no parameter " + name +
+                        "; the joint-coordinate table is for parallel mechanisms whose legs "
+                        "have base and platform joints (hexapod-6ups, planar-3rpr)");
+    return fallback;
+  };
+  VectorXd home(static_cast<int>(m.actuators().size()));
+  const bool home_ok = m.home_actuators(values, home).ok();
+  std::vector<Leg> legs;
+  for (std::size_t a = 0; a < m.actuators().size(); ++a) {
+    Leg leg;
+    leg.name = m.actuators()[a].name;
+    for (int k = 0; k < 3; ++k) {
+      const std::string axis(1, static_cast<char>('x' + k));
+      leg.base[k] = value_of(leg.name + ".base." + axis, 0.0, k < 2);
+      leg.platform[k] = value_of(leg.name + ".platform." + axis, 0.0, k < 2);
+    }
+    leg.offset = value_of(leg.name + ".offset", 0.0, true);
+    if (home_ok) leg.home_actuator = home[static_cast<int>(a)];
+    legs.push_back(leg);
+  }
+  return legs;
+}
+
+const char* kLegConvention =
+    "leg length = actuator value + offset = |t + R p - b| (b: base joint in the base frame, p: "
+    "platform joint in the platform frame, pose (R, t) of the platform frame in the base "
+    "frame). A controller that computes the length L of a leg from the pose commands the "
+    "actuator value L - offset; an encoder that reads 0 at a reference mark has as offset the "
+    "leg length at that mark";
+
+// Text for an XML comment, which may not contain "--".
+std::string comment_text(const std::string& text) {
+  std::string out = xml_escape(text);
+  for (std::size_t at = out.find("--"); at != std::string::npos; at = out.find("--", at))
+    out.replace(at, 2, "-&#45;");
+  return out;
+}
+
+}  // namespace
+
+std::string export_urdf(const MeasurementModel& model, const ExportSource& source) {
+  const SerialArm* arm = as_serial_arm(model);
+  if (!arm)
+    throw ExportError("--format urdf: mechanism '" + model.mechanism().type() +
+                      "' is not a serial arm (URDF describes serial chains); use --format csv "
+                      "or json for a parallel mechanism");
+  const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
+  const double m = metres_per(kMillimetre);
+  std::string out = "<?xml version=\"1.0\"?>\n<!-- kincal export: calibrated serial arm from " +
+                    comment_text(source.model_file) + " (sha256 " + source.sha256 +
+                    ").\n     Lengths in metres, angles in radians. Joint i's origin is the "
+                    "calibrated constant part of link i-1\n     (DH: Rz(theta) Tz(d) Tx(a) "
+                    "Rx(alpha); Hayati: Rz(theta) Tx(a) Rx(alpha) Ry(beta)), the base frame "
+                    "for joint 1;\n     every joint moves about (or along) its own z axis, "
+                    "q = 0 is kincal's q = 0. Limits are home +- the\n     actuator's "
+                    "calibration range, not the machine's hard limits; effort and velocity are "
+                    "not known to kincal (0). -->\n<robot name=\"kincal_calibrated\">\n"
+                    "  <link name=\"base_link\"/>\n";
+  Pose previous = frame_from_parameters(g.base);
+  std::string parent = "base_link";
+  for (std::size_t i = 0; i < g.joints.size(); ++i) {
+    const SerialJoint& j = g.joints[i];
+    const bool revolute = j.type == JointType::kRevolute;
+    const double range = model.actuator_ranges()[static_cast<int>(i)];
+    const double scale = revolute ? 1.0 : m;
+    const std::string child = j.name + "_link";
+    out += "  <link name=\"" + xml_escape(child) + "\"/>\n";
+    out += "  <joint name=\"" + xml_escape(j.name) + "\" type=\"" +
+           (revolute ? "revolute" : "prismatic") + "\">\n    <parent link=\"" + xml_escape(parent) +
+           "\"/>\n    <child link=\"" + xml_escape(child) + "\"/>\n    " + origin(previous, m) +
+           "\n    <axis xyz=\"0 0 1\"/>\n    <limit lower=\"" + full((j.home - range) * scale) +
+           "\" upper=\"" + full((j.home + range) * scale) +
+           "\" effort=\"0\" velocity=\"0\"/>\n  </joint>\n";
+    previous = link_constant(j);
+    parent = child;
+  }
+  out += "  <link name=\"tool0\"/>\n  <joint name=\"tool\" type=\"fixed\">\n    <parent link=\"" +
+         xml_escape(parent) + "\"/>\n    <child link=\"tool0\"/>\n    " +
+         origin(compose(previous, frame_from_parameters(g.tool)), m) + "\n  </joint>\n</robot>\n";
+  return out;
+}
+
+std::string export_csv(const MeasurementModel& model, const ExportSource& source) {
+  std::string file = source.model_file;  // one comment line, whatever the name holds
+  std::replace_if(
+      file.begin(), file.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  std::string out = "# kincal export: calibrated " + model.mechanism().type() + " from " + file +
+                    " (sha256 " + source.sha256 + ")\n";
+  if (const SerialArm* arm = as_serial_arm(model)) {
+    const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
+    out +=
+        "# one row per joint, base to tool; link i = Rz(theta + q) Tz(d) Tx(a) Rx(alpha) "
+        "(dh) or Rz(theta + q) Tx(a) Rx(alpha) Ry(beta) (hayati); a prismatic joint adds q "
+        "to d\n# lengths mm, angles deg; home and range in the joint's unit (deg or mm)\n";
+    const Vector6d b = g.base, t = g.tool;
+    out += "# base frame: x,y,z mm " + full(b[0]) + "," + full(b[1]) + "," + full(b[2]) +
+           "; rotation_zyx_deg " + full(b[3] * kDegreesPerRadian) + "," +
+           full(b[4] * kDegreesPerRadian) + "," + full(b[5] * kDegreesPerRadian) + "\n";
+    out += "# tool frame: x,y,z mm " + full(t[0]) + "," + full(t[1]) + "," + full(t[2]) +
+           "; rotation_zyx_deg " + full(t[3] * kDegreesPerRadian) + "," +
+           full(t[4] * kDegreesPerRadian) + "," + full(t[5] * kDegreesPerRadian) + "\n";
+    out += "joint,type,convention,a_mm,alpha_deg,d_mm,beta_deg,theta_deg,home,range\n";
+    for (std::size_t i = 0; i < g.joints.size(); ++i) {
+      const SerialJoint& j = g.joints[i];
+      const bool revolute = j.type == JointType::kRevolute;
+      const bool dh = j.convention == LinkConvention::kDh;
+      const double unit = revolute ? kDegreesPerRadian : 1.0;
+      out += j.name + "," + to_string(j.type) + "," + to_string(j.convention) + "," + full(j.a) +
+             "," + full(j.alpha * kDegreesPerRadian) + "," + (dh ? full(j.d) : "") + "," +
+             (dh ? "" : full(j.beta * kDegreesPerRadian)) + "," +
+             full(j.theta * kDegreesPerRadian) + "," + full(j.home * unit) + "," +
+             full(model.actuator_ranges()[static_cast<int>(i)] * unit) + "\n";
+    }
+    return out;
+  }
+  const std::vector<Leg> legs = parallel_legs(model);
+  const Vector6d home = frame_parameters(model.mechanism().home_pose());
+  out += "# " + std::string(kLegConvention) + ".\n";
+  out +=
+      "# lengths mm; home_actuator is the actuator value at home_pose, home_length = "
+      "home_actuator + offset\n";
+  out += "# home_pose: position_mm " + full(home[0]) + "," + full(home[1]) + "," + full(home[2]) +
+         "; rotation_zyx_deg " + full(home[3] * kDegreesPerRadian) + "," +
+         full(home[4] * kDegreesPerRadian) + "," + full(home[5] * kDegreesPerRadian) +
+         " (R = Rz(rz) Ry(ry) Rx(rx))\n";
+  out +=
+      "leg,base_x,base_y,base_z,platform_x,platform_y,platform_z,offset,home_actuator,"
+      "home_length\n";
+  for (const Leg& l : legs)
+    out += l.name + "," + full(l.base.x()) + "," + full(l.base.y()) + "," + full(l.base.z()) + "," +
+           full(l.platform.x()) + "," + full(l.platform.y()) + "," + full(l.platform.z()) + "," +
+           full(l.offset) + "," + full(l.home_actuator) + "," + full(l.home_actuator + l.offset) +
+           "\n";
+  return out;
+}
+
+std::string export_json(const MeasurementModel& model, const ExportSource& source) {
+  Json out;
+  out["format"] = "kincal-export";
+  out["version"] = 1;
+  out["source"] = {{"model", source.model_file}, {"sha256", source.sha256}};
+  out["mechanism"] = model.mechanism().type();
+  out["units"] = {{"length", "mm"}, {"angle", "rad"}};
+  if (const SerialArm* arm = as_serial_arm(model)) {
+    const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
+    out["convention"] =
+        "T(q) = base * A_1(q_1) ... A_N(q_N) * tool; dh: A_i = Rz(theta + q) Tz(d) Tx(a) "
+        "Rx(alpha), hayati: A_i = Rz(theta + q) Tx(a) Rx(alpha) Ry(beta); a prismatic joint "
+        "adds q to d; frames: R = Rz(rz) Ry(ry) Rx(rx)";
+    out["base"] = pose_json(frame_from_parameters(g.base));
+    out["joints"] = Json::array();
+    for (std::size_t i = 0; i < g.joints.size(); ++i) {
+      const SerialJoint& j = g.joints[i];
+      const double range = model.actuator_ranges()[static_cast<int>(i)];
+      Json joint = {{"name", j.name},
+                    {"type", to_string(j.type)},
+                    {"convention", to_string(j.convention)},
+                    {"a", j.a},
+                    {"alpha", j.alpha}};
+      if (j.convention == LinkConvention::kDh)
+        joint["d"] = j.d;
+      else
+        joint["beta"] = j.beta;
+      joint["theta"] = j.theta;
+      joint["home"] = j.home;
+      joint["lower"] = j.home - range;
+      joint["upper"] = j.home + range;
+      out["joints"].push_back(joint);
+    }
+    out["tool"] = pose_json(frame_from_parameters(g.tool));
+    return out.dump(2) + "\n";
+  }
+  const std::vector<Leg> legs = parallel_legs(model);
+  out["convention"] = kLegConvention;
+  out["home_pose"] = pose_json(model.mechanism().home_pose());
+  out["legs"] = Json::array();
+  for (const Leg& l : legs)
+    out["legs"].push_back({{"name", l.name},
+                           {"base", {l.base.x(), l.base.y(), l.base.z()}},
+                           {"platform", {l.platform.x(), l.platform.y(), l.platform.z()}},
+                           {"offset", l.offset},
+                           {"home_actuator", l.home_actuator},
+                           {"home_length", l.home_actuator + l.offset}});
+  return out.dump(2) + "\n";
+}
+
+}  // namespace kincal::cli

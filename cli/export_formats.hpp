@@ -1,0 +1,34 @@
+#pragma once
+// A calibrated model in forms a controller or a robot description takes (kincal export):
+//   urdf  serial arms: one joint per axis, its origin the calibrated constant part of the
+//         link before it (DH or Hayati), axis z, limits home +- the actuator range; metres
+//         and radians as URDF wants.
+//   csv   parallel mechanisms: one row per leg with the base and platform joint coordinates,
+//         the leg offset and the leg at home (the convention in a comment header); serial
+//         arms: one row per joint with its calibrated DH/Hayati parameters.
+//   json  any mechanism: the same content as plain JSON (docs/exporting.md).
+// Each throws ExportError with one sentence when the mechanism cannot take the format.
+
+#include <stdexcept>
+#include <string>
+
+#include "kincal/framework/measurement_model.hpp"
+
+namespace kincal::cli {
+
+class ExportError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Where the model came from, written into every export.
+struct ExportSource {
+  std::string model_file;
+  std::string sha256;  ///< of the model file's bytes
+};
+
+std::string export_urdf(const MeasurementModel& model, const ExportSource& source);
+std::string export_csv(const MeasurementModel& model, const ExportSource& source);
+std::string export_json(const MeasurementModel& model, const ExportSource& source);
+
+}  // namespace kincal::cli

@@ -1,0 +1,57 @@
+#pragma once
+// Reports for people: one self-contained HTML file (no network, no script) with the plots as
+// inline SVG (cli/svg_plot), rendered from a command's JSON report so that every command
+// that writes JSON can have a page. The calibration report's page holds: verdicts in plain
+// language and what to do next, residuals per configuration and their histogram against the
+// noise, parameter corrections with error bars, the correlation heat map, the singular-value
+// spectrum with identifiability in words, flagged outliers and warnings. Optional sections
+// render when their fields exist (see render_calibration_html). Every string from the report
+// (file names, parameter and reading names, messages) is escaped.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace kincal::cli {
+
+/// A plain-language finding and what to do about it.
+struct Verdict {
+  enum class Level { kGood, kNote, kWarning, kProblem };
+  Level level = Level::kNote;
+  std::string finding;  ///< what the numbers say
+  std::string action;   ///< what to do next; empty when nothing
+};
+
+/// The verdicts on a calibration report (the JSON of to_json(CalibrationReport)): the
+/// solver's outcome, the noise against the stated reading_std, conditioning and weakly
+/// determined directions, the least determined parameters, correlations of +-1, outliers,
+/// skipped rows and the report's warnings.
+std::vector<Verdict> calibration_verdicts(const nlohmann::ordered_json& report);
+
+/// A page: a head with the styles, sections appended in order.
+class HtmlPage {
+ public:
+  explicit HtmlPage(std::string title);
+  /// A section with an anchor id, a heading and HTML content (already escaped).
+  void add_section(const std::string& id, const std::string& heading, const std::string& html);
+  std::string str() const;
+
+ private:
+  std::string title_;
+  std::vector<std::string> sections_, toc_;
+};
+
+/// The verdicts as an HTML list.
+std::string verdicts_html(const std::vector<Verdict>& verdicts);
+
+/// The calibration report's page. Besides the fields calibrate always writes it renders,
+/// when present: "predicted_pose_accuracy" (an object or array of objects: a table),
+/// per-parameter "prior_std" and "prior_share" (columns of the parameter table),
+/// "sensitivity" (an array of objects: a table) and "warnings".
+std::string render_calibration_html(const nlohmann::ordered_json& report);
+
+/// An object or an array of flat objects as an HTML table (keys as headers); nested values
+/// are shown as compact JSON. For sections whose schema belongs to another command.
+std::string json_table_html(const nlohmann::ordered_json& value);
+
+}  // namespace kincal::cli

@@ -1,0 +1,43 @@
+#pragma once
+// Checks of measurement data against a model that catch set-up mistakes before they turn into
+// a wrong calibration (docs/calibrating-a-machine.md, "Setting up a real machine"):
+//   - home_pose: forward kinematics starts from the model's home pose and converges to the
+//     assembly nearest to it. A wrong home_pose gives a different, valid pose; when the
+//     data's poses all lie far from home_pose, it is probably wrong.
+//   - encoder strokes: actuator values given as strokes (zero at a reference mark) instead of
+//     leg lengths fail forward kinematics at most rows; the leg offsets are the fix.
+// Each check returns one plain sentence, empty when nothing looks wrong.
+
+#include <string>
+
+#include "kincal/framework/calibration_problem.hpp"
+
+namespace kincal {
+
+/// Where the poses of the data (forward kinematics of each row at `params`) lie relative to
+/// the model's home_pose.
+struct HomePoseCheck {
+  int poses = 0;                   ///< rows whose forward kinematics succeeded
+  double nearest_position_mm = 0;  ///< distance of the closest pose to home_pose
+  double nearest_angle_rad = 0;    ///< rotation angle of the closest pose from home_pose
+  double extent_mm = 0;            ///< largest distance of a pose from the poses' centre
+  double extent_angle_rad = 0;     ///< largest rotation of a pose from the central one
+  /// Far: even the closest pose is farther from home than the data spreads, and farther
+  /// than kHomeFarMm / kHomeFarRad (so that a compact data set near home is never "far").
+  bool far = false;
+  std::string warning;  ///< the sentence for the user when far, else empty
+};
+constexpr double kHomeFarMm = 10.0;
+constexpr double kHomeFarRad = 0.2;
+
+HomePoseCheck check_poses_near_home(const MeasurementModel& model, const VectorXd& params,
+                                    const Measurements& data);
+
+/// A hint when rows fail forward kinematics (`failed_rows` of data.size()) and the actuator
+/// values look like encoder strokes: at least half the rows failed, and the median |value| of
+/// most length actuators is below a quarter of that actuator's value at home. Empty
+/// otherwise.
+std::string encoder_stroke_hint(const MeasurementModel& model, const VectorXd& params,
+                                const Measurements& data, int failed_rows);
+
+}  // namespace kincal

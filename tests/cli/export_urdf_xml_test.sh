@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The URDF kincal export writes is XML that a standard parser reads: every preset arm, with
+# its joints chained from base_link to tool0, even from a model file whose name holds XML's
+# special characters. Skipped (77) only without python3.
+set -euo pipefail
+kincal=$1
+command -v python3 >/dev/null 2>&1 || { echo "skipped: python3 is not installed"; exit 77; }
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+for preset in puma560 ur5; do
+  # A file name that an XML comment or attribute could choke on: "--", "&", "<".
+  model="$dir/${preset}--a&b<c.json"
+  "$kincal" model --preset "$preset" --out "$model"
+  "$kincal" export --model "$model" --format urdf --out "$dir/$preset.urdf"
+  python3 - "$dir/$preset.urdf" <<'PY'
+import sys, xml.etree.ElementTree as ET
+robot = ET.parse(sys.argv[1]).getroot()
+assert robot.tag == "robot", robot.tag
+links = {l.get("name") for l in robot.findall("link")}
+parent = "base_link"
+for joint in robot.findall("joint"):
+    assert joint.find("parent").get("link") == parent, (joint.get("name"), parent)
+    child = joint.find("child").get("link")
+    assert child in links, child
+    if joint.get("type") != "fixed":
+        lim = joint.find("limit")
+        assert float(lim.get("lower")) < float(lim.get("upper")), joint.get("name")
+    parent = child
+assert parent == "tool0", parent
+print(sys.argv[1].rsplit("/", 1)[-1], "parses:", len(robot.findall("joint")), "joints")
+PY
+done

@@ -1,0 +1,232 @@
+// The report for people (cli/html_report, cli/svg_plot): well-formed markup, every user
+// string escaped, no script and no network reference, the verdicts a person acts on, the
+// optional sections, and calibrate --html through the real binary. The rendering in a real
+// browser is tests/cli/html_report_browser_test.sh (ctest html_report_renders_in_chromium).
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "kincal/cli/html_report.hpp"
+#include "kincal/cli/svg_plot.hpp"
+
+namespace kincal {
+namespace {
+
+using cli::render_calibration_html;
+using Json = nlohmann::ordered_json;
+using kincal::testing::read_text;
+using kincal::testing::run_cli;
+using kincal::testing::TempDir;
+
+// A strict reader of the markup we write: every element closed in order (or self-closed,
+// or a void HTML element), attribute values quoted, '&' only as an entity, no '<' in text.
+// Returns "" when well-formed, else what is wrong and where.
+std::string markup_problem(const std::string& s) {
+  static const std::vector<std::string> kVoid = {"meta", "br", "hr", "img", "link", "input"};
+  std::vector<std::string> open;
+  std::size_t i = 0;
+  if (s.rfind("<!DOCTYPE html>", 0) == 0) i = s.find('>') + 1;
+  while (i < s.size()) {
+    const char c = s[i];
+    if (c == '&') {
+      static const std::regex entity("^&(amp|lt|gt|quot|#[0-9]+);");
+      if (!std::regex_search(s.substr(i, 10), entity)) return "bare & at " + std::to_string(i);
+      ++i;
+      continue;
+    }
+    if (c == '>') return "bare > at " + std::to_string(i);
+    if (c != '<') {
+      ++i;
+      continue;
+    }
+    const std::size_t end = s.find('>', i);
+    if (end == std::string::npos) return "unclosed tag at " + std::to_string(i);
+    std::string tag = s.substr(i + 1, end - i - 1);
+    if (tag.find('<') != std::string::npos) return "< inside a tag at " + std::to_string(i);
+    i = end + 1;
+    if (tag.rfind("?xml", 0) == 0 || tag.rfind("!--", 0) == 0) continue;
+    if (tag[0] == '/') {
+      const std::string name = tag.substr(1);
+      if (open.empty() || open.back() != name)
+        return "</" + name + "> closes <" + (open.empty() ? "" : open.back()) + ">";
+      open.pop_back();
+      continue;
+    }
+    const bool self_closed = tag.back() == '/';
+    if (self_closed) tag.pop_back();
+    const std::string name = tag.substr(0, tag.find_first_of(" \n"));
+    // Attributes: name="value" with no quote inside the value.
+    static const std::regex attrs(R"re(^[a-zA-Z0-9:-]+(\s+[a-zA-Z0-9:-]+="[^"]*")*\s*$)re");
+    if (!std::regex_match(tag, attrs)) return "malformed tag <" + tag.substr(0, 80) + ">";
+    if (!self_closed && std::find(kVoid.begin(), kVoid.end(), name) == kVoid.end())
+      open.push_back(name);
+  }
+  return open.empty() ? "" : "<" + open.back() + "> never closed";
+}
+
+// A report in the shape of to_json(CalibrationReport), with names meant to break markup.
+Json hostile_report() {
+  const std::string evil = "<script>alert('x')</script>&\"leg";
+  Json r;
+  r["format"] = "kincal-calibration-report";
+  r["model"] = "m<odel>.json";
+  r["data"] = "d&ata.csv";
+  r["solver"] = "lm";
+  r["loss"] = "none";
+  r["termination"] = "converged";
+  r["message"] = "relative cost change < tolerance";
+  r["iterations"] = 12;
+  r["configurations"] = 4;
+  r["readings"] = 4;
+  r["residual_rms_by_unit"] = {{"mm", 0.01}};
+  r["residual_max_by_unit"] = {{"mm", 0.05}};
+  r["weighted"] = false;
+  r["sigma_hat"] = 0.01;
+  r["sigma_hat_unit"] = "mm";
+  r["degrees_of_freedom"] = 2;
+  r["parameters"] = Json::array(
+      {{{"name", evil + "1"}, {"unit", "mm"}, {"nominal", 1.0}, {"estimate", 3.0}, {"std", 14.0}},
+       {{"name", "leg2.x"},
+        {"unit", "rad"},
+        {"nominal", 0.1},
+        {"estimate", 0.1002},
+        {"std", 1e-3}}});
+  r["correlation"] = Json::array({Json::array({1.0, 0.9999}), Json::array({0.9999, 1.0})});
+  r["outlier_threshold"] = 0.03;
+  r["reading_units"] = {{evil, "mm"}};
+  r["reading_std"] = {{evil, nullptr}};
+  r["residuals"] = Json::array();
+  for (int c = 0; c < 4; ++c)
+    r["residuals"].push_back(
+        {{"line", c + 2}, {evil, c == 3 ? 0.05 : 0.001 * c}, {"outlier", c == 3}});
+  r["identifiability"] = {
+      {"parameters", 2},
+      {"singular_values", {1.2, 3e-5}},
+      {"numerical_rank", 2},
+      {"numerical_rank_threshold", 1.2e-6},
+      {"condition_number", 4e4},
+      {"O1", 1e-3},
+      {"combinations",
+       Json::array({{{"singular_value", 3e-5},
+                     {"kind", "weak"},
+                     {"terms", Json::array({{{"name", evil + "1"}, {"coefficient", 0.9}}})}}})}};
+  r["warnings"] = {"home <pose> & far"};
+  return r;
+}
+
+TEST(SvgPlot, EscapesAndIsWellFormed) {
+  EXPECT_EQ(cli::xml_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&#39;");
+  cli::SvgChart chart(300, 200, "t<i>tle & \"x\"");
+  chart.set_x({0, 10, false, "x <mm>"});
+  chart.set_y({1e-6, 10, true, "y & z"});
+  chart.draw_axes();
+  chart.point(5, 1e-3, 3, "a", "tip <b>");
+  chart.rect(1, 1e-5, 2, 1, "bar");
+  chart.polyline({{0, 1}, {10, 2}}, "curve");
+  const std::string svg = chart.str();
+  EXPECT_EQ(markup_problem(svg), "") << svg;
+  EXPECT_EQ(svg.find("<i>"), std::string::npos);
+  EXPECT_NE(svg.find("t&lt;i&gt;tle &amp; &quot;x&quot;"), std::string::npos);
+}
+
+TEST(SvgPlot, NiceTicksAreRoundAndCoverTheRange) {
+  const auto t = cli::nice_ticks(-0.013, 0.027, 5);
+  ASSERT_FALSE(t.empty());
+  EXPECT_GE(t.front(), -0.013);
+  EXPECT_LE(t.back(), 0.027);
+  EXPECT_DOUBLE_EQ(t[1] - t[0], 0.01);
+}
+
+TEST(HtmlReport, HostileNamesAreEscapedAndThePageIsWellFormed) {
+  const std::string html = render_calibration_html(hostile_report());
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_NE(html.find("&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt;&amp;&quot;leg"),
+            std::string::npos);
+  EXPECT_NE(html.find("m&lt;odel&gt;.json"), std::string::npos);
+  // Self-contained: nothing loaded from anywhere.
+  EXPECT_EQ(html.find("src="), std::string::npos);
+  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("url("), std::string::npos);
+  for (const char* id : {"verdicts", "summary", "residuals", "parameters", "correlation",
+                         "identifiability", "outliers", "warnings"})
+    EXPECT_NE(html.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
+  EXPECT_EQ(html.find("id=\"pose-accuracy\""), std::string::npos);
+}
+
+TEST(HtmlReport, VerdictsNameWhatToDo) {
+  const auto verdicts = cli::calibration_verdicts(hostile_report());
+  std::string all;
+  for (const auto& v : verdicts) all += v.finding + " | " + v.action + "\n";
+  EXPECT_NE(all.find("correlated at"), std::string::npos) << all;
+  EXPECT_NE(all.find("--loss huber"), std::string::npos) << all;  // the outlier
+  EXPECT_NE(all.find("Least determined (mm)"), std::string::npos) << all;
+  EXPECT_NE(all.find("std 14 mm"), std::string::npos) << all;
+  EXPECT_NE(all.find("--fix <script>"), std::string::npos) << all;  // raw here, escaped in HTML
+  EXPECT_NE(all.find("ill-conditioned"), std::string::npos) << all;
+  EXPECT_NE(all.find("home <pose> & far"), std::string::npos) << all;  // the report's warning
+}
+
+TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
+  Json r = hostile_report();
+  r["predicted_pose_accuracy"] = {{"position_rms_mm", 0.25}, {"orientation_rms_rad", 1e-3}};
+  r["parameters"][0]["prior_std"] = 2.0;
+  r["parameters"][0]["prior_share"] = 0.4;
+  const std::string html = render_calibration_html(r);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("id=\"pose-accuracy\""), std::string::npos);
+  EXPECT_NE(html.find("position_rms_mm"), std::string::npos);
+  EXPECT_NE(html.find("prior share"), std::string::npos);
+}
+
+// Degenerate reports (a failed solve: no residuals, no std, a zero Jacobian, nulls where
+// numbers were expected) still give a well-formed page that says so.
+TEST(HtmlReport, DegenerateReportsGiveAWellFormedPage) {
+  Json r = hostile_report();
+  r["termination"] = "failed";
+  r["residuals"] = Json::array();
+  r["sigma_hat"] = nullptr;
+  r["correlation"] = Json::array();
+  for (auto& p : r["parameters"]) p["std"] = nullptr;
+  r["identifiability"]["singular_values"] = {0.0, 0.0};
+  r["identifiability"]["condition_number"] = nullptr;
+  const std::string html = render_calibration_html(r);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("did not reach a solution"), std::string::npos);
+  EXPECT_NE(html.find("No residuals"), std::string::npos);
+  EXPECT_NE(html.find("zero or not finite"), std::string::npos);
+  EXPECT_EQ(markup_problem(render_calibration_html(Json::object())), "");
+}
+
+TEST(HtmlReport, CalibrateWritesItNextToTheJsonReport) {
+  TempDir dir("html-report");
+  const std::string m = dir / "nominal.json", d = dir / "data.csv";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  ASSERT_EQ(run_cli("simulate --model " + m + " --case 5 --seed 7 --write-data " + d).exit_code, 0);
+  const auto result = run_cli("calibrate --model " + m + " --data " + d + " --report " +
+                              (dir / "r.json") + " --html " + (dir / "r.html"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string html = read_text(dir / "r.html");
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("Verdicts"), std::string::npos);
+  EXPECT_GE(std::count(html.begin(), html.end(), '\n'), 5);
+  // Five charts: residuals, histogram, corrections (mm), correlation, singular values.
+  std::size_t svgs = 0;
+  for (std::size_t p = html.find("<svg"); p != std::string::npos; p = html.find("<svg", p + 1))
+    ++svgs;
+  EXPECT_EQ(svgs, 5u);
+  // The same page from the JSON report: the HTML is a pure function of it.
+  const Json report = Json::parse(read_text(dir / "r.json"));
+  EXPECT_EQ(render_calibration_html(report), html);
+  // --html - prints only the page.
+  const auto to_stdout = run_cli("calibrate --model " + m + " --data " + d + " --html -");
+  EXPECT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
+  EXPECT_EQ(to_stdout.out.rfind("<!DOCTYPE html>", 0), 0u);
+}
+
+}  // namespace
+}  // namespace kincal
