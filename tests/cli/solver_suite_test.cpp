@@ -49,7 +49,7 @@ TEST(CliSolverSuite, JsonHasEveryResultAndTheTally) {
   // To stdout the table goes to stderr, the JSON alone to stdout.
   const auto piped = run_cli("solver-suite --solver gn --problem mgh01 --json -");
   ASSERT_EQ(piped.exit_code, 0);
-  EXPECT_NO_THROW((void)nlohmann::json::parse(piped.out)) << piped.out;
+  EXPECT_TRUE(nlohmann::json::accept(piped.out)) << piped.out;
   EXPECT_NE(piped.err.find("gn "), std::string::npos);
 }
 
