@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
@@ -21,10 +22,12 @@ int run_observability(const Args& args) {
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed for --poses")(
       "config-range", po::value<std::string>(),
       "r per unit for --poses, e.g. 20mm,0.5rad (default: each actuator's range in the model)")(
-      "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
+      "rcond",
+      po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
+                                         default_text(IdentifiabilityOptions{}.rcond)),
       "numerical rank threshold relative to the largest scaled singular value")(
-      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
-      "json", po::value<std::string>(), "write the analysis as JSON to FILE, or - for stdout");
+      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing");
+  add_json_option(options, "the analysis");
   add_free_fix_options(options);
   po::variables_map vm;
   if (!parse_command_line("observability", args, options, vm)) return 0;
