@@ -59,7 +59,7 @@ int run_fk(const Args& args) {
     expected += (expected.empty() ? "" : ",") + a.name + " (" + a.unit + ")";
   const std::string text = vm[option].as<std::string>();
   const KinematicsRow row = forward_from_values(*model, parse_numbers(text, n, option, expected));
-  if (row.status == "non_finite")
+  if (row.status == "overflow")
     throw CliError("--" + option + " '" + text +
                    "': the readings at this pose are not finite numbers (the arithmetic "
                    "overflows); expected actuator values of the machine's workspace");

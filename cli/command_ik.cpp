@@ -48,7 +48,7 @@ int run_ik(const Args& args) {
   const std::string text = vm["pose"].as<std::string>();
   const KinematicsRow row = inverse_from_values(
       *model, parse_numbers(text, 6, "pose", "x,y,z in mm and rx,ry,rz in degrees"));
-  if (row.status == "non_finite")
+  if (row.status == "overflow")
     throw CliError("--pose '" + text +
                    "': the actuator values or readings at this pose are not finite numbers (the "
                    "arithmetic overflows); expected a pose near the machine's workspace");

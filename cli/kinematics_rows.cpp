@@ -47,7 +47,7 @@ KinematicsRow forward_row(const MeasurementModel& model, const VectorXd& actuato
   row.readings.resize(model.num_readings());
   model.predict_at_pose(params, fk.pose, row.readings);
   if (!row.readings.allFinite() || !fk.pose.translation.allFinite())
-    return failed(row, "non_finite",
+    return failed(row, "overflow",
                   "the pose or readings are not finite numbers (the arithmetic overflows)");
   const Vector3d zyx = euler_zyx(fk.pose.rotation) * (180.0 / kPi);
   row.pose = {fk.pose.translation[0],
@@ -78,7 +78,7 @@ KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double
   model.predict_at_pose(params, pose, row.readings);
   // Finite input can still overflow (1e308 squared): a status, never inf in the output.
   if (!row.actuators.allFinite() || !row.readings.allFinite())
-    return failed(row, "non_finite",
+    return failed(row, "overflow",
                   "the actuator values or readings are not finite numbers (the arithmetic "
                   "overflows)");
   row.actuators_known = true;
