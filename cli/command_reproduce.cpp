@@ -175,10 +175,11 @@ int run_reproduce(const Args& args) {
     progress.advance();
   });
   progress.finish();
-  const bool partial = interrupt_requested();
   int trials_done = 0;
   for (const auto& c : cases)
     for (const auto& t : c.trials) trials_done += t.done;
+  // A Ctrl-C after the last trial started leaves nothing out: then the results are whole.
+  const bool partial = trials_done < total;
 
   // With --json - the table goes to stderr, so that standard output holds only the JSON.
   std::FILE* text = json_to_stdout ? stderr : stdout;
