@@ -362,6 +362,15 @@ TEST(CliLongRuns, ProgressShowsTheTimeRemainingOnlyWhenAsked) {
   EXPECT_NE(shown.err.find("10/10 trials"), std::string::npos) << shown.err;
 }
 
+TEST(CliLongRuns, SolverSuiteShowsProgressWhenAsked) {
+  const std::string run = "solver-suite --solver gn --problem rosenbrock";
+  EXPECT_EQ(run_cli(run).err, "");
+  const auto shown = run_cli(run + " --progress");
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  EXPECT_NE(shown.err.find("kincal solver-suite: 1/"), std::string::npos) << shown.err;
+  EXPECT_NE(shown.err.find(" runs, "), std::string::npos) << shown.err;
+}
+
 TEST(CliLongRuns, FirstCtrlCWritesTheFinishedTrialsMarkedPartial) {
   TempDir dir("sigint");
   Child child;
