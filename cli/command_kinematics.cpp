@@ -33,7 +33,14 @@ int run_table(const std::string& command, const po::variables_map& vm, OutputPla
   } catch (const std::invalid_argument& e) {
     throw CliError(e.what());
   }
-  for (const auto& n : table.notices) note(command, n);
+  // A measurement file given to fk has reading columns: expected there, not worth a note.
+  for (const auto& n : table.notices) {
+    bool reading_column = false;
+    for (const auto& name : model.reading_names())
+      reading_column =
+          reading_column || n.find("ignoring column '" + name + "'") != std::string::npos;
+    if (!reading_column) note(command, n);
+  }
   std::vector<KinematicsRow> rows;
   int failures = 0;
   for (int r = 0; r < table.data.size(); ++r) {

@@ -19,8 +19,9 @@ inline constexpr const char* kPoseConvention =
 void add_table_outputs(po::options_description& options);
 
 /// Table mode: reads `columns` from `input_file` (a CSV as the measurement files: header,
-/// other columns ignored with a note), computes a row for each line with `compute`, and
-/// writes the table to --out (CSV; standard output unless --json is given) and --json.
+/// other columns ignored with a note, the model's reading columns silently), computes a row
+/// for each line with `compute`, and writes the table to --out (CSV; standard output unless
+/// --json is given) and --json.
 /// Returns 0, or 1 when some row failed (each has its status; one line on stderr says how
 /// many). `plan` holds the inputs already; the outputs are added and checked here.
 int run_table(const std::string& command, const po::variables_map& vm, OutputPlan& plan,
