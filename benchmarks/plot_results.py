@@ -73,7 +73,7 @@ def plot_paper_figures(traces, image_dir):
                         if int(r["running"]) >= 0.5 * int(r["trials"])], default=0)
             last = min(last, 2 * half + 2)
             for row, (quantity, unit, scale) in enumerate(
-                    [("position", "mm", 1.0), ("orientation", "mrad", 1e3)]):
+                    [("position", "mm", 1.0), ("orientation", "rad", 1.0)]):
                 ax = axes[row][col]
                 suffix = "mm" if quantity == "position" else "rad"
                 for case in cases:

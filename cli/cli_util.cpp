@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "kincal/cli/common_options.hpp"
 #include "kincal/framework/solver_registry.hpp"
 
 namespace kincal::cli {
@@ -38,7 +39,7 @@ std::string option_error_message(const po::error& e, const Args& args) {
 
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm) {
-  options.add_options()("help,h", "show this help");
+  options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
   try {
     // An empty positional description makes boost reject stray words ("too many
     // positional options") instead of ignoring them.
@@ -50,6 +51,10 @@ bool parse_command_line(const std::string& command, const Args& args,
   }
   if (vm.count("help")) {
     std::cout << "usage: kincal " << command << " [options]\n" << options << "\n";
+    return false;
+  }
+  if (vm.count("version")) {
+    std::cout << version_text();
     return false;
   }
   return true;

@@ -18,7 +18,8 @@ namespace kincal::cli {
 namespace po = boost::program_options;
 
 /// Parses `args` against `options`; throws CliError with boost's message on bad input and
-/// rejects stray positional arguments. Returns false (after printing help) for --help.
+/// rejects stray positional arguments. Returns false (after printing help or the version) for
+/// --help and --version.
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm);
 

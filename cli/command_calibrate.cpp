@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_report.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
@@ -80,16 +81,23 @@ bool is_valid_utf8(const std::string& text) {
   }
 }
 
+// The report's option as the user spelt it, for messages: --json, or its older name --report.
+std::string report_label(const po::variables_map& vm) {
+  return vm.count("report") ? "--report" : "--json";
+}
+
 // The files of this run: no output may be an input or the other output. Checked before
 // the data is read, so a typo does not cost a solve.
 OutputPlan plan_files(const po::variables_map& vm) {
   OutputPlan plan;
   for (const char* option : {"model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
-  for (const char* option : {"out", "report", "html"})
-    if (vm.count(option)) plan.output(std::string("--") + option, vm[option].as<std::string>());
+  if (vm.count("out")) plan.output("--out", vm["out"].as<std::string>());
+  const std::string report = json_output(vm, "report");
+  if (!report.empty()) plan.output(report_label(vm), report);
+  if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   // The report is JSON and names the files: a name JSON cannot hold would fail at the end.
-  if (vm.count("report") || vm.count("html"))
+  if (!report.empty() || vm.count("html"))
     for (const char* option : {"model", "data", "out"})
       if (vm.count(option) && !is_valid_utf8(vm[option].as<std::string>()))
         throw CliError("--" + std::string(option) +
@@ -137,7 +145,7 @@ int run_calibrate(const Args& args) {
   options.add_options()("model", po::value<std::string>(), "model file (JSON): the nominal values")(
       "data", po::value<std::string>(), "measurement file (CSV)")(
       "out", po::value<std::string>(), "write the calibrated model (JSON, same schema) to FILE")(
-      "report", po::value<std::string>(), "write the report (JSON) to FILE, or - for stdout")(
+      "report", po::value<std::string>(), "the same as --json (its older name)")(
       "html", po::value<std::string>(),
       "write the report for people to FILE: one self-contained HTML page with plots")(
       "loss", po::value<std::string>(),
@@ -146,8 +154,11 @@ int run_calibrate(const Args& args) {
       "when the data cannot determine every free parameter, fix the dependent ones at their "
       "model values and solve for the rest instead of stopping")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
-      "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
+      "rcond",
+      po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
+                                         default_text(IdentifiabilityOptions{}.rcond)),
       "numerical rank threshold relative to the largest scaled singular value");
+  add_json_option(options, "the report");
   add_free_fix_options(options);
   add_solver_options(options);
   po::variables_map vm;
@@ -236,7 +247,8 @@ int run_calibrate(const Args& args) {
 
   const bool solved = summary.termination == TerminationType::kConverged ||
                       summary.termination == TerminationType::kMaxIterations;
-  const bool report_to_stdout = (vm.count("report") && plan.to_stdout("--report")) ||
+  const std::string report_file = json_output(vm, "report");
+  const bool report_to_stdout = (!report_file.empty() && plan.to_stdout(report_label(vm))) ||
                                 (vm.count("html") && plan.to_stdout("--html"));
   if (!report_to_stdout) std::cout << to_text(report);
   // Model and report are written together or not at all while the process runs. Under a
@@ -253,7 +265,7 @@ int run_calibrate(const Args& args) {
   } else {
     report_json["calibrated_model"] = nullptr;
   }
-  if (vm.count("report")) outputs.push_back({"--report", report_json.dump(2) + "\n"});
+  if (!report_file.empty()) outputs.push_back({report_label(vm), report_json.dump(2) + "\n"});
   if (vm.count("html")) outputs.push_back({"--html", render_calibration_html(report_json)});
   if (!model_text.empty()) outputs.push_back({"--out", model_text});
   plan.write(outputs);

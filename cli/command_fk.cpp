@@ -1,15 +1,20 @@
-// kincal fk: forward kinematics of a model file for given actuator values.
+// kincal fk: forward kinematics of a model file for given actuator values, one configuration
+// (--actuators) or a table of them (--data).
 
 #include <cstdio>
 
 #include "kincal/cli/command_kinematics.hpp"
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
 
 namespace kincal::cli {
 
 namespace {
 
-constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+KinematicsRow forward_from_values(const MeasurementModel& model, const std::vector<double>& q) {
+  return forward_row(model,
+                     Eigen::Map<const VectorXd>(q.data(), static_cast<Eigen::Index>(q.size())));
+}
 
 }  // namespace
 
@@ -19,45 +24,61 @@ int run_fk(const Args& args) {
       "actuators", po::value<std::string>(),
       "commanded actuator values q1,q2,... in the actuators' units (mm for prismatic joints "
       "such as hexapod legs, rad for revolute joints): a row of the measurement file")(
-      "legs", po::value<std::string>(), "the same as --actuators (its older name)");
+      "legs", po::value<std::string>(), "the same as --actuators (its older name)")(
+      "data", po::value<std::string>(),
+      "instead of --actuators: a CSV file with the actuator columns (a measurement file; "
+      "other columns are ignored): one result per row, failures as statuses");
+  add_table_outputs(options);
   po::variables_map vm;
   if (!parse_command_line("fk", args, options, vm)) return 0;
-  OutputPlan plan;  // no outputs; standard output must not be the model file
+  OutputPlan plan;  // standard output must not be an input
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
-  plan.check();
   if (vm.count("actuators") && vm.count("legs"))
     throw CliError("give --actuators or --legs (the same option), not both");
   const std::string option = vm.count("legs") ? "legs" : "actuators";
-  if (!vm.count(option)) throw CliError("--actuators q1,q2,... is required");
+  if (vm.count("data")) {
+    if (vm.count(option)) throw CliError("give --" + option + " or --data, not both");
+    plan.input("--data", vm["data"].as<std::string>());
+    if (!vm.count("model")) throw CliError("--model FILE is required");
+    plan.check();  // before the model is read; run_table checks again with its outputs
+    const auto model = load_model_option(vm);
+    OutputPlan table_plan = plan;
+    return run_table("fk", vm, table_plan, *model, "data", model->mechanism().actuator_names(),
+                     forward_from_values);
+  }
+  if (vm.count("out")) throw CliError("--out writes the table of --data; give --data FILE");
+  const std::string json_file = json_output(vm);
+  if (!json_file.empty()) plan.output("--json", json_file);
+  plan.check();
+  if (!vm.count(option)) throw CliError("--actuators q1,q2,... (or --data FILE) is required");
   const auto model = load_model_option(vm);
   const Mechanism& mechanism = model->mechanism();
   const int n = mechanism.num_actuators();
   std::string expected;
   for (const auto& a : mechanism.actuators())
     expected += (expected.empty() ? "" : ",") + a.name + " (" + a.unit + ")";
-  const auto values = parse_numbers(vm[option].as<std::string>(), n, option, expected);
-  const VectorXd q = Eigen::Map<const VectorXd>(values.data(), n);
-  const VectorXd params = model->parameters().nominal_values();
-  const auto mech = params.head(model->mechanism().num_parameters());
-  const ForwardKinematicsResult fk = model->mechanism().forward_kinematics(
-      mech, q, model->mechanism().home_pose(), model->forward_kinematics_options());
-  if (!fk.ok())
-    throw CliError("--" + option + " '" + vm[option].as<std::string>() + "': forward kinematics " +
-                   fk.describe() + "; expected actuator values the model can reach");
-  VectorXd readings(model->num_readings());
-  model->predict_at_pose(params, fk.pose, readings);
-  if (!readings.allFinite())
-    throw CliError("--" + option + " '" + vm[option].as<std::string>() +
+  const std::string text = vm[option].as<std::string>();
+  const KinematicsRow row = forward_from_values(*model, parse_numbers(text, n, option, expected));
+  if (row.status == "overflow")
+    throw CliError("--" + option + " '" + text +
                    "': the readings at this pose are not finite numbers (the arithmetic "
                    "overflows); expected actuator values of the machine's workspace");
-  const Vector3d& t = fk.pose.translation;
-  const Vector3d zyx = euler_zyx(fk.pose.rotation) * kDegrees;
-  std::printf("position_mm   %.6f %.6f %.6f\n", t[0], t[1], t[2]);
-  std::printf("rotation_deg  %.6f %.6f %.6f   (rx ry rz, R = Rz(rz) Ry(ry) Rx(rx))\n", zyx[2],
-              zyx[1], zyx[0]);
+  if (!row.ok())
+    throw CliError("--" + option + " '" + text + "': " + row.reason +
+                   "; expected actuator values the model can reach");
+  if (!json_file.empty()) {
+    nlohmann::ordered_json json = {{"format", "kincal-fk"},
+                                   {"model", vm["model"].as<std::string>()}};
+    json.update(row_json(*model, row));
+    plan.write({{"--json", json.dump(2) + "\n"}});
+    if (plan.to_stdout("--json")) return 0;
+  }
+  std::printf("position_mm   %.6f %.6f %.6f\n", row.pose[0], row.pose[1], row.pose[2]);
+  std::printf("rotation_deg  %.6f %.6f %.6f   (rx ry rz, R = Rz(rz) Ry(ry) Rx(rx))\n", row.pose[3],
+              row.pose[4], row.pose[5]);
   const auto names = model->reading_names();
-  for (int k = 0; k < readings.size(); ++k)
-    std::printf("%-13s %.6f\n", names[k].c_str(), readings[k]);
+  for (int k = 0; k < row.readings.size(); ++k)
+    std::printf("%-13s %.6f\n", names[k].c_str(), row.readings[k]);
   return 0;
 }
 

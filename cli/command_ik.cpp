@@ -1,53 +1,76 @@
-// kincal ik: actuator values of a model file at a given pose.
+// kincal ik: actuator values of a model file at a given pose (--pose) or at each pose of a
+// table (--poses).
 
 #include <cstdio>
 
 #include "kincal/cli/command_kinematics.hpp"
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
 
 namespace kincal::cli {
+
+namespace {
+
+KinematicsRow inverse_from_values(const MeasurementModel& model, const std::vector<double>& v) {
+  return inverse_row(model, {v[0], v[1], v[2], v[3], v[4], v[5]});
+}
+
+}  // namespace
 
 int run_ik(const Args& args) {
   po::options_description options(std::string("kincal ik (") + kPoseConvention + ")");
   options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
       "pose", po::value<std::string>(),
-      "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)");
+      "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)")(
+      "poses", po::value<std::string>(),
+      "instead of --pose: a CSV file with columns x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg (other "
+      "columns are ignored): one result per row, failures as statuses");
+  add_table_outputs(options);
   po::variables_map vm;
   if (!parse_command_line("ik", args, options, vm)) return 0;
-  OutputPlan plan;  // no outputs; standard output must not be the model file
+  OutputPlan plan;  // standard output must not be an input
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
+  if (vm.count("poses")) {
+    if (vm.count("pose")) throw CliError("give --pose or --poses, not both");
+    plan.input("--poses", vm["poses"].as<std::string>());
+    if (!vm.count("model")) throw CliError("--model FILE is required");
+    plan.check();
+    const auto model = load_model_option(vm);
+    OutputPlan table_plan = plan;
+    return run_table("ik", vm, table_plan, *model, "poses", kPoseColumns, inverse_from_values);
+  }
+  if (vm.count("out")) throw CliError("--out writes the table of --poses; give --poses FILE");
+  const std::string json_file = json_output(vm);
+  if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();
-  if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz is required");
+  if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz (or --poses FILE) is required");
   const auto model = load_model_option(vm);
-  const auto v =
-      parse_numbers(vm["pose"].as<std::string>(), 6, "pose", "x,y,z in mm and rx,ry,rz in degrees");
-  constexpr double kRadians = 3.14159265358979323846 / 180.0;
-  Pose pose;
-  pose.translation = Vector3d(v[0], v[1], v[2]);
-  pose.rotation = rotation_from_euler_zyx(Vector3d(v[5], v[4], v[3]) * kRadians);
-  const VectorXd params = model->parameters().nominal_values();
-  VectorXd q(model->mechanism().num_actuators());
-  const InverseKinematicsResult ik = model->mechanism().inverse_kinematics(
-      params.head(model->mechanism().num_parameters()), pose, q);
-  if (!ik.ok())
-    throw CliError("--pose '" + vm["pose"].as<std::string>() + "': inverse kinematics " +
-                   ik.describe() + "; expected a pose the model can reach");
-  VectorXd readings(model->num_readings());
-  model->predict_at_pose(params, pose, readings);
-  // Finite input can still overflow (1e308 squared): say so instead of printing inf.
-  if (!q.allFinite() || !readings.allFinite())
-    throw CliError("--pose '" + vm["pose"].as<std::string>() +
+  const std::string text = vm["pose"].as<std::string>();
+  const KinematicsRow row = inverse_from_values(
+      *model, parse_numbers(text, 6, "pose", "x,y,z in mm and rx,ry,rz in degrees"));
+  if (row.status == "overflow")
+    throw CliError("--pose '" + text +
                    "': the actuator values or readings at this pose are not finite numbers (the "
                    "arithmetic overflows); expected a pose near the machine's workspace");
+  if (!row.ok())
+    throw CliError("--pose '" + text + "': " + row.reason +
+                   "; expected a pose the model can reach");
+  if (!json_file.empty()) {
+    nlohmann::ordered_json json = {{"format", "kincal-ik"},
+                                   {"model", vm["model"].as<std::string>()}};
+    json.update(row_json(*model, row));
+    plan.write({{"--json", json.dump(2) + "\n"}});
+    if (plan.to_stdout("--json")) return 0;
+  }
   const auto& names = model->mechanism().actuator_names();
   // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
   const auto& actuators = model->mechanism().actuators();
-  for (int i = 0; i < q.size(); ++i)
+  for (int i = 0; i < row.actuators.size(); ++i)
     std::printf(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n", names[i].c_str(),
-                q[i]);
+                row.actuators[i]);
   const auto reading_names = model->reading_names();
-  for (int k = 0; k < readings.size(); ++k)
-    std::printf("%-8s %.6f\n", reading_names[k].c_str(), readings[k]);
+  for (int k = 0; k < row.readings.size(); ++k)
+    std::printf("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
   return 0;
 }
 

@@ -1,9 +1,11 @@
 // kincal list: what this build has: solver backends, preset models, mechanism and sensor
-// types. One line each, name first.
+// types. One line each, name first; with --json the same as one object.
 
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "kincal/cli/cli_util.hpp"
+#include "kincal/cli/common_options.hpp"
 #include "kincal/framework/model_registry.hpp"
 #include "kincal/framework/solver_registry.hpp"
 
@@ -11,32 +13,59 @@ namespace kincal::cli {
 
 namespace {
 
-constexpr const char* kUsage = "usage: kincal list [solvers|models|mechanisms|sensors]";
+constexpr const char* kUsage =
+    "usage: kincal list [solvers|models|mechanisms|sensors] [--json FILE|-]   "
+    "(everything when no section is given)";
 
-void line(const std::string& name, const std::string& text) {
-  std::string padded = name;
-  if (padded.size() < 22) padded.resize(22, ' ');
-  std::cout << padded << " " << text << "\n";
-}
+using Entries = std::vector<std::pair<std::string, std::string>>;  // name, description
 
-void list_solvers() {
-  for (const auto& info : SolverRegistry::global().list()) line(info.name, info.description);
+Entries solvers() {
+  Entries out;
+  for (const auto& info : SolverRegistry::global().list())
+    out.push_back({info.name, info.description});
   // Backends left out of this build, so that a missing one is not a mystery.
   for (const auto& missing : SolverRegistry::global().unavailable())
-    line(missing.name, "not in this build: " + missing.reason);
+    out.push_back({missing.name, "not in this build: " + missing.reason});
+  return out;
 }
 
-void list_models() {
+Entries models() {
+  Entries out;
   for (const auto& preset : ModelRegistry::global().presets())
-    line(preset.name, preset.description);
+    out.push_back({preset.name, preset.description});
+  return out;
 }
 
-void list_mechanisms() {
-  for (const auto& type : ModelRegistry::global().mechanisms()) line(type.type, type.description);
+Entries mechanisms() {
+  Entries out;
+  for (const auto& type : ModelRegistry::global().mechanisms())
+    out.push_back({type.type, type.description});
+  return out;
 }
 
-void list_sensors() {
-  for (const auto& type : ModelRegistry::global().sensors()) line(type.type, type.description);
+Entries sensors() {
+  Entries out;
+  for (const auto& type : ModelRegistry::global().sensors())
+    out.push_back({type.type, type.description});
+  return out;
+}
+
+void print(const Entries& entries) {
+  for (const auto& [name, text] : entries) {
+    std::string padded = name;
+    if (padded.size() < 22) padded.resize(22, ' ');
+    std::cout << padded << " " << text << "\n";
+  }
+}
+
+nlohmann::json to_json(const Entries& entries, bool solvers) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& [name, text] : entries) {
+    nlohmann::json e = {{"name", name}, {"description", text}};
+    if (solvers) e["available"] = text.rfind("not in this build: ", 0) != 0;
+    out.push_back(e);
+  }
+  return out;
 }
 
 }  // namespace
@@ -45,38 +74,50 @@ int run_list(const Args& args) {
   po::options_description options("kincal list");
   std::string what;
   options.add_options()("what", po::value<std::string>(&what),
-                        "solvers, models (presets), mechanisms or sensors; all when omitted")(
-      "help,h", "show this help");
+                        "solvers, models (presets), mechanisms or sensors; all when omitted");
+  add_json_option(options, "the list");
+  options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
   po::positional_options_description positional;
   positional.add("what", 1);
   po::variables_map vm;
   try {
     po::store(po::command_line_parser(args).options(options).positional(positional).run(), vm);
     if (vm.count("help")) {
-      std::cout << kUsage << "\n";
+      std::cout << kUsage << "\n" << options << "\n";
+      return 0;
+    }
+    if (vm.count("version")) {
+      std::cout << version_text();
       return 0;
     }
     po::notify(vm);
   } catch (const po::error& e) {
     throw CliError(option_error_message(e, args) + " (" + kUsage + ")");
   }
-  const std::vector<std::pair<const char*, void (*)()>> sections = {{"solvers", list_solvers},
-                                                                    {"models", list_models},
-                                                                    {"mechanisms", list_mechanisms},
-                                                                    {"sensors", list_sensors}};
-  if (what.empty()) {
-    for (std::size_t i = 0; i < sections.size(); ++i) {
-      std::cout << (i ? "\n" : "") << sections[i].first << ":\n";
-      sections[i].second();
-    }
-    return 0;
+  const std::vector<std::pair<std::string, Entries (*)()>> sections = {
+      {"solvers", solvers}, {"models", models}, {"mechanisms", mechanisms}, {"sensors", sensors}};
+  bool known = what.empty();
+  for (const auto& section : sections) known = known || what == section.first;
+  if (!known)
+    throw CliError("cannot list '" + what + "' (expected solvers, models, mechanisms or sensors)");
+  const std::string json_file = json_output(vm);
+  OutputPlan plan;
+  if (!json_file.empty()) plan.output("--json", json_file);
+  plan.check();
+  const bool json_to_stdout = !json_file.empty() && plan.to_stdout("--json");
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  bool first = true;
+  for (const auto& [name, list] : sections) {
+    if (!what.empty() && what != name) continue;
+    const Entries entries = list();
+    json[name] = to_json(entries, name == "solvers");
+    if (json_to_stdout) continue;
+    if (what.empty()) std::cout << (first ? "" : "\n") << name << ":\n";
+    print(entries);
+    first = false;
   }
-  for (const auto& [name, print] : sections)
-    if (what == name) {
-      print();
-      return 0;
-    }
-  throw CliError("cannot list '" + what + "' (expected solvers, models, mechanisms or sensors)");
+  if (!json_file.empty()) plan.write({{"--json", json.dump(2) + "\n"}});
+  return 0;
 }
 
 }  // namespace kincal::cli

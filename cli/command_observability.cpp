@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
@@ -71,15 +72,17 @@ int run_observability(const Args& args) {
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed for --poses")(
       "config-range", po::value<std::string>(),
       "r per unit for --poses, e.g. 20mm,0.5rad (default: each actuator's range in the model)")(
-      "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
+      "rcond",
+      po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
+                                         default_text(IdentifiabilityOptions{}.rcond)),
       "numerical rank threshold relative to the largest scaled singular value")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
-      "json", po::value<std::string>(), "write the analysis as JSON to FILE, or - for stdout")(
       "sensitivity", po::bool_switch(),
       "also: for each fixed parameter, the pose error an error in it leaves after calibrating "
       "the free ones (over the same configurations)")(
       "sensitivity-step", po::value<std::string>()->default_value("1mm,0.001rad"),
       "the error assumed in each fixed parameter, per unit");
+  add_json_option(options, "the analysis");
   add_free_fix_options(options);
   po::variables_map vm;
   if (!parse_command_line("observability", args, options, vm)) return 0;

@@ -6,11 +6,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
 
+#include "kincal/cli/common_options.hpp"
+#include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
+#include "kincal/cli/progress.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/parallel.hpp"
 #include "kincal/framework/random.hpp"
@@ -22,6 +26,7 @@ namespace kincal::cli {
 namespace {
 
 struct TrialResult {
+  bool done = false;  // false: skipped after Ctrl-C, left out of every table
   TerminationType termination = TerminationType::kFailed;
   int iterations = 0;
   double parameter_rms = 0;
@@ -42,6 +47,24 @@ std::vector<double> collect(const std::vector<TrialResult>& trials, F field) {
   for (const auto& t : trials) v.push_back(field(t));
   return v;
 }
+
+// The trials that ran (all of them unless the run was interrupted).
+std::vector<TrialResult> finished(const std::vector<TrialResult>& trials) {
+  std::vector<TrialResult> out;
+  for (const auto& t : trials)
+    if (t.done) out.push_back(t);
+  return out;
+}
+
+// The median, or NaN (null in JSON, empty in CSV) over no trials.
+double median_or_nan(const std::vector<double>& v) {
+  return v.empty() ? std::numeric_limits<double>::quiet_NaN() : median(v);
+}
+double p90_or_nan(const std::vector<double>& v) {
+  return v.empty() ? std::numeric_limits<double>::quiet_NaN() : quantile(v, 0.9);
+}
+
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 int count(const std::vector<TrialResult>& trials, TerminationType type) {
   return static_cast<int>(std::count_if(
@@ -76,7 +99,9 @@ int run_reproduce(const Args& args) {
                         "Monte Carlo trials (seeds) per case")(
       "threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)")(
       "out", po::value<std::string>()->default_value("reproduce-out"),
-      "directory for summary.csv, trials.csv and trace.csv");
+      "directory for summary.csv, trials.csv and trace.csv (created with its parents)");
+  add_json_option(options, "the summary per case");
+  add_progress_option(options);
   add_scenario_options(options, false);
   add_solver_options(options);
   po::variables_map vm;
@@ -114,46 +139,61 @@ int run_reproduce(const Args& args) {
   // new ones, never a mix.
   OutputPlan plan;
   plan.output_directory("--out", out_dir, {"summary.csv", "trials.csv", "trace.csv"});
+  const std::string json_file = json_output(vm);
+  if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();
+  const bool json_to_stdout = !json_file.empty() && plan.to_stdout("--json");
 
   std::vector<CaseResult> cases;
   for (const PaperCase& paper : paper_cases()) cases.push_back({paper, {}});
   for (auto& c : cases) c.trials.resize(num_trials);
 
-  // One flat index over (case, trial) keeps all cores busy to the end.
-  const int total = static_cast<int>(cases.size()) * num_trials;
-  parallel_for(
-      total, threads,
-      [&](int index) {
-        CaseResult& c = cases[index / num_trials];
-        const int trial = index % num_trials;
-        ScenarioOptions o = base;
-        o.num_configurations = c.paper.num_configurations;
-        o.noise_half_width = c.paper.noise_half_width;
-        o.seed = derive_seed(base.seed, static_cast<std::uint64_t>(trial));
-        const Scenario scenario = make_scenario(model, o);
-        const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
-        TrialResult& r = c.trials[trial];
-        r.termination = run.summary.termination;
-        r.iterations = run.summary.iterations;
-        r.parameter_rms = run.parameter_rms_error;
-        r.seconds = run.solve_seconds;
-        r.before = run.before;
-        r.after = run.after;
-        r.trace = run.trace_errors;
-      },
-      "reproduce");
+  // One flat index over (trial, case) keeps all cores busy to the end; trial-major, so that
+  // a run stopped by Ctrl-C has about as many trials of every case.
+  const int total = num_cases * num_trials;
+  Progress progress("reproduce", total, "trials", progress_wanted(vm));
+  const InterruptGuard interrupt_guard("reproduce");
+  parallel_for(total, threads, [&](int index) {
+    if (interrupt_requested()) return;  // finish the trials under way, start no more
+    CaseResult& c = cases[index % num_cases];
+    const int trial = index / num_cases;
+    ScenarioOptions o = base;
+    o.num_configurations = c.paper.num_configurations;
+    o.noise_half_width = c.paper.noise_half_width;
+    o.seed = derive_seed(base.seed, static_cast<std::uint64_t>(trial));
+    const Scenario scenario = make_scenario(model, o);
+    const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
+    TrialResult& r = c.trials[trial];
+    r.termination = run.summary.termination;
+    r.iterations = run.summary.iterations;
+    r.parameter_rms = run.parameter_rms_error;
+    r.seconds = run.solve_seconds;
+    r.before = run.before;
+    r.after = run.after;
+    r.trace = run.trace_errors;
+    r.done = true;
+    progress.advance();
+  });
+  progress.finish();
+  int trials_done = 0;
+  for (const auto& c : cases)
+    for (const auto& t : c.trials) trials_done += t.done;
+  // A Ctrl-C after the last trial started leaves nothing out: then the results are whole.
+  const bool partial = trials_done < total;
 
-  std::printf(
-      "kincal reproduce: %d trials per case, solver %s, parameter errors ±%g mm, "
-      "%d validation poses\n",
-      num_trials, choice.name.c_str(), base.param_error_half_width, base.num_validation);
-  std::printf("%-4s %-9s %5s | %-32s | %-32s | %5s | %-17s | %s\n", "case", "noise mm", "poses",
-              "position error mm", "orientation error rad", "iter", "conv/maxit/div/fail",
-              "unreachable");
-  std::printf("%-4s %-9s %5s | %10s %10s %10s | %10s %10s %10s | %5s | %-17s | %s\n", "", "", "",
-              "before", "after", "after p90", "before", "after", "after p90", "med", "",
-              "(trials)");
+  // With --json - the table goes to stderr, so that standard output holds only the JSON.
+  std::FILE* text = json_to_stdout ? stderr : stdout;
+  std::fprintf(text,
+               "kincal reproduce: %d trials per case, solver %s, parameter errors ±%g mm, "
+               "%d validation poses%s\n",
+               num_trials, choice.name.c_str(), base.param_error_half_width, base.num_validation,
+               partial ? " (PARTIAL: interrupted)" : "");
+  std::fprintf(text, "%-4s %-9s %5s | %-32s | %-32s | %5s | %-17s | %s\n", "case", "noise mm",
+               "poses", "position error mm", "orientation error rad", "iter", "conv/maxit/div/fail",
+               "unreachable");
+  std::fprintf(text, "%-4s %-9s %5s | %10s %10s %10s | %10s %10s %10s | %5s | %-17s | %s\n", "", "",
+               "", "before", "after", "after p90", "before", "after", "after p90", "med", "",
+               "(trials)");
   std::ostringstream summary_csv, trials_csv, trace_csv;
   summary_csv.precision(10);
   trials_csv.precision(10);
@@ -163,13 +203,14 @@ int run_reproduce(const Args& args) {
                  "orientation_before_median_rad,orientation_before_p90_rad,"
                  "orientation_after_median_rad,orientation_after_p90_rad,"
                  "parameter_rms_median_mm,iterations_median,converged,max_iterations,diverged,"
-                 "failed,user_stopped,trials_with_unreachable_validation_poses\n";
+                 "failed,user_stopped,trials_with_unreachable_validation_poses,partial\n";
   trials_csv << "case,trial,termination,iterations,solve_seconds,parameter_rms_mm,"
                 "position_before_mm,orientation_before_rad,position_after_mm,"
                 "orientation_after_rad,unreachable_validation_poses\n";
   trace_csv << "case,iteration,position_mean_mm,orientation_mean_rad\n";
+  nlohmann::ordered_json json_cases = nlohmann::ordered_json::array();
   for (const CaseResult& c : cases) {
-    const auto& t = c.trials;
+    const std::vector<TrialResult> t = finished(c.trials);
     const auto pos_before =
         collect(t, [](const TrialResult& r) { return r.before.position_mean_mm; });
     const auto pos_after =
@@ -192,25 +233,54 @@ int run_reproduce(const Args& args) {
         t.begin(), t.end(), [](const TrialResult& r) { return r.after.fk_failures > 0; }));
     char outcome[64];
     std::snprintf(outcome, sizeof outcome, "%d/%d/%d/%d", conv, maxit, div, fail);
-    std::printf(
-        "%-4d %-9g %5d | %10.4g %10.4g %10.4g | %10.4g %10.4g %10.4g | %5.0f | %-17s | %d\n",
-        c.paper.id, c.paper.noise_half_width, c.paper.num_configurations, median(pos_before),
-        median(pos_after), quantile(pos_after, 0.9), median(ori_before), median(ori_after),
-        quantile(ori_after, 0.9), median(iterations), outcome, unreachable);
+    const int n = static_cast<int>(t.size());
+    // Over the trials that ran: all of them, or those finished before Ctrl-C (then the
+    // trials column says how many, and the partial column says so).
+    const double stats[] = {median_or_nan(pos_before), p90_or_nan(pos_before),
+                            median_or_nan(pos_after),  p90_or_nan(pos_after),
+                            median_or_nan(ori_before), p90_or_nan(ori_before),
+                            median_or_nan(ori_after),  p90_or_nan(ori_after),
+                            median_or_nan(param_rms),  median_or_nan(iterations)};
+    std::fprintf(
+        text, "%-4d %-9g %5d | %10.4g %10.4g %10.4g | %10.4g %10.4g %10.4g | %5.0f | %-17s | %d\n",
+        c.paper.id, c.paper.noise_half_width, c.paper.num_configurations, stats[0], stats[2],
+        stats[3], stats[4], stats[6], stats[7], stats[9], outcome, unreachable);
     summary_csv << c.paper.id << ',' << c.paper.noise_half_width << ','
-                << c.paper.num_configurations << ',' << num_trials << ',' << choice.name << ','
-                << median(pos_before) << ',' << quantile(pos_before, 0.9) << ','
-                << median(pos_after) << ',' << quantile(pos_after, 0.9) << ',' << median(ori_before)
-                << ',' << quantile(ori_before, 0.9) << ',' << median(ori_after) << ','
-                << quantile(ori_after, 0.9) << ',' << median(param_rms) << ',' << median(iterations)
-                << ',' << conv << ',' << maxit << ',' << div << ',' << fail << ',' << stopped << ','
-                << unreachable << '\n';
-    for (int i = 0; i < num_trials; ++i)
-      trials_csv << c.paper.id << ',' << i << ',' << to_string(t[i].termination) << ','
-                 << t[i].iterations << ',' << t[i].seconds << ',' << t[i].parameter_rms << ','
-                 << t[i].before.position_mean_mm << ',' << t[i].before.orientation_mean_rad << ','
-                 << t[i].after.position_mean_mm << ',' << t[i].after.orientation_mean_rad << ','
-                 << t[i].after.fk_failures << '\n';
+                << c.paper.num_configurations << ',' << n << ',' << choice.name;
+    for (double v : stats) {
+      summary_csv << ',';
+      if (std::isfinite(v)) summary_csv << v;
+    }
+    summary_csv << ',' << conv << ',' << maxit << ',' << div << ',' << fail << ',' << stopped << ','
+                << unreachable << ',' << (partial ? "true" : "false") << '\n';
+    json_cases.push_back({{"case", c.paper.id},
+                          {"noise_half_width_mm", c.paper.noise_half_width},
+                          {"poses", c.paper.num_configurations},
+                          {"trials", n},
+                          {"position_before_median_mm", number(stats[0])},
+                          {"position_before_p90_mm", number(stats[1])},
+                          {"position_after_median_mm", number(stats[2])},
+                          {"position_after_p90_mm", number(stats[3])},
+                          {"orientation_before_median_rad", number(stats[4])},
+                          {"orientation_before_p90_rad", number(stats[5])},
+                          {"orientation_after_median_rad", number(stats[6])},
+                          {"orientation_after_p90_rad", number(stats[7])},
+                          {"parameter_rms_median_mm", number(stats[8])},
+                          {"iterations_median", number(stats[9])},
+                          {"converged", conv},
+                          {"max_iterations", maxit},
+                          {"diverged", div},
+                          {"failed", fail},
+                          {"user_stopped", stopped},
+                          {"trials_with_unreachable_validation_poses", unreachable}});
+    for (int i = 0; i < num_trials; ++i) {
+      const TrialResult& r = c.trials[i];
+      if (!r.done) continue;
+      trials_csv << c.paper.id << ',' << i << ',' << to_string(r.termination) << ',' << r.iterations
+                 << ',' << r.seconds << ',' << r.parameter_rms << ',' << r.before.position_mean_mm
+                 << ',' << r.before.orientation_mean_rad << ',' << r.after.position_mean_mm << ','
+                 << r.after.orientation_mean_rad << ',' << r.after.fk_failures << '\n';
+    }
     const auto trace = mean_trace(t);
     for (std::size_t i = 0; i < trace.size(); ++i)
       trace_csv << c.paper.id << ',' << i << ',' << trace[i][0] << ',' << trace[i][1] << '\n';
@@ -218,13 +288,32 @@ int run_reproduce(const Args& args) {
   plan.write_directory("--out", {{"summary.csv", summary_csv.str()},
                                  {"trials.csv", trials_csv.str()},
                                  {"trace.csv", trace_csv.str()}});
-  std::printf(
-      "pose errors are means over the validation poses (before = nominal geometry); "
-      "median/p90 over trials;\nunreachable = trials whose calibrated model cannot reach "
-      "some validation poses (left out of their means).\n"
-      "wrote %s/summary.csv, trials.csv, trace.csv (mean error per iteration: "
-      "the paper's Figs. 3-4)\n",
-      out_dir.c_str());
+  if (!json_file.empty()) {
+    nlohmann::ordered_json json = {{"format", "kincal-reproduce"},
+                                   {"solver", choice.name},
+                                   {"trials_per_case", num_trials},
+                                   {"partial", partial},
+                                   {"param_error_half_width_mm", base.param_error_half_width},
+                                   {"validation_poses", base.num_validation},
+                                   {"seed", base.seed},
+                                   {"out", out_dir},
+                                   {"cases", json_cases}};
+    plan.write({{"--json", json.dump(2) + "\n"}});
+  }
+  std::fprintf(text,
+               "pose errors are means over the validation poses (before = nominal geometry); "
+               "median/p90 over trials;\nunreachable = trials whose calibrated model cannot reach "
+               "some validation poses (left out of their means).\n"
+               "wrote %s/summary.csv, trials.csv, trace.csv (mean error per iteration: "
+               "the paper's Figs. 3-4)\n",
+               out_dir.c_str());
+  if (partial) {
+    std::fprintf(stderr,
+                 "kincal reproduce: interrupted: wrote the %d of %d trials that finished, as "
+                 "partial results (partial = true in %s/summary.csv%s)\n",
+                 trials_done, total, out_dir.c_str(), json_file.empty() ? "" : " and --json");
+    return 130;  // the shell's code for a run ended by SIGINT
+  }
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <set>
 
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
@@ -83,9 +84,9 @@ int run_simulate(const Args& args) {
   po::options_description options("kincal simulate");
   add_scenario_options(options, true);
   add_solver_options(options);
-  options.add_options()("json", po::value<std::string>(),
-                        "write the result as JSON to FILE, or - for stdout")(
-      "trace", po::value<std::string>(), "write the per-iteration trace as CSV to FILE");
+  add_json_option(options, "the result");
+  options.add_options()("trace", po::value<std::string>(),
+                        "write the per-iteration trace as CSV to FILE");
   // Files for the calibrate workflow (docs/calibrating-a-machine.md).
   options.add_options()("preset", po::value<std::string>(),
                         "built-in model to simulate (kincal list models; default cube-hexapod)")(

@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "kincal/cli/cli_util.hpp"
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/output_plan.hpp"
+#include "kincal/cli/progress.hpp"
 #include "kincal/framework/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite_runner.hpp"
@@ -77,9 +79,10 @@ int run_solver_suite(const Args& args) {
       "backend setting key=value (repeatable; needs a single --solver)")(
       "max-iterations", po::value<int>(),
       "iteration limit (default: 200; NLopt: 200 (n + 1) objective evaluations)")(
-      "json", po::value<std::string>(), "write every result as JSON to FILE, or - for stdout")(
       "list", "list the problems with their sizes, starts and published minima, and exit")(
       "verbose,v", "print one line per problem and start");
+  add_json_option(options, "every result");
+  add_progress_option(options);
   po::variables_map vm;
   if (!parse_command_line("solver-suite", args, options, vm)) return 0;
 
@@ -122,11 +125,21 @@ int run_solver_suite(const Args& args) {
   nlohmann::json out = {{"problems", selected.size()}, {"solvers", nlohmann::json::array()}};
   std::ostream& text = json_to_stdout ? std::cerr : std::cout;
   int broken = 0;
+  long runs_per_solver = 0;
+  for (const auto& p : selected)
+    for (const auto& start : problems::suite_starts(*p)) runs_per_solver += start.evaluable;
+  Progress progress("solver-suite", runs_per_solver * static_cast<long>(solvers.size()), "runs",
+                    progress_wanted(vm));
   for (const auto& name : solvers) {
+    // configure() is called as each run starts: the one before it is done.
+    bool started = false;
     const auto results = problems::run_suite(name, selected, [&](SolverOptions& o) {
+      if (started) progress.advance();
+      started = true;
       if (!overrides.backend_options.empty()) o.backend_options = overrides.backend_options;
       if (vm.count("max-iterations")) o.max_iterations = vm["max-iterations"].as<int>();
     });
+    if (started) progress.advance();
     const problems::SuiteTally t = problems::tally(results);
     broken += t.violations;
     nlohmann::json entry = {{"name", name},
@@ -149,6 +162,7 @@ int run_solver_suite(const Args& args) {
         text << "  " << name << " " << r.problem << " from " << r.start
              << ": CONTRACT BROKEN: " << r.contract.report() << "\n";
     }
+    progress.finish();
     text << tally_line(name, t) << "\n";
     out["solvers"].push_back(entry);
   }

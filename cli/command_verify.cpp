@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "kincal/cli/cli_util.hpp"
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/json_input.hpp"
 
@@ -32,6 +33,7 @@ int run_verify(const Args& args) {
       "model", po::value<std::string>(),
       "calibrated model file to check (default: the file the report names, as calibrate was "
       "given it)");
+  add_json_option(options, "the verdict");
   po::variables_map vm;
   if (!parse_command_line("verify", args, options, vm)) return 0;
   if (!vm.count("report")) throw CliError("--report FILE is required");
@@ -39,7 +41,10 @@ int run_verify(const Args& args) {
   OutputPlan plan;  // no outputs; standard output must not be an input
   plan.input("--report", report_file);
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
+  const std::string json_file = json_output(vm);
+  if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();
+  const bool json_to_stdout = !json_file.empty() && plan.to_stdout("--json");
 
   const nlohmann::ordered_json report = read_json_file(report_file, "calibration report");
   if (!report.is_object() || report.value("format", "") != "kincal-calibration-report")
@@ -58,6 +63,12 @@ int run_verify(const Args& args) {
       vm.count("model") ? vm["model"].as<std::string>() : (*entry)["file"].get<std::string>();
   const std::string expected = (*entry)["sha256"].get<std::string>();
   const std::string actual = sha256_hex(file_bytes(model_file));
+  if (!json_file.empty()) {
+    const nlohmann::ordered_json verdict = {
+        {"format", "kincal-verify"},   {"report", report_file}, {"model", model_file},
+        {"match", actual == expected}, {"sha256", actual},      {"expected_sha256", expected}};
+    plan.write({{"--json", verdict.dump(2) + "\n"}});
+  }
   if (actual != expected) {
     std::cerr << "kincal verify: error: " << model_file << " is not the model " << report_file
               << " describes: its SHA-256 is " << actual << ", the report's " << expected
@@ -65,6 +76,7 @@ int run_verify(const Args& args) {
                  "an old model; run it again)\n";
     return 1;
   }
+  if (json_to_stdout) return 0;
   std::cout << model_file << " is the calibrated model " << report_file << " describes (SHA-256 "
             << actual << ")\n";
   return 0;

@@ -96,14 +96,62 @@ bool under_proc(const fs::path& p) {
   return first != p.end() && *first == "proc";
 }
 
-// The directory of `p`, absolute with every symlink resolved; throws when it is missing.
+// The directory of `p`, absolute with every symlink resolved. A directory that does not exist
+// yet is its nearest existing ancestor (resolved) with the missing names appended: it is
+// created when the file is written (the same rule for every output, docs/reliability.md).
 fs::path real_directory(const fs::path& p, const std::string& what) {
   const fs::path given = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  fs::path existing = given, missing;
+  for (;;) {
+    struct stat st {};
+    if (::stat(existing.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode))
+        throw CliError(what + ": '" + existing.string() + "' is not a directory");
+      break;
+    }
+    const int error = errno;
+    if (error != ENOENT && error != ENOTDIR)
+      throw CliError(what + ": directory '" + given.string() + "': " + errno_text(error));
+    if (::lstat(existing.c_str(), &st) == 0)
+      throw CliError(what + ": '" + existing.string() + "' is a broken symbolic link");
+    const fs::path name = existing.filename();
+    if (name.empty() || name == "." || name == "..")
+      throw CliError(what + ": directory '" + given.string() +
+                     "' does not exist (and goes through '" + name.string() +
+                     "'); expected a path to an existing or new directory without . or ..");
+    missing = missing.empty() ? name : name / missing;
+    existing = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
+  }
   std::error_code ec;
-  const fs::path dir = fs::canonical(given, ec);
-  if (ec || !fs::is_directory(dir))
-    throw CliError(what + ": directory '" + given.string() + "' does not exist");
+  const fs::path dir = fs::canonical(existing, ec);
+  if (ec) throw CliError(what + ": directory '" + existing.string() + "': " + ec.message());
+  return missing.empty() ? dir : dir / missing;
+}
+
+// The nearest existing directory at or above `dir` (absolute).
+fs::path nearest_existing_directory(fs::path dir) {
+  struct stat st {};
+  while (::stat(dir.c_str(), &st) != 0 && dir.has_parent_path() && dir != dir.root_path())
+    dir = dir.parent_path();
   return dir;
+}
+
+// Creates `dir` and its missing parents; returns the ones created, outermost first.
+std::vector<fs::path> create_missing_directories(const fs::path& dir, const std::string& shown) {
+  std::vector<fs::path> missing;
+  struct stat st {};
+  for (fs::path d = dir; ::stat(d.c_str(), &st) != 0 && d.has_parent_path() && d != d.root_path();
+       d = d.parent_path())
+    missing.insert(missing.begin(), d);
+  for (std::size_t i = 0; i < missing.size(); ++i) {
+    if (::mkdir(missing[i].c_str(), 0777) != 0 && errno != EEXIST) {
+      const int error = errno;
+      for (std::size_t k = i; k-- > 0;) ::rmdir(missing[k].c_str());
+      throw CliError("cannot write '" + shown + "': cannot create directory '" +
+                     missing[i].string() + "' (" + errno_text(error) + ")");
+    }
+  }
+  return missing;
 }
 
 OutputTarget stream_target(OutputTarget t, const fs::path& p, const std::string& what) {
@@ -233,10 +281,28 @@ OutputTarget resolve_output(const std::string& path, const std::string& what) {
   throw CliError(what + ": too many levels of symbolic links");
 }
 
+std::pair<std::string, std::string> split_at_existing_directory(const std::string& real) {
+  const fs::path path(real);
+  const fs::path existing = nearest_existing_directory(path.parent_path());
+  return {existing.string(), path.lexically_relative(existing).string()};
+}
+
 void check_can_create_beside(const OutputTarget& target, const std::string& what) {
   if (target.kind != OutputTarget::Kind::kFile) return;  // stdout, a device or a pipe
+  const fs::path parent = fs::path(target.real).parent_path();
+  struct stat st {};
+  if (::stat(parent.c_str(), &st) != 0) {
+    // A directory still to be created: its nearest existing parent must take one.
+    const fs::path dir = nearest_existing_directory(parent);
+    const std::string probe = (dir / temporary_name("write-check")).string();
+    if (::mkdir(probe.c_str(), 0700) != 0)
+      throw CliError(what + ": cannot create directory '" + parent.string() + "' (" +
+                     errno_text(errno) + " in '" + dir.string() + "')");
+    ::rmdir(probe.c_str());
+    return;
+  }
   // Probe with the same kind of file the write will create: a new one beside the target.
-  const fs::path dir = fs::path(target.real).parent_path();
+  const fs::path dir = parent;
   const std::string probe = (dir / temporary_name("write-check")).string();
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0)
@@ -253,13 +319,22 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
   for (const auto& t : targets)
     if (t.kind == OutputTarget::Kind::kFile)
       remove_stale_temporaries(fs::path(t.real).parent_path());
-  // Phase 1: every regular file into its temporary file. Any failure undoes them all.
+  // Phase 1: every regular file into its temporary file, in its directory, created when
+  // missing. Any failure undoes them all, the directories created included.
   std::vector<std::string> temps(files.size());
-  const auto remove_temps = [&temps] {
+  std::vector<fs::path> created;
+  const auto remove_temps = [&temps, &created] {
     for (auto& temp : temps)
       if (!temp.empty()) ::unlink(temp.c_str());
+    for (auto d = created.rbegin(); d != created.rend(); ++d) ::rmdir(d->c_str());
   };
   try {
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      if (targets[i].kind != OutputTarget::Kind::kFile) continue;
+      const auto made =
+          create_missing_directories(fs::path(targets[i].real).parent_path(), files[i].path);
+      created.insert(created.end(), made.begin(), made.end());
+    }
     for (std::size_t i = 0; i < files.size(); ++i) {
       if (targets[i].kind != OutputTarget::Kind::kFile) continue;
       const fs::path real(targets[i].real);
@@ -364,14 +439,18 @@ void write_directory_atomically(const DirectoryTarget& target,
                                 const std::vector<OutputFile>& files) {
   const fs::path real(target.real);
   const fs::path parent = real.parent_path();
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  if (ec) throw CliError("cannot create directory '" + parent.string() + "': " + ec.message());
+  const std::vector<fs::path> created = create_missing_directories(parent, target.path);
+  const auto remove_created = [&created] {
+    for (auto d = created.rbegin(); d != created.rend(); ++d) ::rmdir(d->c_str());
+  };
   remove_stale_temporaries(parent);
   const fs::path temp = parent / temporary_name(real.filename().string());
-  if (::mkdir(temp.c_str(), static_cast<mode_t>(target.exists ? 0700 : 0777)) != 0)
+  if (::mkdir(temp.c_str(), static_cast<mode_t>(target.exists ? 0700 : 0777)) != 0) {
+    const int error = errno;
+    remove_created();
     throw CliError("cannot write '" + target.path + "': cannot create a directory beside it (" +
-                   errno_text(errno) + ")");
+                   errno_text(error) + ")");
+  }
   write_step();
   try {
     for (const auto& f : files)
@@ -394,6 +473,7 @@ void write_directory_atomically(const DirectoryTarget& target,
     }
   } catch (...) {
     remove_directory_of_files(temp);
+    remove_created();
     throw;
   }
   write_step();

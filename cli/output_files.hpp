@@ -10,6 +10,7 @@
 
 #include <sys/types.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace kincal::cli {
@@ -30,14 +31,21 @@ struct OutputTarget {
   unsigned permissions = 0666;  ///< kFile: mode bits of the existing file
 };
 
-/// Resolves `path`. Throws CliError "<what>: <reason>" when it names a directory, another
-/// kind of special file (block device, socket), a missing directory, or a symlink loop;
+/// Resolves `path`. A missing directory on the way is fine: it is created (with its missing
+/// parents) when the file is written, as for every output. Throws CliError "<what>: <reason>"
+/// when it names a directory, another kind of special file (block device, socket), a path
+/// through a file or a broken symbolic link, or a symlink loop;
 /// `what` names the path in the message (e.g. "--out 'C.json'" or "cannot write 'C.json'").
 OutputTarget resolve_output(const std::string& path, const std::string& what);
 
 /// Throws CliError "<what>: cannot create a file in '<dir>' (...)" when a new file cannot be
-/// created beside `target` (a read-only directory): checked before long work.
+/// created beside `target` (a read-only directory), or its missing directory cannot be
+/// created: checked before long work.
 void check_can_create_beside(const OutputTarget& target, const std::string& what);
+
+/// `real` (absolute) split into its nearest existing directory and the rest below it
+/// ("/a/new/dir/f.json" -> "/a", "new/dir/f.json"), for telling two new files apart.
+std::pair<std::string, std::string> split_at_existing_directory(const std::string& real);
 
 /// One file to write.
 struct OutputFile {

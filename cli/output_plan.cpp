@@ -66,10 +66,12 @@ Identity existing_identity(const std::string& path) {
 Identity output_identity(const OutputTarget& t) {
   if (t.kind == OutputTarget::Kind::kStdout) return stdout_identity();
   if (t.kind == OutputTarget::Kind::kStream || t.exists) return existing_identity(t.real);
-  const fs::path real(t.real);
-  Identity id = existing_identity(real.parent_path().string());
+  // A new file, maybe in directories still to be created: the nearest existing directory
+  // and the path below it.
+  const auto [existing, rest] = split_at_existing_directory(t.real);
+  Identity id = existing_identity(existing);
   id.kind = Identity::Kind::kNewName;
-  id.name = real.filename().string();
+  id.name = rest;
   return id;
 }
 
@@ -113,9 +115,10 @@ void OutputPlan::check() {
       if (t.exists) {
         ids[i] = existing_identity(t.real);
       } else {
-        ids[i] = existing_identity(fs::path(t.real).parent_path().string());
+        const auto [existing, rest] = split_at_existing_directory(t.real);
+        ids[i] = existing_identity(existing);
         ids[i].kind = Identity::Kind::kNewName;
-        ids[i].name = fs::path(t.real).filename().string();
+        ids[i].name = rest;
       }
     } else if (e.is_output) {
       const OutputTarget t = resolve_output(e.path, what);

@@ -7,6 +7,7 @@
 #include <new>
 
 #include "kincal/cli/commands.hpp"
+#include "kincal/cli/common_options.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 
@@ -36,7 +37,8 @@ const std::vector<Command>& commands() {
 namespace {
 
 void print_usage(std::ostream& out) {
-  out << "usage: kincal <command> [options]   (kincal <command> --help for its options)\n\n"
+  out << "usage: kincal <command> [options]   (kincal <command> --help for its options)\n"
+         "       kincal --version\n\n"
          "commands:\n";
   for (const auto& c : commands()) {
     std::string name = c.name;
@@ -60,6 +62,10 @@ int run(int argc, const char* const* argv) {
   const std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     print_usage(std::cout);
+    return 0;
+  }
+  if (name == "--version" || name == "version") {
+    std::cout << version_text();
     return 0;
   }
   for (const auto& command : commands()) {

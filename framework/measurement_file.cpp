@@ -25,16 +25,34 @@ std::string trim(const std::string& s) {
   return s.substr(first, last - first + 1);
 }
 
-std::vector<std::string> split_fields(const std::string& line) {
+std::vector<std::string> split_fields(const std::string& line, char separator = ',') {
   std::vector<std::string> fields;
   std::string::size_type start = 0;
   while (true) {
-    const auto comma = line.find(',', start);
+    const auto comma = line.find(separator, start);
     fields.push_back(trim(line.substr(start, comma - start)));
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
   return fields;
+}
+
+const char* separator_name(char separator) {
+  return separator == ';' ? "';' (semicolons)" : separator == '\t' ? "tabs" : "','";
+}
+
+// The field separator, from the header: ',' as documented, or, when the header has no comma,
+// ';' or a tab if exactly one of them appears (spreadsheets in locales whose decimal mark is
+// a comma save CSV with ';'; "text" exports use tabs). Throws when the header does not tell.
+char detect_separator(const std::string& header, const std::string& at) {
+  if (header.find(',') != std::string::npos) return ',';
+  const bool semicolon = header.find(';') != std::string::npos;
+  const bool tab = header.find('\t') != std::string::npos;
+  if (semicolon && tab)
+    throw std::invalid_argument(at +
+                                ": the header has no comma but both ';' and tabs, so the field "
+                                "separator is ambiguous; expected fields separated by commas");
+  return semicolon ? ';' : tab ? '\t' : ',';
 }
 
 bool is_skipped(const std::string& trimmed) { return trimmed.empty() || trimmed[0] == '#'; }
@@ -148,10 +166,12 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   std::string line;
   std::vector<std::string> header;
   int header_line = 0;
+  char separator = ',';
   while (reader.next(line)) {
     if (is_skipped(trim(line))) continue;
-    header = split_fields(line);
     header_line = reader.line_number();
+    separator = detect_separator(line, source + ":" + std::to_string(header_line));
+    header = split_fields(line, separator);
     break;
   }
   if (in.bad()) throw std::invalid_argument(source + ": read error before the header row");
@@ -159,6 +179,9 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
 
   // Column of each wanted name; every other column is ignored.
   const std::string at_header = source + ":" + std::to_string(header_line);
+  if (separator != ',')
+    table.notices.push_back(at_header + ": fields separated by " + separator_name(separator) +
+                            " (the header has no comma)");
   std::map<std::string, int> column_of;
   for (int c = 0; c < static_cast<int>(header.size()); ++c) {
     const auto [it, inserted] = column_of.emplace(header[c], c);
@@ -170,9 +193,18 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   std::vector<int> columns;
   for (const auto& name : wanted) {
     const auto it = column_of.find(name);
-    if (it == column_of.end())
-      throw std::invalid_argument(at_header + ": header has no column '" + name + "' (" + expected +
-                                  ")");
+    if (it == column_of.end()) {
+      // A header such as "leg1;leg2,..." mixes separators: name what was found.
+      std::string found;
+      if (separator == ',' && line.find(';') != std::string::npos) found = "';'";
+      if (separator == ',' && line.find('\t') != std::string::npos)
+        found += std::string(found.empty() ? "" : " and ") + "tabs";
+      throw std::invalid_argument(
+          at_header + ": header has no column '" + name + "' (" + expected +
+          (found.empty() ? ")"
+                         : "; the header holds commas and " + found +
+                               ": expected one separator, commas, throughout the file)"));
+    }
     columns.push_back(it->second);
   }
   for (const auto& field : header) {
@@ -187,7 +219,7 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   std::vector<std::vector<double>> rows;
   while (reader.next(line)) {
     if (is_skipped(trim(line))) continue;
-    const auto fields = split_fields(line);
+    const auto fields = split_fields(line, separator);
     const int line_number = reader.line_number();
     const std::string at = source + ":" + std::to_string(line_number);
     if (fields.size() != header.size())
@@ -199,6 +231,14 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
       // An empty reading is one the sensor did not take (NaN); an actuator value is always
       // known, since it was commanded.
       const bool reading = static_cast<int>(w) >= static_cast<int>(actuator_names.size());
+      // With ';' or tabs between fields, "1,5" is a decimal comma: never guess what it means.
+      if (separator != ',' && field.find(',') != std::string::npos)
+        throw std::invalid_argument(at + ": field '" + wanted[w] + "': '" + message_excerpt(field) +
+                                    "' has a decimal comma (fields are "
+                                    "separated by " +
+                                    separator_name(separator) +
+                                    "); expected a decimal point: export the file with '.' as "
+                                    "the decimal mark, or as comma-separated CSV");
       values.push_back(reading && field.empty()
                            ? std::numeric_limits<double>::quiet_NaN()
                            : parse_value(field, at + ": field '" + wanted[w] + "'"));

@@ -3,7 +3,9 @@
 // The actuator columns carry the mechanism's actuator names (leg1..leg6), the reading
 // columns the sensors' reading names (gauge). Column order is free; other columns are
 // ignored with a notice; blank lines and lines starting with '#' are skipped. Fields are
-// plain numbers separated by commas (no quoting); surrounding spaces are ignored. An empty
+// plain numbers separated by commas (no quoting); surrounding spaces are ignored. A header
+// without a comma but with ';' or tabs (not both) sets that separator instead, with a
+// notice; a comma in a field of such a file is a decimal comma, an error (never misread). An empty
 // reading field is a reading the sensor did not take (NaN in Measurements): it contributes
 // no residual. A sensor's readings in one row are all given or all empty. A UTF-8 byte
 // order mark at the start is skipped. Lines and files have size limits (CsvLimits).

@@ -285,6 +285,9 @@ TEST_F(CliCalibrate, BadInputGivesOneLineNamingTheProblemAndExit2) {
   write(dir_ / "nan.csv", header + row + "354,354,354,354,354,382,nan\n");
   write(dir_ / "inf.csv", header + row + "354,354,354,354,354,inf,310\n");
   write(dir_ / "fields.csv", header + row + "354,354,354,354,354,382\n");
+  // A missing directory is created when an output is written; a path through a file is not.
+  write(dir_ / "plain", "a file, not a directory");
+  const std::string no_dir = dir_ / "plain";
   std::string few = header;
   for (int i = 0; i < 10; ++i) few += row;
   write(dir_ / "few.csv", few);
@@ -315,9 +318,9 @@ TEST_F(CliCalibrate, BadInputGivesOneLineNamingTheProblemAndExit2) {
        "overflow.json: unreadable JSON: number overflow parsing '1e999'"},
       {cal + dir_.path().string(),
        dir_.path().string() + ": is a directory, expected a measurement file"},
-      {cal + d_ + " --out /nonexistent-dir/C.json",
-       "--out '/nonexistent-dir/C.json': directory '/nonexistent-dir' does not exist"},
-      {cal + d_ + " --report /nonexistent-dir/R.json", "--report '/nonexistent-dir/R.json'"},
+      {cal + d_ + " --out " + no_dir + "/C.json",
+       "--out '" + no_dir + "/C.json': '" + no_dir + "' is not a directory"},
+      {cal + d_ + " --report " + no_dir + "/R.json", "--report '" + no_dir + "/R.json'"},
       {cal + d_ + " --out " + dir_.path().string(), "is a directory, expected a file path"},
       {cal + d_ + " --out " + dir_ / "C.json" + " --report " + dir_ / "./C.json",
        "are the same file"},
@@ -329,12 +332,12 @@ TEST_F(CliCalibrate, BadInputGivesOneLineNamingTheProblemAndExit2) {
       {"observability --model " + m_, "give exactly one of --data FILE and --poses M"},
       {"model --preset nope", "--preset: unknown model preset 'nope'"},
       {"simulate --model " + dir_ / "bad.json", "bad.json: malformed JSON"},
-      {"simulate --write-data /nonexistent-dir/D.csv", "--write-data '/nonexistent-dir/D.csv'"},
+      {"simulate --write-data " + no_dir + "/D.csv", "--write-data '" + no_dir + "/D.csv'"},
       // Output paths are checked before the model is even read.
-      {"simulate --model " + dir_ / "bad.json" + " --json /nonexistent-dir/S.json",
-       "--json '/nonexistent-dir/S.json'"},
-      {"simulate --model " + dir_ / "bad.json" + " --trace /nonexistent-dir/T.csv",
-       "--trace '/nonexistent-dir/T.csv'"},
+      {"simulate --model " + dir_ / "bad.json" + " --json " + no_dir + "/S.json",
+       "--json '" + no_dir + "/S.json'"},
+      {"simulate --model " + dir_ / "bad.json" + " --trace " + no_dir + "/T.csv",
+       "--trace '" + no_dir + "/T.csv'"},
   };
   for (const auto& [args, expected] : cases) {
     const auto r = run_cli(args);

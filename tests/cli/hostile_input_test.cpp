@@ -219,6 +219,8 @@ TEST(CliMessages, AnArgumentHoldingABoostPlaceholderDoesNotHang) {
 // Whatever a path or value holds, an error is one line.
 TEST(CliMessages, AreOneLineWhateverTheInputHolds) {
   TempDir dir("one-line");
+  // A file with a line break in its name, used as a directory (a missing one is created).
+  write(dir / "a\nb", "a file");
   const std::string weird = dir / "a\nb/M.json";
   expect_one_line_error(run_cli("model --out '" + weird + "'"), "a\\x0Ab/M.json",
                         "line break in a path");

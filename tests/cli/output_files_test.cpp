@@ -94,12 +94,18 @@ TEST(CliOutputFiles, ADirectoryIsRefusedAndLeftAlone) {
   EXPECT_EQ(count_hidden_files(dir.path() / "D"), 0);
 }
 
-TEST(CliOutputFiles, MissingDirectoryAndSymlinkLoopAreOneLine) {
+// A missing directory is created (the rule for every output, consistency_test.cpp); a path
+// through a file or a broken link cannot be.
+TEST(CliOutputFiles, PathThroughAFileBrokenLinkAndSymlinkLoopAreOneLine) {
   TempDir dir("out-missing");
   fs::create_symlink("b", dir.path() / "a");
   fs::create_symlink("a", dir.path() / "b");
+  fs::create_symlink("nowhere", dir.path() / "dangling");
+  write(dir / "f", "a file");
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {dir / "none/M.json", "directory '" + dir / "none" + "' does not exist"},
+      {dir / "f/M.json", "'" + dir / "f" + "' is not a directory"},
+      {dir / "f/new/M.json", "'" + dir / "f" + "' is not a directory"},
+      {dir / "dangling/M.json", "'" + dir / "dangling" + "' is a broken symbolic link"},
       {dir / "a", "too many levels of symbolic links"},
   };
   for (const auto& [target, expected] : cases) {

@@ -85,7 +85,7 @@ TEST(CliSimulate, BadOptionsGiveOneLineAndExitCode2) {
         "simulate --solver gn --solver-option nokey",
         "simulate --solver gn --solver-option a=1",
         "simulate --validation 0",
-        "simulate --json /nonexistent-dir/x.json",
+        "simulate --json /dev/null/x.json",
         "frobnicate",
         "simulate --case 1 stray words",
         "reproduce --trials 1 junk",

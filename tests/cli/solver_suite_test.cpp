@@ -67,7 +67,7 @@ TEST(CliSolverSuite, BadInputGivesOneLineAndExitCode2BeforeAnyWork) {
         "--solver lm --solver gn "
         "--solver-option loss=huber:1",
         "--solver lm --solver-option no_such_key=1", "--solver lm --max-iterations -1",
-        "--solver lm --json /no/such/directory/suite.json"}) {
+        "--solver lm --json /dev/null/suite.json"}) {
     const auto r = run_cli("solver-suite " + args);
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;

@@ -201,3 +201,41 @@ TEST(MeasurementFile, FindsUnreachableRowsAndDropsThem) {
 
 }  // namespace
 }  // namespace kincal
+
+namespace kincal {
+namespace {
+
+// Issue 14: semicolon- and tab-separated files are read as their comma-separated twin when
+// the header says so unambiguously; a decimal comma is refused, never misread.
+TEST(MeasurementFileSeparators, SemicolonAndTabFilesReadAsTheCommaFile) {
+  const std::string comma = "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n1.5,2,3,4,5,6,300.25\n";
+  const auto expected = parse(comma);
+  for (const char separator : {';', '\t'}) {
+    std::string text = comma;
+    for (char& c : text)
+      if (c == ',') c = separator;
+    const auto t = parse(text);
+    EXPECT_EQ(t.data.actuators, expected.data.actuators);
+    EXPECT_EQ(t.data.readings, expected.data.readings);
+    ASSERT_FALSE(t.notices.empty());
+    EXPECT_NE(t.notices[0].find("D.csv:1: fields separated by"), std::string::npos) << t.notices[0];
+  }
+  EXPECT_TRUE(parse(comma).notices.empty());
+}
+
+TEST(MeasurementFileSeparators, DecimalCommaAndMixedSeparatorsAreOneLineErrors) {
+  EXPECT_NE(error_of("leg1;leg2;leg3;leg4;leg5;leg6;gauge\n1,5;2;3;4;5;6;300\n")
+                .find("D.csv:2: field 'leg1': '1,5' has a decimal comma"),
+            std::string::npos);
+  EXPECT_NE(error_of("leg1\tleg2\tleg3\tleg4\tleg5\tleg6\tgauge\n1\t2\t3\t4\t5\t6\t300,5\n")
+                .find("field 'gauge': '300,5' has a decimal comma (fields are separated by tabs)"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("leg1;leg2;leg3;leg4;leg5;leg6,gauge\n").find("the header holds commas and ';'"),
+      std::string::npos);
+  EXPECT_NE(error_of("leg1;leg2\tleg3;leg4;leg5;leg6;gauge\n").find("both ';' and tabs"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace kincal

@@ -1,0 +1,68 @@
+#include "kincal/cli/command_kinematics.hpp"
+
+#include <iostream>
+
+#include "kincal/cli/common_options.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/framework/measurement_file.hpp"
+
+namespace kincal::cli {
+
+void add_table_outputs(po::options_description& options) {
+  options.add_options()("out", po::value<std::string>(),
+                        "with a table input: write the results as CSV to FILE (default: "
+                        "standard output, unless --json is given)");
+  add_json_option(options, "the result");
+}
+
+int run_table(const std::string& command, const po::variables_map& vm, OutputPlan& plan,
+              const MeasurementModel& model, const std::string& input_option,
+              const std::vector<std::string>& columns,
+              KinematicsRow (*compute)(const MeasurementModel&, const std::vector<double>&)) {
+  const std::string input_file = vm[input_option].as<std::string>();
+  const std::string json_file = json_output(vm);
+  const std::string csv_file =
+      vm.count("out") ? vm["out"].as<std::string>() : (json_file.empty() ? "-" : "");
+  if (!csv_file.empty()) plan.output("--out", csv_file);
+  if (!json_file.empty()) plan.output("--json", json_file);
+  plan.check();
+
+  MeasurementTable table;
+  try {
+    table = read_measurements(input_file, columns, {});
+  } catch (const std::invalid_argument& e) {
+    throw CliError(e.what());
+  }
+  // A measurement file given to fk has reading columns: expected there, not worth a note.
+  for (const auto& n : table.notices) {
+    bool reading_column = false;
+    for (const auto& name : model.reading_names())
+      reading_column =
+          reading_column || n.find("ignoring column '" + name + "'") != std::string::npos;
+    if (!reading_column) note(command, n);
+  }
+  std::vector<KinematicsRow> rows;
+  int failures = 0;
+  for (int r = 0; r < table.data.size(); ++r) {
+    std::vector<double> values(table.data.actuators.cols());
+    for (Eigen::Index c = 0; c < table.data.actuators.cols(); ++c)
+      values[c] = table.data.actuators(r, c);
+    rows.push_back(compute(model, values));
+    rows.back().line = table.line_numbers[r];
+    failures += !rows.back().ok();
+  }
+  std::vector<std::pair<std::string, std::string>> outputs;
+  if (!json_file.empty())
+    outputs.push_back({"--json", rows_json("kincal-" + command, vm["model"].as<std::string>(),
+                                           input_file, model, rows)
+                                         .dump(2) +
+                                     "\n"});
+  if (!csv_file.empty()) outputs.push_back({"--out", rows_csv(model, rows)});
+  plan.write(outputs);
+  if (failures == 0) return 0;
+  std::cerr << "kincal " << command << ": " << failures << " of " << rows.size()
+            << " rows failed (see their status and reason)\n";
+  return 1;
+}
+
+}  // namespace kincal::cli
