@@ -124,6 +124,11 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   if (r.prior) {
     r.uncertainty = estimate_posterior_uncertainty(measured_J, measured_r, prior_precision, loss);
     add_prior(r.identifiability, measured_J, prior_precision, r.uncertainty.data_share, options);
+    // As the user gave them (1 / sqrt(precision) would round).
+    for (std::size_t i = 0; i < problem.free_indices().size(); ++i)
+      if (r.uncertainty.prior_std[static_cast<int>(i)] > 0)
+        r.uncertainty.prior_std[static_cast<int>(i)] =
+            model.parameters()[problem.free_indices()[i]].prior_std;
   } else {
     r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
   }
