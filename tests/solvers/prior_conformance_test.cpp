@@ -125,16 +125,26 @@ const VectorXd& reference_map() {
   return x;
 }
 
-TEST_P(PriorConformance, EveryLeastSquaresBackendReachesTheSameMapOnTheHexapod) {
-  if (!is_least_squares(GetParam()))
-    GTEST_SKIP() << GetParam() << " is a general minimiser: held to the linear case only";
+// Least-squares backends within 1e-5 mm of the reference, converged. The prior conditions the
+// problem well enough that the gradient-based NLopt minimisers get there too (within 1e-3 mm,
+// up to 20000 evaluations; measured 1e-5 to 1e-4 mm); the derivative-free ones and MMA are
+// held to the small problems only, as in conformance_test.cpp.
+TEST_P(PriorConformance, EveryBackendReachesTheSameMapOnTheHexapod) {
+  const std::string& name = GetParam();
+  const bool exact = is_least_squares(name);
+  if (!exact && (name.rfind("nlopt:LN_", 0) == 0 || name == "nlopt:LD_MMA"))
+    GTEST_SKIP() << name << ": derivative-free and MMA are held to the linear problem only";
   const Scenario& scenario = case4_with_prior();
-  const CalibrationRun run = run_calibration(scenario, *solver(), SolverOptions{}, false);
-  EXPECT_EQ(run.summary.termination, TerminationType::kConverged) << run.summary.brief_report();
+  SolverOptions options;
+  if (!exact) options.max_iterations = 20000;
+  const CalibrationRun run = run_calibration(scenario, *solver(), options, false);
+  if (exact) {
+    EXPECT_EQ(run.summary.termination, TerminationType::kConverged) << run.summary.brief_report();
+  }
   double worst = 0;
   for (int i : scenario.free_indices)
     worst = std::max(worst, std::abs(run.estimate[i] - reference_map()[i]));
-  EXPECT_LT(worst, 1e-5) << run.summary.brief_report();  // mm
+  EXPECT_LT(worst, exact ? 1e-5 : 1e-3) << run.summary.brief_report();  // mm
   // The prior helps on this case: the MAP estimate is closer to the truth than nominal is.
   EXPECT_LT(run.after.position_mean_mm, run.before.position_mean_mm);
 }
