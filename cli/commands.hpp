@@ -39,5 +39,6 @@ int run_observability(const Args& args);
 int run_solver_suite(const Args& args);
 int run_verify(const Args& args);
 int run_export(const Args& args);
+int run_validate(const Args& args);
 
 }  // namespace kincal::cli

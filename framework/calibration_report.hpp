@@ -50,6 +50,8 @@ struct CalibrationReport {
   /// Plain-language warnings about the data or the model found by the checks around the
   /// solve (e.g. forward kinematics of the data far from home_pose); one sentence each.
   std::vector<std::string> warnings;
+  /// A prior was used: the estimate is MAP, uncertainty.std the posterior std.
+  bool prior = false;
 };
 
 /// Fills everything but the file names and the two lists above from the problem solved at x
@@ -57,10 +59,16 @@ struct CalibrationReport {
 /// that loss's IRLS weights (estimate_uncertainty). Missing readings take no part: the
 /// statistics, the uncertainty and the identifiability are those of the measured readings
 /// alone. Returns with empty residuals when they cannot be computed at x.
+///
+/// `prior_precision` (Prior::precision(), per free parameter; empty or all 0 = no prior): x is
+/// a MAP estimate, and the standard deviations are the posterior's, with each parameter's
+/// data share (estimate_posterior_uncertainty); the identifiability says what the prior
+/// determines (add_prior).
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
                                           const RobustLoss& loss = {},
-                                          const IdentifiabilityOptions& options = {});
+                                          const IdentifiabilityOptions& options = {},
+                                          const VectorXd& prior_precision = {});
 
 nlohmann::ordered_json to_json(const Identifiability& a);
 nlohmann::ordered_json to_json(const CalibrationReport& report);

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/framework/units.hpp"
 
@@ -34,6 +35,10 @@ double ScenarioOptions::noise_for(const std::string& unit) const {
 
 double ScenarioOptions::config_range_for(const std::string& unit) const {
   return unit == kRadian ? config_range_rad : config_range;
+}
+
+double ScenarioOptions::prior_std_for(const std::string& unit) const {
+  return unit == kRadian ? prior_std_rad : prior_std;
 }
 
 std::shared_ptr<CalibrationProblem> Scenario::make_problem() const {
@@ -90,10 +95,22 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
       !non_negative(options.param_error_half_width) ||
       !non_negative(options.param_error_half_width_rad) ||
       !unset_or_non_negative(options.config_range) ||
-      !unset_or_non_negative(options.config_range_rad) || options.num_validation < 0)
+      !unset_or_non_negative(options.config_range_rad) || !non_negative(options.prior_std) ||
+      !non_negative(options.prior_std_rad) || options.num_validation < 0)
     throw std::invalid_argument(
-        "noise, parameter error, range and validation size must be finite and >= 0");
+        "noise, parameter error, range, prior std and validation size must be finite and >= 0");
   Scenario s;
+  if (options.prior_std > 0 || options.prior_std_rad > 0) {
+    auto with_prior = std::make_shared<MeasurementModel>(*model);
+    // Every free parameter: "*" reaches them all, and a fixed one's prior is never used.
+    with_prior->parameters().for_each_matching("*", [&](Parameter& p) {
+      if (p.free) p.prior_std = options.prior_std_for(p.unit);
+    });
+    model = with_prior;
+  }
+  bool has_prior = false;
+  for (int i : model->parameters().free_indices())
+    has_prior = has_prior || model->parameters()[i].has_prior();
   s.model = model;
   // Readings in mm and rad weighed 1:1 would let one unit drown the other: when the model
   // states no reading std, a simulation that knows its noise weighs by it (uniform noise
@@ -103,8 +120,21 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
   const bool mixed_units =
       std::find(reading_units.begin(), reading_units.end(), kMillimetre) != reading_units.end() &&
       std::find(reading_units.begin(), reading_units.end(), kRadian) != reading_units.end();
-  if (mixed_units && !model->weighted() && options.noise_half_width > 0 &&
-      options.noise_half_width_rad > 0) {
+  if (has_prior && !model->weighted()) {
+    // The prior's std is absolute; the data residuals must be in units of their noise std too.
+    auto weighted = std::make_shared<MeasurementModel>(*model);
+    const auto names = model->reading_names();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const double a = options.noise_for(reading_units[i]);
+      if (!(a > 0))
+        throw std::invalid_argument(
+            "a prior needs the readings' noise std: give the simulation reading noise > 0 (" +
+            std::string(reading_units[i]) + ") or state reading_std in the model file");
+      weighted->set_reading_std(names[i], a / std::sqrt(3.0));
+    }
+    s.model = weighted;
+  } else if (mixed_units && !model->weighted() && options.noise_half_width > 0 &&
+             options.noise_half_width_rad > 0) {
     auto weighted = std::make_shared<MeasurementModel>(*model);
     const auto names = model->reading_names();
     for (std::size_t i = 0; i < names.size(); ++i)
@@ -215,7 +245,11 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
     };
   }
   VectorXd x = problem->initial_free_parameters();
-  run.summary = solver.solve(*problem, x, options);
+  const Prior prior = model_prior(*problem);
+  if (prior.any())
+    run.summary = solver.solve(PriorProblem(*problem, prior), x, options);
+  else
+    run.summary = solver.solve(*problem, x, options);
   run.solve_seconds = std::max(0.0, run.summary.wall_seconds - tracking_seconds);
   // The trace's times, too, are those of the solve alone.
   for (std::size_t i = 0; i < run.summary.trace.size() && i < tracking_before.size(); ++i)

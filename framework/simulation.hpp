@@ -36,11 +36,18 @@ struct ScenarioOptions {
   double config_range_rad = std::numeric_limits<double>::quiet_NaN();
   int num_validation = 200;
   std::uint64_t seed = 1;
+  /// When > 0: a Gaussian prior of this std around nominal on every free parameter in mm
+  /// (in rad), replacing the model's own prior_std, and the calibration is a MAP estimate
+  /// (PriorProblem). A prior needs whitened residuals: a model that states no reading_std
+  /// gets the noise's, a / sqrt(3) per unit, which must then be > 0.
+  double prior_std = 0;
+  double prior_std_rad = 0;
 
   /// The parameter error, noise and range for `unit` ("mm" or "rad").
   double param_error_for(const std::string& unit) const;
   double noise_for(const std::string& unit) const;
   double config_range_for(const std::string& unit) const;
+  double prior_std_for(const std::string& unit) const;
 };
 
 /// The paper's Table 2: case 1..5 -> noise half-width and number of configurations.
@@ -72,7 +79,9 @@ struct Scenario {
 /// Draws a scenario. Configurations whose true forward kinematics fails are redrawn (from
 /// the same stream, so the result is still a function of the seed). A model with readings in
 /// both mm and rad that states no reading std gets one from the noise (a / sqrt(3) per
-/// unit, when both are > 0), so that the fit weighs each unit by its noise.
+/// unit, when both are > 0), so that the fit weighs each unit by its noise. With a prior
+/// (ScenarioOptions::prior_std, or the model's own prior_std) it always gets one: the prior
+/// weighs against whitened residuals.
 Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
                        const ScenarioOptions& options);
 
@@ -104,8 +113,10 @@ struct CalibrationRun {
   double solve_seconds = 0;
 };
 
-/// Solves the scenario's problem from nominal. When `track_iterations` is set, the
-/// validation errors are computed at every iteration (through the solver's callback).
+/// Solves the scenario's problem from nominal: the MAP estimate when a free parameter has a
+/// prior (Parameter::prior_std, set by ScenarioOptions::prior_std), else least squares. When
+/// `track_iterations` is set, the validation errors are computed at every iteration (through the
+/// solver's callback).
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
                                SolverOptions options, bool track_iterations = true);
 
