@@ -1,8 +1,9 @@
 // Example: a least-squares problem of your own, solved by every backend this kincal has.
 // A circle through 12 points: parameters (centre x, centre y, radius), one residual per
-// point, |p - c| - r, with its analytic Jacobian. Noise-free points, so every least-squares
-// backend must find the circle they were drawn from; general minimisers (NLopt) are held to
-// less: a lower cost than at the start, and a claim of convergence only at the circle.
+// point, |p - c| - r, with its analytic Jacobian. The start is the usual guess (the points'
+// centroid, their mean distance from it). Noise-free points, so every least-squares backend
+// must find the circle they were drawn from; general minimisers (NLopt) are held to less: a
+// lower cost than at the start, and a claim of convergence only at the circle.
 //
 //   fit_circle            (exit 0 when every backend did what it claims)
 
@@ -57,13 +58,20 @@ int main() {
                         circle.y() + circle.z() * std::sin(angle));
   }
   const CircleFit problem(points);
-  std::printf("kincal %s, circle fit from (0, 0, 1)\n", KINCAL_VERSION_STRING);
+
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const auto& p : points) centroid += p / points.size();
+  double radius = 0;
+  for (const auto& p : points) radius += (p - centroid).norm() / points.size();
+  const Eigen::Vector3d start(centroid.x(), centroid.y(), radius);
+  std::printf("kincal %s: a circle through %zu points, from (%.3f, %.3f, %.3f)\n",
+              KINCAL_VERSION_STRING, points.size(), start.x(), start.y(), start.z());
 
   int failures = 0;
   const SolverRegistry& registry = SolverRegistry::global();
   for (const auto& info : registry.list()) {
     for (const std::string& name : info.variants) {
-      VectorXd x = Eigen::Vector3d(0, 0, 1);
+      VectorXd x = start;
       SolverOptions options;
       options.max_iterations = 500;
       const Summary summary = registry.create(name)->solve(problem, x, options);
@@ -75,12 +83,12 @@ int main() {
         ok = summary.final_cost < summary.initial_cost &&
              (!summary.converged() || summary.final_cost < 1e-8);
       failures += !ok;
-      std::printf("%-22s %-14s cost %.2e -> %.2e, %3d iterations, max error %.1e %s\n",
+      std::printf("%-32s %-14s cost %.2e -> %.2e, %3d iterations, max error %.1e %s\n",
                   name.c_str(), to_string(summary.termination), summary.initial_cost,
                   summary.final_cost, summary.iterations, error, ok ? "" : " <- FAILED");
     }
   }
   for (const auto& missing : registry.unavailable())
-    std::printf("%-22s not in this build: %s\n", missing.name.c_str(), missing.reason.c_str());
+    std::printf("%-32s not in this build: %s\n", missing.name.c_str(), missing.reason.c_str());
   return failures == 0 ? 0 : 1;
 }
