@@ -77,7 +77,9 @@ TEST_F(CeresAndGlog, SolvesLeaveTheHostsFlagsAsTheyWere) {
       EXPECT_LE(x[0], 1.5) << summary.brief_report();
       // Quiet without touching the flags: at verbosity 0 nothing at all reaches stderr,
       // although glog would print Ceres' warnings there.
-      if (verbosity == 0) EXPECT_EQ(err, "") << summary.brief_report();
+      if (verbosity == 0) {
+        EXPECT_EQ(err, "") << summary.brief_report();
+      }
     }
   }
 }
