@@ -47,13 +47,15 @@ macro(kincal_add_optional_backends)
 
   if(KINCAL_WITH_IPOPT)
     find_package(PkgConfig REQUIRED)
-    pkg_check_modules(IPOPT REQUIRED IMPORTED_TARGET ipopt)
+    # The prefix is ours (target PkgConfig::KINCAL_IPOPT), so that kincalConfig.cmake can
+    # recreate the same target in a consumer without clashing with the consumer's own.
+    pkg_check_modules(KINCAL_IPOPT REQUIRED IMPORTED_TARGET ipopt)
     # Include directories of imported targets are SYSTEM, so Ipopt's headers (coin/...) do not
     # trip our -Werror. Debian's 3.11 has MUMPS built in; it loads the HSL solvers from
     # libhsl.so and Pardiso from libpardiso.so at run time, when they exist.
-    message(STATUS "Ipopt ${IPOPT_VERSION} (pkg-config)")
+    message(STATUS "Ipopt ${KINCAL_IPOPT_VERSION} (pkg-config)")
     target_sources(kincal PRIVATE solvers/ipopt_solver.cpp)
-    target_link_libraries(kincal PRIVATE PkgConfig::IPOPT)
+    target_link_libraries(kincal PRIVATE PkgConfig::KINCAL_IPOPT)
     target_compile_definitions(kincal PUBLIC KINCAL_WITH_IPOPT=1)
   endif()
 endmacro()

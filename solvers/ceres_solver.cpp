@@ -1,7 +1,6 @@
 #include "kincal/solvers/ceres_solver.hpp"
 
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,16 +16,11 @@
 namespace kincal {
 namespace {
 
-// Ceres logs through glog. Uninitialised glog writes to stderr only (never to files); raising
-// the threshold keeps Ceres' warnings off the terminal unless the user asks for detail.
-// The flags are plain globals: written only when they change, so that concurrent solves
-// with the same verbosity only read them.
-void quiet_glog(int verbosity) {
-  static std::once_flag once;
-  std::call_once(once, [] { FLAGS_logtostderr = true; });
-  const int level = verbosity > 1 ? google::GLOG_INFO : google::GLOG_FATAL;
-  if (FLAGS_minloglevel != level) FLAGS_minloglevel = level;
-}
+// Ceres logs through glog, whose flags belong to the host program: this backend never
+// changes them (a host that set up its logging keeps it). It stays quiet by other means:
+// Ceres' own progress logging is off (logging_type SILENT), and a block whose residuals or
+// Jacobian are not finite is reported as a failed evaluation (BlockCost::Evaluate) instead
+// of being handed to Ceres, whose check of such values warns through glog.
 
 // The first reason a block could not be evaluated, shared by all cost functions of a solve
 // (Ceres may call them from several threads).
@@ -163,8 +157,15 @@ class BlockCost final : public ceres::CostFunction {
       ok = problem_.evaluate_block(block_, scratch.x, r, nullptr, &why);
       if (ok && r.allFinite()) evaluations_.add(block_, scratch.x, r, nullptr);
     }
-    if (!ok) failures_.add(why);
-    return ok;
+    if (!ok) {
+      failures_.add(why);
+      return false;
+    }
+    // Non-finite values: Ceres would reject the evaluation the same way, after a glog
+    // warning (see the top of this file).
+    if (!r.allFinite()) return false;
+    if (jacobians && jacobians[0] && !scratch.J.allFinite()) return false;
+    return true;
   }
 
  private:
@@ -250,7 +251,6 @@ class CeresSolver final : public Solver {
                 const SolverOptions& options) const override {
     check_options(options);
     check_sizes(problem, x, options);
-    quiet_glog(options.verbosity);
     Summary summary;
     summary.solver = name();
     detail::SolveMonitor monitor(options, summary);

@@ -1,0 +1,52 @@
+# cpack -G DEB (in the build directory) makes two Debian packages:
+#   kincal         the program (bin/kincal); its Depends come from dpkg-shlibdeps, so they
+#                  name the Debian runtime packages it loads (libceres3, libboost-program-
+#                  options1.74.0, libipopt..., as built);
+#   libkincal-dev  headers, static libraries, the CMake package and kincal.pc; it Depends on
+#                  the -dev packages find_package(kincal) and pkg-config need.
+# Installed under /usr. docs/library.md says how to build and install them.
+
+set(CPACK_PACKAGE_NAME kincal)
+set(CPACK_PACKAGE_VENDOR "kincal")
+set(CPACK_PACKAGE_CONTACT "kincal developers <kincal@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "kinematic calibration of mechanisms from sensor readings")
+set(CPACK_PACKAGE_VERSION "${PROJECT_VERSION}")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+
+set(CPACK_COMPONENTS_ALL development)
+if(KINCAL_BUILD_CLI)
+  list(PREPEND CPACK_COMPONENTS_ALL runtime)
+endif()
+
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME kincal)
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_SHLIBDEPS ON)
+set(CPACK_COMPONENT_RUNTIME_DESCRIPTION
+    "kincal: kinematic calibration from the command line\n"
+    "Simulates calibrations, calibrates a mechanism model from measurement files, reports\n"
+    "uncertainty and identifiability; solver backends gn, lm, Ceres, NLopt, Ipopt.")
+
+set(KINCAL_DEV_DEPENDS libeigen3-dev nlohmann-json3-dev pkg-config)
+if(KINCAL_WITH_CERES)
+  list(APPEND KINCAL_DEV_DEPENDS libceres-dev)
+endif()
+if(KINCAL_WITH_NLOPT)
+  list(APPEND KINCAL_DEV_DEPENDS libnlopt-cxx-dev)
+endif()
+if(KINCAL_WITH_IPOPT)
+  list(APPEND KINCAL_DEV_DEPENDS coinor-libipopt-dev)
+endif()
+if(KINCAL_BUILD_CLI)
+  list(APPEND KINCAL_DEV_DEPENDS libboost-program-options-dev)
+endif()
+list(JOIN KINCAL_DEV_DEPENDS ", " KINCAL_DEV_DEPENDS)
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libkincal-dev)
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS "${KINCAL_DEV_DEPENDS}")
+set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION
+    "kincal: kinematic calibration library (development files)\n"
+    "Headers <kincal/...>, the static libraries kincal and kincal_cli, the CMake package\n"
+    "(find_package(kincal)) and kincal.pc.")
+
+include(CPack)

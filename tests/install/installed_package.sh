@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# The installed kincal package, used as a project outside the tree would use it
+# (cmake/KincalInstallTest.cmake registers the three steps as ctest tests).
+#   installed_package.sh install|cmake|pkg-config WORK_DIR SOURCE_DIR BUILD_DIR
+# Environment (set by the test): CMAKE_COMMAND, CXX, CMAKE_GENERATOR, KINCAL_LAUNCHER
+# (the build's compiler launcher, e.g. ccache; may be empty), KINCAL_BUILD_TYPE.
+set -euo pipefail
+step=$1 work=$2 source=$3 build=$4
+prefix=$work/prefix
+cmake_cmd=${CMAKE_COMMAND:-cmake}
+
+fail() {
+  echo "installed_package $step: $*" >&2
+  exit 1
+}
+
+case $step in
+  install)
+    # A fresh prefix each time, so that nothing left from an earlier install can hide a
+    # missing file. (cmake --install keeps the files' times: the example is not rebuilt.)
+    rm -rf "$prefix"
+    mkdir -p "$work"
+    "$cmake_cmd" --install "$build" --prefix "$prefix" >"$work/install.log"
+    for f in include/kincal/version.hpp include/kincal/framework/solver_registry.hpp \
+      include/kincal/cli/run.hpp lib*/cmake/kincal/kincalConfig.cmake \
+      lib*/cmake/kincal/kincalConfigVersion.cmake lib*/pkgconfig/kincal.pc bin/kincal; do
+      compgen -G "$prefix/$f" >/dev/null || fail "not installed: $f"
+    done
+    # The CLI's internals (which include Boost) are not public.
+    [ ! -e "$prefix/include/kincal/cli/cli_util.hpp" ] || fail "cli/cli_util.hpp installed"
+    "$prefix/bin/kincal" list solvers >/dev/null || fail "the installed kincal does not run"
+    ;;
+
+  cmake)
+    example=$work/cmake-example
+    args=(-S "$source/examples/custom_model" -B "$example" -G "$CMAKE_GENERATOR"
+      -DCMAKE_CXX_COMPILER="$CXX" -DCMAKE_BUILD_TYPE="${KINCAL_BUILD_TYPE:-Release}"
+      -DCMAKE_PREFIX_PATH="$prefix")
+    if [ -n "${KINCAL_LAUNCHER:-}" ]; then args+=(-DCMAKE_CXX_COMPILER_LAUNCHER="$KINCAL_LAUNCHER"); fi
+    "$cmake_cmd" "${args[@]}" >"$work/cmake-configure.log" ||
+      { cat "$work/cmake-configure.log"; fail "configure failed"; }
+    grep -q "^kincal_DIR:PATH=$prefix/" "$example/CMakeCache.txt" ||
+      fail "find_package(kincal) did not find the scratch prefix: $(grep kincal_DIR "$example/CMakeCache.txt")"
+    "$cmake_cmd" --build "$example" >"$work/cmake-build.log" ||
+      { cat "$work/cmake-build.log"; fail "build failed"; }
+
+    "$example/fit_circle"
+    "$example/calibrate_custom_model" | tail -n 4
+
+    # The example's own kincal program calibrates its own mechanism from files: a model
+    # file, noise-free simulated measurements (and the true model beside them), a
+    # calibration, which must find the true model.
+    run=$work/cli-run
+    rm -rf "$run" && mkdir -p "$run" && cd "$run"
+    arm=$example/kincal-arm
+    "$arm" list mechanisms | grep -q two-link-arm || fail "kincal-arm does not list two-link-arm"
+    "$arm" model --preset two-link-demo --out arm.json
+    "$arm" simulate --model arm.json --poses 30 --noise 0 --seed 11 --write-data data.csv
+    "$arm" calibrate --model arm.json --data data.csv --out calibrated.json --report report.json
+    python3 - calibrated.json data.truth.json <<'PY'
+import json, sys
+def numbers(node, path=""):
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from numbers(v, f"{path}.{k}")
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from numbers(v, f"{path}[{i}]")
+    elif isinstance(node, (int, float)) and not isinstance(node, bool):
+        yield path, float(node)
+calibrated = dict(numbers(json.load(open(sys.argv[1]))))
+truth = dict(numbers(json.load(open(sys.argv[2]))))
+assert calibrated.keys() == truth.keys(), (calibrated.keys() ^ truth.keys())
+worst = max(abs(calibrated[k] - truth[k]) for k in truth)
+print(f"calibrated model vs. true model: {len(truth)} numbers, largest difference {worst:.1e}")
+sys.exit(0 if worst < 1e-6 else 1)
+PY
+    ;;
+
+  pkg-config)
+    # The complete example of docs/library.md: the ```cpp block after the line
+    # <!-- compiled by the test installed_package_pkg_config_example -->.
+    example=$work/pkg-config-example
+    mkdir -p "$example"
+    awk '/<!-- compiled by the test installed_package_pkg_config_example -->/ {found = 1; next}
+         found == 1 && /^```cpp/ {found = 2; next}
+         found == 2 && /^```/ {exit}
+         found == 2 {print}' "$source/docs/library.md" >"$example/tour.cpp"
+    [ -s "$example/tour.cpp" ] || fail "no example found in docs/library.md"
+    pc_dir=$(dirname "$(compgen -G "$prefix/lib*/pkgconfig/kincal.pc" | head -n 1)")
+    flags=$(PKG_CONFIG_PATH=$pc_dir pkg-config --cflags --libs kincal) ||
+      fail "pkg-config --cflags --libs kincal failed"
+    echo "pkg-config --cflags --libs kincal: $flags"
+    launcher=()
+    if [ -n "${KINCAL_LAUNCHER:-}" ]; then launcher=("$KINCAL_LAUNCHER"); fi
+    # shellcheck disable=SC2086  # the flags are words
+    "${launcher[@]}" "$CXX" -std=c++17 -O2 "$example/tour.cpp" -o "$example/tour" $flags
+    cd "$example" && ./tour
+    ;;
+
+  *)
+    fail "unknown step (expected install, cmake or pkg-config)"
+    ;;
+esac
