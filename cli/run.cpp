@@ -23,6 +23,7 @@ const std::vector<Command>& commands() {
       {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
       {"observability", "which free parameters a set of configurations can determine",
        run_observability},
+      {"design", "choose the configurations to measure (experiment design)", run_design},
       {"solver-suite", "backends on the Moré-Garbow-Hillstrom test problems, checked",
        run_solver_suite},
       {"verify", "check that a calibrated model is the one its report was written with",

@@ -120,6 +120,8 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
 
   r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
   r.identifiability = analyze_identifiability(measured_J, r.names, options);
+  r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
+                                              problem.free_indices(), r.uncertainty.covariance);
   return r;
 }
 
@@ -208,6 +210,7 @@ Json to_json(const CalibrationReport& r) {
     out["residuals"].push_back(row);
   }
   out["identifiability"] = to_json(r.identifiability);
+  out["predicted_pose_error"] = to_json(r.predicted_accuracy);
   return out;
 }
 
@@ -306,6 +309,7 @@ std::string to_text(const CalibrationReport& r) {
     out << "largest correlation " << format("%+.3f", r.uncertainty.correlation(wi, wj))
         << " between " << r.names[wi] << " and " << r.names[wj] << "\n";
   out << to_text(r.identifiability);
+  out << to_text(r.predicted_accuracy);
   return out.str();
 }
 

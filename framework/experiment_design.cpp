@@ -94,9 +94,14 @@ double SingularityGauge::inverse_condition(const ActuatorsRef& q, const Pose& po
   if (!actuator_jacobian(q, pose, J)) return 0;
   if (J.cols() == 0) return 1;
   J.bottomRows<3>() *= rotation_length_;
-  const Eigen::JacobiSVD<MatrixXd> svd(J);
-  const VectorXd& s = svd.singularValues();
-  return s[0] > 0 ? s[s.size() - 1] / s[0] : 0;
+  // The singular values of J are the square roots of the largest min(6, columns) eigenvalues
+  // of the fixed-size J J^T: cheaper than an SVD of J, and precise enough for a margin (it
+  // loses only conditions beyond 1e8).
+  const Matrix6d JJt = J * J.transpose();
+  const Vector6d l = Eigen::SelfAdjointEigenSolver<Matrix6d>(JJt, Eigen::EigenvaluesOnly)
+                         .eigenvalues();  // ascending
+  const int k = static_cast<int>(std::min<Eigen::Index>(6, J.cols()));
+  return l[5] > 0 ? std::sqrt(std::max(l[6 - k], 0.0) / l[5]) : 0;
 }
 
 double SingularityGauge::margin(const ActuatorsRef& q, const Pose& pose) const {
@@ -356,9 +361,11 @@ class ExchangeState {
     if (criterion_ == DesignCriterion::kE) return best_e(available);
     int best_c = -1;
     double best_gain = -std::numeric_limits<double>::infinity();
+    // D with one reading per candidate: log(1 + g) is increasing in g, so g ranks alike.
+    const bool rank_by_g = unit_rows_ && criterion_ == DesignCriterion::kD;
     for (int c = 0; c < c_.size(); ++c) {
       if (!available[c]) continue;
-      const double g = gain(c);
+      const double g = rank_by_g ? g_[c] : gain(c);
       if (g > best_gain) {
         best_gain = g;
         best_c = c;
