@@ -9,6 +9,7 @@
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
 
@@ -145,6 +146,7 @@ int run_calibrate(const Args& args) {
       "rcond", po::value<double>()->default_value(IdentifiabilityOptions{}.rcond),
       "numerical rank threshold relative to the largest scaled singular value");
   add_free_fix_options(options);
+  add_prior_std_option(options);
   add_solver_options(options);
   po::variables_map vm;
   if (!parse_command_line("calibrate", args, options, vm)) return 0;
@@ -163,6 +165,12 @@ int run_calibrate(const Args& args) {
   const std::string data_file = vm["data"].as<std::string>();
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
+  apply_prior_std(vm, *model);
+  const bool with_prior = check_prior_usable(*model, model_file);
+  if (with_prior && loss.kind != RobustLoss::Kind::kNone)
+    throw CliError("--loss " + loss.to_string() +
+                   " with a prior (prior_std, --prior-std): not supported (the backend would "
+                   "robustify the prior's residuals too); calibrate with one or the other");
   const VectorXd nominal = model->parameters().nominal_values();
   std::vector<int> free = model->parameters().free_indices();
   if (free.empty()) throw CliError("no free parameters: nothing to calibrate (use --free)");
@@ -189,12 +197,26 @@ int run_calibrate(const Args& args) {
     if (!probe.evaluate(probe.initial_free_parameters(), &r, &J, &why))
       throw CliError(data_file + ": " + why);
     check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
-    const Identifiability a = analyze_identifiability(J, probe.parameter_names(), id_options);
-    if (a.rank_deficient()) {
+    Identifiability a = analyze_identifiability(J, probe.parameter_names(), id_options);
+    // With a prior, a direction the data cannot see is determined by the prior: what must
+    // have full rank is the data stacked with the prior's rows.
+    const VectorXd precision = model_prior(probe).precision();
+    MatrixXd determining = J;
+    if (with_prior) {
+      add_prior(a, J, precision, data_share(J, precision), id_options);
+      determining.conservativeResize(J.rows() + J.cols(), J.cols());
+      determining.bottomRows(J.cols()) = precision.cwiseSqrt().asDiagonal();
+      if (a.rank_deficient() && !a.undetermined())
+        note("calibrate", "the data alone determine " + std::to_string(a.numerical_rank) + " of " +
+                              std::to_string(a.num_parameters) +
+                              " free parameters; the prior determines the rest");
+    }
+    if (a.undetermined()) {
       if (!vm["allow-rank-deficient"].as<bool>())
         throw CliError(data_file + ": " + describe_deficiency(a) +
+                       (with_prior ? " (the prior does not make up for it)" : "") +
                        "; fix parameters with --fix, or pass --allow-rank-deficient");
-      const std::vector<int> keep = identifiable_subset(J, id_options);
+      const std::vector<int> keep = identifiable_subset(determining, id_options);
       std::vector<int> kept;
       std::size_t next = 0;
       for (std::size_t i = 0; i < free.size(); ++i) {
@@ -217,10 +239,15 @@ int run_calibrate(const Args& args) {
 
   const CalibrationProblem problem(model, loaded.data, nominal, free);
   VectorXd x = problem.initial_free_parameters();
-  const Summary summary = choice.solver->solve(problem, x, choice.options);
+  const Prior prior = model_prior(problem);
+  // With a prior: the MAP estimate, through the same backend (docs/theory.md).
+  const Summary summary =
+      prior.any() ? choice.solver->solve(PriorProblem(problem, prior), x, choice.options)
+                  : choice.solver->solve(problem, x, choice.options);
 
   CalibrationReport report =
-      make_calibration_report(problem, x, summary, loaded.lines, loss, id_options);
+      make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
+                              prior.any() ? prior.precision() : VectorXd());
   report.model_file = model_file;
   report.data_file = data_file;
   report.fixed_by_identifiability = fixed_by_identifiability;

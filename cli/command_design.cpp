@@ -129,6 +129,7 @@ int run_design(const Args& args) {
       "out", po::value<std::string>(), "write the measurement template (CSV) to FILE")(
       "json", po::value<std::string>(), "write the design as JSON to FILE, or - for stdout");
   add_free_fix_options(options);
+  add_prior_std_option(options);
   po::variables_map vm;
   if (!parse_command_line("design", args, options, vm)) return 0;
   if (!vm.count("count")) throw CliError("--count N is required");
@@ -157,6 +158,7 @@ int run_design(const Args& args) {
   const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
+  apply_prior_std(vm, *model);
   apply_config_range(vm, *model);
   const int n = model->parameters().num_free();
   if (n == 0) throw CliError("no free parameters: nothing to design for (use --free)");

@@ -2,12 +2,14 @@
 // file or from simulated configurations, before any solving.
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/simulation.hpp"
 
 namespace kincal::cli {
@@ -26,6 +28,7 @@ int run_observability(const Args& args) {
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "json", po::value<std::string>(), "write the analysis as JSON to FILE, or - for stdout");
   add_free_fix_options(options);
+  add_prior_std_option(options);
   po::variables_map vm;
   if (!parse_command_line("observability", args, options, vm)) return 0;
   if (vm.count("data") == vm.count("poses"))
@@ -41,6 +44,9 @@ int run_observability(const Args& args) {
 
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
+  apply_prior_std(vm, *model);
+  const bool with_prior =
+      check_prior_usable(*model, vm.count("model") ? vm["model"].as<std::string>() : "the model");
   const VectorXd values = model->parameters().nominal_values();
   const std::vector<int> free = model->parameters().free_indices();
   if (free.empty()) throw CliError("no free parameters: nothing to analyse (use --free)");
@@ -82,10 +88,22 @@ int run_observability(const Args& args) {
   std::string why;
   if (!problem.evaluate(problem.initial_free_parameters(), &residuals, &J, &why))
     throw CliError("cannot evaluate the identification Jacobian: " + why);
-  const Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
+  Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
+  if (with_prior) {
+    // Before measuring, the noise is as the model states it (sigma = 1 in whitened units).
+    const VectorXd precision = model_prior(problem).precision();
+    add_prior(a, J, precision, data_share(J, precision), id_options);
+  }
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) {
     std::cout << data.size() << " configurations\n" << to_text(a);
+    if (with_prior) {
+      std::cout << "determined by the data / by the prior (1 - posterior var / prior var, at "
+                   "the stated reading_std):\n";
+      for (int i = 0; i < a.data_share.size(); ++i)
+        std::printf("  %-24s data %5.1f %%  prior %5.1f %%\n", a.names[i].c_str(),
+                    100 * a.data_share[i], 100 * (1 - a.data_share[i]));
+    }
     if (a.num_residuals < a.num_parameters)
       std::cout << "fewer readings (" << a.num_residuals << ") than free parameters ("
                 << a.num_parameters << "): measure more configurations\n";

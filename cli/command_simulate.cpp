@@ -61,6 +61,20 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
       per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
       per_unit(o.param_error_half_width, o.param_error_half_width_rad, parameter_units).c_str(),
       static_cast<unsigned long long>(o.seed));
+  if (o.prior_std > 0 || o.prior_std_rad > 0) {
+    std::string stds;
+    char buf[64];
+    if (o.prior_std > 0) {
+      std::snprintf(buf, sizeof buf, "%g mm", o.prior_std);
+      stds += buf;
+    }
+    if (o.prior_std_rad > 0) {
+      std::snprintf(buf, sizeof buf, "%s%g rad", stds.empty() ? "" : ", ", o.prior_std_rad);
+      stds += buf;
+    }
+    std::printf("MAP estimate: Gaussian prior of std %s around nominal on every free parameter\n",
+                stds.c_str());
+  }
   std::printf("solver %s: %s — %s\n", s.solver.c_str(), to_string(s.termination),
               s.message.c_str());
   std::printf(
@@ -142,7 +156,11 @@ int run_simulate(const Args& args) {
       "choose the configurations by experiment design with this criterion (D, A, E or I; "
       "kincal design) instead of drawing them at random")(
       "design-candidates", po::value<int>()->default_value(10000),
-      "random candidate configurations for --design (the box's corners are added)");
+      "random candidate configurations for --design (the box's corners are added)")(
+      "prior-std", po::value<std::string>(),
+      "MAP calibration with a Gaussian prior of this std around nominal on every free "
+      "parameter, per unit, e.g. 2.887mm,0.0058rad (a bare number is mm); the readings are "
+      "weighed by the noise's std a / sqrt(3) unless the model states reading_std");
   // Files for the calibrate workflow (docs/calibrating-a-machine.md).
   options.add_options()("preset", po::value<std::string>(),
                         "built-in model to simulate (kincal list models; default cube-hexapod)")(
@@ -155,7 +173,17 @@ int run_simulate(const Args& args) {
   if (!parse_command_line("simulate", args, options, vm)) return 0;
 
   int case_id = 0;
-  const ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
+  ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
+  UnitValues prior_std;
+  if (vm.count("prior-std")) {
+    prior_std = unit_values_option(vm, "prior-std");
+    for (const auto& [unit, value] : prior_std.values())
+      if (!(value > 0))
+        throw CliError("--prior-std '" + vm["prior-std"].as<std::string>() +
+                       "': expected a std > 0 per unit (omit the option for no prior)");
+    scenario_options.prior_std = prior_std.get(kMillimetre, 0);
+    scenario_options.prior_std_rad = prior_std.get(kRadian, 0);
+  }
   SolverChoice choice = make_solver_choice(vm);
 
   // Every file is checked before the run, so a typo does not cost a solve.
@@ -187,6 +215,14 @@ int run_simulate(const Args& args) {
       throw CliError(std::string("--preset: ") + e.what());
     }
   }
+  if (vm.count("prior-std"))
+    for (int i : model->parameters().free_indices()) {
+      const Parameter& p = model->parameters()[i];
+      if (!prior_std.has(p.unit))
+        throw CliError("--prior-std '" + vm["prior-std"].as<std::string>() + "': gives no std in " +
+                       p.unit + " for free parameter " + p.name +
+                       "; expected one per unit of the free parameters, e.g. 2.887mm,0.0058rad");
+    }
   const int free_parameters = model->parameters().num_free();
   check_memory("--poses " + std::to_string(scenario_options.num_configurations),
                scenario_options.num_configurations,
@@ -198,7 +234,13 @@ int run_simulate(const Args& args) {
   std::string design_text;
   if (vm.count("design"))
     run_options = designed_options(vm, *model, scenario_options, &design_text);
-  const Scenario scenario = make_scenario(model, run_options);
+  Scenario scenario;
+  try {
+    scenario = make_scenario(model, run_options);
+  } catch (const std::invalid_argument& e) {
+    if (!vm.count("prior-std")) throw;
+    throw CliError(std::string("--prior-std: ") + e.what());
+  }
   // As in calibrate: fewer readings than unknowns cannot determine them (the paper needs
   // m > n), and a solver would report a perfect fit of a wrong geometry.
   const long long readings =

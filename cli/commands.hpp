@@ -38,6 +38,7 @@ int run_calibrate(const Args& args);
 int run_observability(const Args& args);
 int run_solver_suite(const Args& args);
 int run_verify(const Args& args);
+int run_validate(const Args& args);
 int run_design(const Args& args);
 
 }  // namespace kincal::cli

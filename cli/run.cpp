@@ -23,6 +23,8 @@ const std::vector<Command>& commands() {
       {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
       {"observability", "which free parameters a set of configurations can determine",
        run_observability},
+      {"validate", "residuals of a calibrated model on held-out data against the prediction",
+       run_validate},
       {"design", "choose the configurations to measure (experiment design)", run_design},
       {"solver-suite", "backends on the Moré-Garbow-Hillstrom test problems, checked",
        run_solver_suite},

@@ -121,18 +121,21 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   nlohmann::json ranges = nlohmann::json::object();
   for (int i = 0; i < mechanism.num_actuators(); ++i)
     ranges[mechanism.actuators()[i].name] = scenario.actuator_ranges[i];
-  out["scenario"] = {{"case", case_id == 0 ? nlohmann::json() : nlohmann::json(case_id)},
-                     {"model", model_name},
-                     {"poses", o.num_configurations},
-                     {"noise_half_width_mm", o.noise_half_width},
-                     {"noise_half_width_rad", o.noise_half_width_rad},
-                     {"param_error_half_width_mm", o.param_error_half_width},
-                     {"param_error_half_width_rad", o.param_error_half_width_rad},
-                     {"config_range_mm", common_range(scenario, kMillimetre)},
-                     {"config_range_rad", common_range(scenario, kRadian)},
-                     {"actuator_ranges", ranges},
-                     {"validation_poses", o.num_validation},
-                     {"seed", o.seed}};
+  out["scenario"] = {
+      {"case", case_id == 0 ? nlohmann::json() : nlohmann::json(case_id)},
+      {"model", model_name},
+      {"poses", o.num_configurations},
+      {"noise_half_width_mm", o.noise_half_width},
+      {"noise_half_width_rad", o.noise_half_width_rad},
+      {"param_error_half_width_mm", o.param_error_half_width},
+      {"param_error_half_width_rad", o.param_error_half_width_rad},
+      {"config_range_mm", common_range(scenario, kMillimetre)},
+      {"config_range_rad", common_range(scenario, kRadian)},
+      {"actuator_ranges", ranges},
+      {"validation_poses", o.num_validation},
+      {"seed", o.seed},
+      {"prior_std_mm", o.prior_std > 0 ? nlohmann::json(o.prior_std) : nlohmann::json()},
+      {"prior_std_rad", o.prior_std_rad > 0 ? nlohmann::json(o.prior_std_rad) : nlohmann::json()}};
   out["parameter_rms_error_mm"] = run.parameter_rms_error;
   out["parameter_rms_error_rad"] = run.parameter_rms_error_rad;
   nlohmann::json params = nlohmann::json::array();

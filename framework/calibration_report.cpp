@@ -47,8 +47,10 @@ double median(std::vector<double> values) {
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
                                           const RobustLoss& loss,
-                                          const IdentifiabilityOptions& options) {
+                                          const IdentifiabilityOptions& options,
+                                          const VectorXd& prior_precision) {
   CalibrationReport r;
+  r.prior = prior_precision.size() > 0 && (prior_precision.array() > 0).any();
   const MeasurementModel& model = problem.model();
   r.summary = summary;
   r.loss = loss.to_string();
@@ -118,8 +120,18 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
     r.outlier.push_back(outlier);
   }
 
-  r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
   r.identifiability = analyze_identifiability(measured_J, r.names, options);
+  if (r.prior) {
+    r.uncertainty = estimate_posterior_uncertainty(measured_J, measured_r, prior_precision, loss);
+    add_prior(r.identifiability, measured_J, prior_precision, r.uncertainty.data_share, options);
+    // As the user gave them (1 / sqrt(precision) would round).
+    for (std::size_t i = 0; i < problem.free_indices().size(); ++i)
+      if (r.uncertainty.prior_std[static_cast<int>(i)] > 0)
+        r.uncertainty.prior_std[static_cast<int>(i)] =
+            model.parameters()[problem.free_indices()[i]].prior_std;
+  } else {
+    r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
+  }
   r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
                                               problem.free_indices(), r.uncertainty.covariance);
   return r;
@@ -143,14 +155,25 @@ Json to_json(const Identifiability& a) {
   out["O4"] = a.o4;
   out["O5"] = a.o5;
   out["unseen_parameters"] = a.unseen;
+  if (a.has_prior()) {
+    out["numerical_rank_with_prior"] = a.numerical_rank_with_prior;
+    Json shares = Json::array();
+    for (int i = 0; i < a.data_share.size(); ++i)
+      shares.push_back({{"name", a.names[i]},
+                        {"data_share", a.data_share[i]},
+                        {"prior_share", 1 - a.data_share[i]}});
+    out["data_share"] = shares;
+  }
   out["combinations"] = Json::array();
   for (const auto& c : a.combinations) {
     Json terms = Json::array();
     for (const auto& [name, coefficient] : c.terms)
       terms.push_back({{"name", name}, {"coefficient", coefficient}});
-    out["combinations"].push_back({{"singular_value", c.singular_value},
-                                   {"kind", c.null_space ? "null_space" : "weak"},
-                                   {"terms", terms}});
+    Json combination = {{"singular_value", c.singular_value},
+                        {"kind", c.null_space ? "null_space" : "weak"},
+                        {"terms", terms}};
+    if (a.has_prior()) combination["determined_by_prior"] = !a.undetermined();
+    out["combinations"].push_back(combination);
   }
   return out;
 }
@@ -184,15 +207,22 @@ Json to_json(const CalibrationReport& r) {
   out["sigma_hat"] = number(r.uncertainty.sigma);
   out["sigma_hat_unit"] = sigma_unit(r);
   out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
+  out["effective_degrees_of_freedom"] = number(r.uncertainty.effective_degrees_of_freedom);
   out["robust_std_factor"] = number(r.uncertainty.robust_factor);
+  out["prior"] = r.prior;
   out["parameters"] = Json::array();
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const double std = r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN;
-    out["parameters"].push_back({{"name", r.names[i]},
-                                 {"unit", r.units[i]},
-                                 {"nominal", r.nominal[i]},
-                                 {"estimate", r.estimate[i]},
-                                 {"std", number(std)}});
+    const bool has_prior = r.uncertainty.prior_std.size() && r.uncertainty.prior_std[i] > 0;
+    const double share = r.uncertainty.data_share.size() ? r.uncertainty.data_share[i] : 1.0;
+    out["parameters"].push_back(
+        {{"name", r.names[i]},
+         {"unit", r.units[i]},
+         {"nominal", r.nominal[i]},
+         {"estimate", r.estimate[i]},
+         {"std", number(std)},
+         {"prior_std", has_prior ? Json(r.uncertainty.prior_std[i]) : Json()},
+         {"data_share", r.uncertainty.std.size() ? Json(share) : Json()}});
   }
   out["fixed_by_identifiability"] = r.fixed_by_identifiability;
   Json correlation = Json::array();
@@ -233,12 +263,22 @@ std::string to_text(const Identifiability& a) {
   out << "  O1 " << format("%.4g", a.o1) << "  O2 " << format("%.4g", a.o2) << "  O3 "
       << format("%.4g", a.o3) << "  O4 " << format("%.4g", a.o4) << "  O5 " << format("%.4g", a.o5)
       << "\n";
-  for (const auto& name : a.unseen) out << "  not seen by the data: " << name << "\n";
+  const bool pinned = a.has_prior() && !a.undetermined();
+  if (a.has_prior())
+    out << "  with the prior: numerical rank " << a.numerical_rank_with_prior << " of "
+        << a.num_parameters
+        << (pinned ? "" : " (data and prior together cannot determine every parameter)") << "\n";
+  for (const auto& name : a.unseen)
+    out << "  not seen by the data: " << name << (pinned ? " (determined by its prior)" : "")
+        << "\n";
   // The weakest few are what a reader can act on; all of them are in the JSON.
   int shown = 0;
   for (const auto& c : a.combinations)
     if (shown++ < 3)
-      out << "  " << (c.null_space ? "cannot be determined" : "weakly determined")
+      out << "  "
+          << (c.null_space ? (pinned ? "not seen by the data, determined by the prior"
+                                     : "cannot be determined")
+                           : "weakly determined by the data")
           << " (s = " << format("%.2e", c.singular_value) << "): " << c.describe() << "\n";
   return out.str();
 }
@@ -261,7 +301,12 @@ std::string to_text(const CalibrationReport& r) {
           : unit == "mixed"     ? "(mm and rad pooled unweighted: state reading_std in the "
                                   "model file to weigh them)"
                                 : unit)
-      << " (" << r.uncertainty.degrees_of_freedom << " degrees of freedom";
+      << " (";
+  if (r.prior)
+    out << format("%.1f", r.uncertainty.effective_degrees_of_freedom)
+        << " effective degrees of freedom: readings less the parameters the data determine";
+  else
+    out << r.uncertainty.degrees_of_freedom << " degrees of freedom";
   if (r.loss != "none")
     out << "; from the residuals as the " << r.loss
         << " loss sees them, std scaled by Huber's factor "
@@ -280,18 +325,33 @@ std::string to_text(const CalibrationReport& r) {
       if (r.outlier[c]) out << " " << r.lines[c];
     out << "\n";
   }
+  if (r.prior)
+    out << "MAP estimate with a Gaussian prior around the model's values: std is the "
+           "posterior std; data % = the share of each parameter the data determine (1 - "
+           "posterior var / prior var), the rest is the prior's\n";
   out << "parameters:\n";
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "  %-22s %-4s %14s %14s %12s %12s\n", "name", "unit", "nominal",
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "  %-22s %-4s %14s %14s %12s %12s", "name", "unit", "nominal",
                 "estimate", "change", "std");
-  out << buf;
+  out << buf << (r.prior ? "    prior std  data %\n" : "\n");
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const double change = r.units[i] == kRadian ? wrap_angle(r.estimate[i] - r.nominal[i])
                                                 : r.estimate[i] - r.nominal[i];
-    std::snprintf(buf, sizeof buf, "  %-22s %-4s %14.6f %14.6f %12.6f %12.3g\n", r.names[i].c_str(),
+    std::snprintf(buf, sizeof buf, "  %-22s %-4s %14.6f %14.6f %12.6f %12.3g", r.names[i].c_str(),
                   r.units[i].c_str(), r.nominal[i], r.estimate[i], change,
                   r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN);
     out << buf;
+    if (r.prior && r.uncertainty.data_share.size()) {
+      const double prior_std = r.uncertainty.prior_std[i];
+      if (prior_std > 0)
+        std::snprintf(buf, sizeof buf, " %12.3g %6.1f\n", prior_std,
+                      100 * r.uncertainty.data_share[i]);
+      else
+        std::snprintf(buf, sizeof buf, " %12s %6.1f\n", "-", 100.0);
+      out << buf;
+    } else {
+      out << "\n";
+    }
   }
   for (const auto& name : r.fixed_by_identifiability)
     out << "  " << name << ": fixed at its model value (not identifiable from this data)\n";

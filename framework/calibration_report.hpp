@@ -46,6 +46,8 @@ struct CalibrationReport {
   /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
   std::vector<std::string> fixed_by_identifiability;
   std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)
+  /// A prior was used: the estimate is MAP, uncertainty.std the posterior std.
+  bool prior = false;
   /// Predicted pose error over the workspace from the estimate's covariance, next to the
   /// nominal model's (compare_with_nominal at the estimate).
   AccuracyComparison predicted_accuracy;
@@ -56,10 +58,16 @@ struct CalibrationReport {
 /// that loss's IRLS weights (estimate_uncertainty). Missing readings take no part: the
 /// statistics, the uncertainty and the identifiability are those of the measured readings
 /// alone. Returns with empty residuals when they cannot be computed at x.
+///
+/// `prior_precision` (Prior::precision(), per free parameter; empty or all 0 = no prior): x is
+/// a MAP estimate, and the standard deviations are the posterior's, with each parameter's
+/// data share (estimate_posterior_uncertainty); the identifiability says what the prior
+/// determines (add_prior).
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
                                           const RobustLoss& loss = {},
-                                          const IdentifiabilityOptions& options = {});
+                                          const IdentifiabilityOptions& options = {},
+                                          const VectorXd& prior_precision = {});
 
 nlohmann::ordered_json to_json(const Identifiability& a);
 nlohmann::ordered_json to_json(const CalibrationReport& report);

@@ -131,6 +131,22 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
   return a;
 }
 
+void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
+               const VectorXd& data_share, const IdentifiabilityOptions& options) {
+  const int n = static_cast<int>(J.cols());
+  MatrixXd stacked = MatrixXd::Zero(J.rows() + n, n);
+  stacked.topRows(J.rows()) = J;
+  stacked.bottomRows(n).diagonal() = precision.cwiseSqrt();
+  VectorXd norms;
+  const MatrixXd scaled = scale_columns(stacked, norms);
+  const Eigen::JacobiSVD<MatrixXd> svd(scaled);
+  const VectorXd& s = svd.singularValues();
+  a.numerical_rank_with_prior = 0;
+  for (int i = 0; i < s.size(); ++i)
+    a.numerical_rank_with_prior += s.size() && s[i] > options.rcond * s[0];
+  a.data_share = data_share;
+}
+
 std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options) {
   std::vector<std::string> names(J.cols());
   const Identifiability a = analyze_identifiability(J, names, options);

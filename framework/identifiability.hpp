@@ -64,13 +64,32 @@ struct Identifiability {
   /// Null-space directions, then weak ones, weakest first.
   std::vector<ParameterCombination> combinations;
 
+  /// With a prior (add_prior): the numerical rank of the whitened data stacked with the
+  /// prior's rows (columns scaled the same way), and per parameter the share determined by
+  /// the data (1 - posterior var / prior var; 1 for a parameter without a prior). -1 and
+  /// empty without a prior.
+  int numerical_rank_with_prior = -1;
+  VectorXd data_share;
+  bool has_prior() const { return numerical_rank_with_prior >= 0; }
+
   /// The data cannot determine every free parameter (numerical rank below n).
   bool rank_deficient() const { return numerical_rank < num_parameters; }
+  /// Data and prior together cannot (without a prior: rank_deficient()).
+  bool undetermined() const {
+    return has_prior() ? numerical_rank_with_prior < num_parameters : rank_deficient();
+  }
 };
 
 /// Analysis of J; `names` names its columns.
 Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std::string>& names,
                                         const IdentifiabilityOptions& options = {});
+
+/// Adds what a Gaussian prior of information diag(precision) (0 = none) changes: the rank of
+/// [J; diag(sqrt(precision))] (J whitened) and `data_share` (e.g. from the posterior,
+/// ParameterUncertainty::data_share, or data_share() at the stated noise). A direction the
+/// data cannot see but the prior pins is then determined, by the prior.
+void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
+               const VectorXd& data_share, const IdentifiabilityOptions& options = {});
 
 /// Columns of J that together are well determined: a column-pivoted QR of the scaled
 /// Jacobian picks them greedily, most independent first, and stops at the numerical rank.

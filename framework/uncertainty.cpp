@@ -1,8 +1,10 @@
 #include "kincal/framework/uncertainty.hpp"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace kincal {
 
@@ -50,6 +52,7 @@ ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& res
   VectorXd psi(m);
   for (int i = 0; i < m; ++i) psi[i] = loss.evaluate(residuals[i] * residuals[i])[1] * residuals[i];
   u.degrees_of_freedom = m - n;
+  u.effective_degrees_of_freedom = m - n;
   u.sigma = u.degrees_of_freedom > 0 ? std::sqrt(psi.squaredNorm() / u.degrees_of_freedom) : kNaN;
   u.robust_factor = robust_factor(residuals, loss, n);
   u.covariance = parameter_covariance(J, u.robust_factor * u.sigma, rcond);
@@ -62,6 +65,67 @@ ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& res
     for (int j = 0; j < n; ++j)
       if (unit_std[i] > 0 && unit_std[j] > 0)
         u.correlation(i, j) = unit(i, j) / (unit_std[i] * unit_std[j]);
+  return u;
+}
+
+namespace {
+
+// [J / sigma; diag(sqrt(precision))]: the whitened data stacked with the prior's rows.
+MatrixXd stack_prior(const MatrixXd& J, const VectorXd& precision, double sigma) {
+  MatrixXd stacked = MatrixXd::Zero(J.rows() + J.cols(), J.cols());
+  stacked.topRows(J.rows()) = J / sigma;
+  stacked.bottomRows(J.cols()).diagonal() = precision.cwiseSqrt();
+  return stacked;
+}
+
+// 1 - covariance_ii precision_i, clamped to [0, 1] against rounding.
+VectorXd share_from(const MatrixXd& covariance, const VectorXd& precision) {
+  VectorXd share(precision.size());
+  for (int i = 0; i < precision.size(); ++i)
+    share[i] = std::clamp(1.0 - covariance(i, i) * precision[i], 0.0, 1.0);
+  return share;
+}
+
+}  // namespace
+
+VectorXd data_share(const MatrixXd& J, const VectorXd& precision, double sigma, double rcond) {
+  return share_from(parameter_covariance(stack_prior(J, precision, sigma), 1.0, rcond), precision);
+}
+
+ParameterUncertainty estimate_posterior_uncertainty(const MatrixXd& J, const VectorXd& residuals,
+                                                    const VectorXd& precision,
+                                                    const RobustLoss& loss, double rcond) {
+  if (!(precision.array() > 0).any()) return estimate_uncertainty(J, residuals, loss, rcond);
+  if (loss.kind != RobustLoss::Kind::kNone)
+    throw std::invalid_argument("a prior with a robust loss is not supported");
+  ParameterUncertainty u;
+  const int m = static_cast<int>(J.rows());
+  const int n = static_cast<int>(J.cols());
+  u.degrees_of_freedom = m - n;
+  // tr R = the number of parameters the data determine, at the stated noise: under the
+  // model (prior and noise as stated) E|r|^2 = m - tr R at the MAP estimate.
+  const double data_determined = data_share(J, precision, 1.0, rcond).sum();
+  u.effective_degrees_of_freedom = m - data_determined;
+  u.sigma = u.effective_degrees_of_freedom > 0
+                ? std::sqrt(residuals.squaredNorm() / u.effective_degrees_of_freedom)
+                : kNaN;
+  u.robust_factor = 1;
+  if (std::isfinite(u.sigma) && u.sigma > 0) {
+    u.covariance = parameter_covariance(stack_prior(J, precision, u.sigma), 1.0, rcond);
+    u.data_share = share_from(u.covariance, precision);
+  } else {
+    u.covariance = MatrixXd::Constant(n, n, kNaN);
+    u.data_share = data_share(J, precision, 1.0, rcond);
+  }
+  u.std = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  u.prior_std = VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i)
+    if (precision[i] > 0) u.prior_std[i] = 1.0 / std::sqrt(precision[i]);
+  u.correlation = MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (u.std[i] > 0 && u.std[j] > 0)
+        u.correlation(i, j) = u.covariance(i, j) / (u.std[i] * u.std[j]);
   return u;
 }
 

@@ -23,6 +23,16 @@ struct ParameterUncertainty {
   MatrixXd covariance;   ///< (robust_factor sigma_hat)^2 (J^T J)^-1 (n x n); NaN when either is
   VectorXd std;          ///< sqrt of its diagonal
   MatrixXd correlation;  ///< covariance_ij / (std_i std_j); 0 where a std is 0
+
+  /// With a prior (estimate_posterior_uncertainty; without one these stay as below):
+  /// m - tr(R), R = (J^T J + Lambda)^-1 J^T J at the stated noise; m - n without a prior.
+  double effective_degrees_of_freedom = 0;
+  /// Prior std per parameter (0 = none); empty without a prior.
+  VectorXd prior_std;
+  /// Per parameter, the share of its determination that comes from the data:
+  /// 1 - posterior var / prior var = diag of the resolution matrix, in [0, 1]; 1 without a
+  /// prior on the parameter. Empty without any prior.
+  VectorXd data_share;
 };
 
 /// From the Jacobian J (m x n) and residuals r (m) at the estimate, for a fit that
@@ -41,5 +51,25 @@ struct ParameterUncertainty {
 /// docs/calibrating-a-machine.md, section 5.
 ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& residuals,
                                           const RobustLoss& loss = {}, double rcond = 1e-12);
+
+/// Posterior of a MAP estimate with a Gaussian prior of information diag(precision)
+/// (Prior::precision(); 0 = no prior on that parameter), from the whitened data Jacobian J
+/// and residuals at the estimate (docs/theory.md, "Prior knowledge"):
+///   sigma_hat^2 = |r|^2 / (m - tr R),  R = (J^T J + Lambda)^-1 J^T J,
+///   covariance  = (J^T J / sigma_hat^2 + Lambda)^-1,
+///   data_share  = diag(covariance J^T J / sigma_hat^2) = 1 - covariance_ii precision_i.
+/// sigma_hat is the ratio of the data's scatter to the stated reading std, and it scales the
+/// data's information only: the prior's std is taken as stated. Without a prior this is
+/// estimate_uncertainty exactly. Computed from the SVD of [J / sigma_hat; Lambda^1/2].
+/// No robust loss: throws std::invalid_argument when both a prior and a loss are given.
+ParameterUncertainty estimate_posterior_uncertainty(const MatrixXd& J, const VectorXd& residuals,
+                                                    const VectorXd& precision,
+                                                    const RobustLoss& loss = {},
+                                                    double rcond = 1e-12);
+
+/// The data share alone, at a given noise ratio (1 = the readings' noise as stated), e.g.
+/// before any measurement: 1 - [(J^T J / sigma^2 + Lambda)^-1]_ii precision_i.
+VectorXd data_share(const MatrixXd& J, const VectorXd& precision, double sigma = 1.0,
+                    double rcond = 1e-12);
 
 }  // namespace kincal

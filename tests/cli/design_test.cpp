@@ -124,6 +124,27 @@ TEST(CliDesign, ExistingDataAreExtended) {
   EXPECT_EQ(j["configurations"], 10);
 }
 
+// --prior-std enters the information matrix: fewer readings than parameters become
+// possible, and the predicted std of a parameter with a tight prior is below that prior.
+TEST(CliDesign, PriorStdEntersTheDesign) {
+  TempDir dir("design-prior");
+  const std::string m = dir / "m.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  const auto r = run_cli("design --model " + m +
+                         " --count 10 --candidates 300 --noise-std 0.0072mm --prior-std '*=2.887' "
+                         "--prior-std leg4.base.x=0.1 --out " +
+                         dir / "t.csv --json -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json j = Json::parse(r.out);
+  EXPECT_TRUE(j["prior"].get<bool>());
+  for (const auto& p : j["parameters"]) {
+    EXPECT_LT(p["designed_std"].get<double>(), p["nominal_std"].get<double>()) << p["name"];
+    if (p["name"] == "leg4.base.x") {
+      EXPECT_LE(p["nominal_std"].get<double>(), 0.1);
+    }
+  }
+}
+
 TEST(CliSimulateDesign, DesignedConfigurationsCalibrate) {
   const auto r = run_cli("simulate --case 5 --design D --design-candidates 1000 --json -");
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -1,0 +1,251 @@
+// kincal validate: residuals of a calibrated model on held-out data (readings that took no
+// part in the calibration) against what the calibration predicts for them: the readings'
+// noise plus, with --report, the estimated parameters' uncertainty propagated.
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "kincal/cli/memory_check.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/validation.hpp"
+
+namespace kincal::cli {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(); }
+
+// What the calibration report says about the noise and the parameters.
+struct ReportPrediction {
+  double sigma_hat = NAN;
+  bool weighted = false;
+  std::string sigma_unit;
+  std::vector<std::string> names;
+  VectorXd std;
+  MatrixXd correlation;
+  std::string calibrated_sha256;
+};
+
+double report_number(const Json& value, const std::string& where) {
+  if (!value.is_number()) throw CliError(where + ": expected a number");
+  return value.get<double>();
+}
+
+ReportPrediction read_report(const std::string& path) {
+  const Json report = read_json_file(path, "calibration report");
+  if (!report.is_object() || report.value("format", "") != "kincal-calibration-report")
+    throw CliError(path + ": expected a calibration report (format \"kincal-calibration-report\")");
+  ReportPrediction p;
+  for (const char* key : {"sigma_hat", "weighted", "parameters", "correlation"})
+    if (!report.contains(key)) throw CliError(path + ": no '" + key + "' field");
+  if (!report["sigma_hat"].is_null())
+    p.sigma_hat = report_number(report["sigma_hat"], path + ": sigma_hat");
+  if (!report["weighted"].is_boolean()) throw CliError(path + ": weighted: expected true or false");
+  p.weighted = report["weighted"].get<bool>();
+  p.sigma_unit = report.value("sigma_hat_unit", "");
+  const Json& parameters = report["parameters"];
+  if (!parameters.is_array()) throw CliError(path + ": parameters: expected an array");
+  const int n = static_cast<int>(parameters.size());
+  p.std.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const Json& entry = parameters[i];
+    const std::string where = path + ": parameters[" + std::to_string(i) + "]";
+    if (!entry.is_object() || !entry.contains("name") || !entry["name"].is_string() ||
+        !entry.contains("std"))
+      throw CliError(where + ": expected {\"name\": ..., \"std\": ...}");
+    p.names.push_back(entry["name"].get<std::string>());
+    if (entry["std"].is_null())
+      throw CliError(where +
+                     ": std is null (the calibration could not estimate it); "
+                     "validate without --report to compare with the noise alone");
+    p.std[i] = report_number(entry["std"], where + ".std");
+  }
+  const Json& correlation = report["correlation"];
+  if (!correlation.is_array() || static_cast<int>(correlation.size()) != n)
+    throw CliError(path + ": correlation: expected " + std::to_string(n) + " x " +
+                   std::to_string(n) + " numbers");
+  p.correlation.resize(n, n);
+  for (int i = 0; i < n; ++i) {
+    if (!correlation[i].is_array() || static_cast<int>(correlation[i].size()) != n)
+      throw CliError(path + ": correlation[" + std::to_string(i) + "]: expected " +
+                     std::to_string(n) + " numbers");
+    for (int j = 0; j < n; ++j)
+      p.correlation(i, j) =
+          report_number(correlation[i][j], path + ": correlation[" + std::to_string(i) + "][" +
+                                               std::to_string(j) + "]");
+  }
+  if (report.contains("calibrated_model") && report["calibrated_model"].is_object())
+    p.calibrated_sha256 = report["calibrated_model"].value("sha256", "");
+  return p;
+}
+
+std::string format(const char* fmt, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, a);
+  return buf;
+}
+
+}  // namespace
+
+int run_validate(const Args& args) {
+  po::options_description options("kincal validate");
+  options.add_options()("model", po::value<std::string>(), "calibrated model file (JSON)")(
+      "data", po::value<std::string>(),
+      "held-out measurement file (CSV): configurations the calibration did not use")(
+      "report", po::value<std::string>(),
+      "the calibration's report (JSON): its sigma_hat is the noise, and its parameters' std "
+      "and correlation are propagated to the readings")(
+      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
+      "json", po::value<std::string>(), "write the result as JSON to FILE, or - for stdout");
+  po::variables_map vm;
+  if (!parse_command_line("validate", args, options, vm)) return 0;
+  if (!vm.count("model")) throw CliError("--model FILE is required (the calibrated model)");
+  if (!vm.count("data")) throw CliError("--data FILE is required (held-out measurements)");
+  OutputPlan plan;
+  for (const char* option : {"model", "data", "report"})
+    if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
+  if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
+  plan.check();
+
+  const std::string model_file = vm["model"].as<std::string>();
+  const std::string data_file = vm["data"].as<std::string>();
+  std::shared_ptr<MeasurementModel> model = load_model_option(vm);
+  const VectorXd values = model->parameters().nominal_values();
+  const int k = model->num_readings();
+
+  ValidationInput input;
+  std::string noise_source;
+  ReportPrediction report;
+  if (vm.count("report")) {
+    const std::string report_file = vm["report"].as<std::string>();
+    report = read_report(report_file);
+    if (!(report.sigma_hat > 0))
+      throw CliError(report_file +
+                     ": sigma_hat is null or 0 (an exact fit says nothing about the noise); "
+                     "expected a calibration with more readings than parameters");
+    if (report.weighted != model->weighted())
+      throw CliError(report_file + ": weighted is " + (report.weighted ? "true" : "false") +
+                     " but " + model_file + (model->weighted() ? " states" : " states no") +
+                     " reading_std; expected the model the report was written for");
+    if (!report.weighted && report.sigma_unit == "mixed")
+      throw CliError(report_file +
+                     ": sigma_hat pools mm and rad (no reading_std); state reading_std in the "
+                     "model and calibrate again");
+    // Weighted: sigma_hat is the ratio of the scatter to the stated std; otherwise it is the
+    // std itself, in the readings' one unit.
+    input.noise_std = report.weighted ? VectorXd(report.sigma_hat * model->reading_std())
+                                      : VectorXd(VectorXd::Constant(k, report.sigma_hat));
+    noise_source = report.weighted ? "sigma_hat x reading_std" : "sigma_hat";
+    for (const auto& name : report.names) {
+      const int index = model->parameters().find(name);
+      if (index < 0)
+        throw CliError(report_file + ": parameter '" + name + "' is not in " + model_file +
+                       "; expected the model the report was written for");
+      input.parameters.push_back(index);
+    }
+    input.covariance = report.std.asDiagonal() * report.correlation * report.std.asDiagonal();
+  } else {
+    if (!model->weighted())
+      throw CliError(model_file +
+                     ": states no reading_std, so nothing predicts the residuals; expected "
+                     "--report (its sigma_hat) or \"reading_std\" in the model file");
+    input.noise_std = model->reading_std();
+    noise_source = "reading_std";
+  }
+
+  const LoadedData loaded = load_measurements("validate", data_file, *model, values,
+                                              vm["skip-bad-rows"].as<bool>(), model_file);
+  check_memory(data_file, loaded.data.size(),
+               k * solve_bytes_per_row(static_cast<int>(input.parameters.size())), "configuration");
+  Validation v;
+  try {
+    v = validate_held_out(model, loaded.data, values, input);
+  } catch (const std::exception& e) {
+    throw CliError(data_file + ": " + e.what());
+  }
+
+  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
+  if (!json_to_stdout) {
+    std::cout << "held-out validation of " << model_file << " on " << data_file << ": "
+              << v.configurations << " configurations, " << v.readings << " readings\n";
+    std::cout << "predicted: noise = " << noise_source
+              << (v.parameter_uncertainty
+                      ? " + the parameters' uncertainty from the report (J Sigma J^T)"
+                      : " alone (no --report: the parameters are taken as exact)")
+              << "\n";
+    for (const auto& p : v.per_reading) {
+      if (!p.count) continue;
+      std::printf(
+          "  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g predicted RMS %-10.4g "
+          "(noise %.4g, parameters %.4g)\n",
+          p.name.c_str(), p.unit.c_str(), p.count, p.rms, p.max, p.predicted_rms, p.noise_std,
+          p.parameter_rms);
+    }
+    std::cout << "standardized RMS " << format("%.3f", v.standardized_rms)
+              << " (1 = as predicted), chi-square " << format("%.4g", v.chi_square) << " on "
+              << v.readings << " degrees of freedom: P(larger) " << format("%.3g", v.p_larger)
+              << ", P(smaller) " << format("%.3g", v.p_smaller) << "\n";
+    if (v.verdict == "consistent")
+      std::cout << "consistent: the held-out residuals are what the calibration predicts\n";
+    else if (v.verdict == "larger_than_predicted")
+      std::cout << "NOT consistent: the held-out residuals are larger than predicted (the "
+                   "model misses something, or its uncertainty is understated)\n";
+    else
+      std::cout << "smaller than predicted: the stated noise or uncertainty is pessimistic\n";
+  }
+  if (vm.count("json")) {
+    Json out;
+    out["format"] = "kincal-validation";
+    out["version"] = 1;
+    out["model"] = model_file;
+    out["data"] = data_file;
+    out["report"] = vm.count("report") ? Json(vm["report"].as<std::string>()) : Json();
+    out["configurations"] = v.configurations;
+    out["readings"] = v.readings;
+    out["skipped_lines"] = loaded.skipped_lines;
+    const bool one_unit = v.rms_by_unit.size() == 1;
+    out["residual_rms"] = one_unit ? Json(v.rms_by_unit.begin()->second) : Json();
+    out["residual_max"] = one_unit ? Json(v.max_by_unit.begin()->second) : Json();
+    out["residual_rms_by_unit"] = v.rms_by_unit;
+    out["residual_max_by_unit"] = v.max_by_unit;
+    out["noise"] = noise_source;
+    out["parameter_uncertainty"] = v.parameter_uncertainty;
+    Json readings = Json::array();
+    for (const auto& p : v.per_reading)
+      readings.push_back({{"name", p.name},
+                          {"unit", p.unit},
+                          {"readings", p.count},
+                          {"rms", p.count ? Json(p.rms) : Json()},
+                          {"max", p.count ? Json(p.max) : Json()},
+                          {"noise_std", p.noise_std},
+                          {"parameter_rms", p.count ? Json(p.parameter_rms) : Json()},
+                          {"predicted_rms", p.count ? Json(p.predicted_rms) : Json()}});
+    out["per_reading"] = readings;
+    out["chi_square"] = number(v.chi_square);
+    out["degrees_of_freedom"] = v.readings;
+    out["standardized_rms"] = number(v.standardized_rms);
+    out["p_larger"] = number(v.p_larger);
+    out["p_smaller"] = number(v.p_smaller);
+    out["significance"] = input.significance;
+    out["verdict"] = v.verdict;
+    Json residuals = Json::array();
+    const auto names = model->reading_names();
+    for (int c = 0; c < v.residuals.rows(); ++c) {
+      Json row;
+      row["line"] = loaded.lines[c];
+      for (int i = 0; i < k; ++i) row[names[i]] = number(v.residuals(c, i));
+      residuals.push_back(row);
+    }
+    out["residuals"] = residuals;
+    plan.write({{"--json", out.dump(2) + "\n"}});
+  }
+  // As verify: a check that fails is exit code 1.
+  return v.verdict == "larger_than_predicted" ? 1 : 0;
+}
+
+}  // namespace kincal::cli
