@@ -1,6 +1,7 @@
 // kincal simulate: one simulated calibration of any registered model or model file, readable
 // or as JSON.
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/simulation_report.hpp"
+#include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/framework/units.hpp"
 #include "kincal/models/model_io.hpp"
@@ -92,6 +94,56 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
   std::printf(" (%zu free parameters)\n", scenario.free_indices.size());
 }
 
+// The scenario options with the configurations chosen by experiment design on the nominal
+// model (the truth is unknown when a design is made), for the same count, noise and box.
+ScenarioOptions designed_options(const po::variables_map& vm, const MeasurementModel& model,
+                                 const ScenarioOptions& base, std::string* text) {
+  DesignOptions d;
+  try {
+    d.criterion = parse_design_criterion(vm["design"].as<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw CliError(std::string("--design: ") + e.what());
+  }
+  d.count = base.num_configurations;
+  d.num_random = vm["design-candidates"].as<int>();
+  if (d.num_random < 0) throw CliError("--design-candidates must be >= 0");
+  d.seed = base.seed;
+  d.default_error_mm = base.param_error_half_width;
+  d.default_error_rad = base.param_error_half_width_rad;
+  MeasurementModel designed = model;
+  const auto units = model.reading_units();
+  d.noise_std = model.reading_std();
+  for (int i = 0; i < model.num_readings(); ++i) {
+    const double a = base.noise_for(units[i]);
+    if (a > 0) d.noise_std[i] = a / std::sqrt(3.0);  // uniform U[-a, a]
+  }
+  // The prior the calibration will use (ScenarioOptions::prior_std replaces the model's).
+  if (base.prior_std > 0 || base.prior_std_rad > 0)
+    designed.parameters().for_each_matching("*", [&](Parameter& p) {
+      if (p.free) p.prior_std = base.prior_std_for(p.unit);
+    });
+  for (const Actuator& a : model.mechanism().actuators()) {
+    const double r = base.config_range_for(a.unit);
+    if (!std::isnan(r)) designed.set_actuator_range(a.name, r);
+  }
+  check_memory(
+      "--design-candidates " + std::to_string(d.num_random), d.num_random,
+      kConfigurationBytes + 8.0 * model.num_readings() * (model.parameters().num_free() + 2),
+      "candidate");
+  const DesignRun run = run_design(designed, d);
+  ScenarioOptions out = base;
+  out.planned = run.rows;
+  out.num_configurations = run.rows.size();
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "configurations chosen by design: criterion %s, %d measurements from %d "
+                "candidates, seed %llu",
+                to_string(d.criterion), d.count, run.candidates.size(),
+                static_cast<unsigned long long>(d.seed));
+  *text = buf;
+  return out;
+}
+
 }  // namespace
 
 int run_simulate(const Args& args) {
@@ -101,6 +153,11 @@ int run_simulate(const Args& args) {
   add_json_option(options, "the result");
   options.add_options()("trace", po::value<std::string>(),
                         "write the per-iteration trace as CSV to FILE")(
+      "design", po::value<std::string>(),
+      "choose the configurations by experiment design with this criterion (D, A, E or I; "
+      "kincal design) instead of drawing them at random")(
+      "design-candidates", po::value<int>()->default_value(10000),
+      "random candidate configurations for --design (the box's corners are added)")(
       "prior-std", po::value<std::string>(),
       "MAP calibration with a Gaussian prior of this std around nominal on every free "
       "parameter, per unit, e.g. 2.887mm,0.0058rad (a bare number is mm); the readings are "
@@ -174,9 +231,13 @@ int run_simulate(const Args& args) {
                "configuration");
   check_memory("--validation " + std::to_string(scenario_options.num_validation),
                scenario_options.num_validation, kConfigurationBytes, "pose");
+  ScenarioOptions run_options = scenario_options;
+  std::string design_text;
+  if (vm.count("design"))
+    run_options = designed_options(vm, *model, scenario_options, &design_text);
   Scenario scenario;
   try {
-    scenario = make_scenario(model, scenario_options);
+    scenario = make_scenario(model, run_options);
   } catch (const std::invalid_argument& e) {
     if (!vm.count("prior-std")) throw;
     throw CliError(std::string("--prior-std: ") + e.what());
@@ -196,12 +257,18 @@ int run_simulate(const Args& args) {
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
 
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
-  if (!json_to_stdout) print_report(scenario, run, case_id, model_name);
+  if (!json_to_stdout) {
+    if (!design_text.empty()) std::printf("%s\n", design_text.c_str());
+    print_report(scenario, run, case_id, model_name);
+  }
   // All outputs or none while the process runs (data without its truth file is useless);
   // the data file names its truth file's SHA-256, for a check after a crash.
   std::vector<std::pair<std::string, std::string>> outputs;
-  if (vm.count("json"))
-    outputs.push_back({"--json", to_json(scenario, run, case_id, model_name).dump(2) + "\n"});
+  if (vm.count("json")) {
+    auto json = to_json(scenario, run, case_id, model_name);
+    json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
+    outputs.push_back({"--json", json.dump(2) + "\n"});
+  }
   if (vm.count("trace")) outputs.push_back({"--trace", trace_csv(run)});
   if (vm.count("write-data")) {
     const std::string truth = model_to_json(*model, scenario.truth).dump(2) + "\n";

@@ -40,5 +40,6 @@ int run_solver_suite(const Args& args);
 int run_verify(const Args& args);
 int run_export(const Args& args);
 int run_validate(const Args& args);
+int run_design(const Args& args);
 
 }  // namespace kincal::cli

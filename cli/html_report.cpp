@@ -357,6 +357,25 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                        " row(s) were dropped because the starting model cannot reach them "
                        "(--skip-bad-rows).",
                    ""});
+  // The predicted pose error of the estimate against the nominal model (experiment design).
+  const Json& predicted = member(r, "predicted_pose_error");
+  if (predicted.is_object() && member(predicted, "computed") == true) {
+    const double calibrated = num(member(member(predicted, "calibrated"), "position_rms_mm"));
+    const double nominal = num(member(member(predicted, "nominal"), "position_rms_mm"));
+    if (member(predicted, "expected_to_beat_nominal") == true)
+      out.push_back({L::kGood,
+                     "Predicted position error over the workspace: " + fmt(calibrated, 3) +
+                         " mm RMS, against " + fmt(nominal, 3) + " mm for the nominal model.",
+                     ""});
+    else
+      out.push_back({L::kProblem,
+                     "This calibration is NOT expected to beat the nominal model: predicted "
+                     "position error " +
+                         fmt(calibrated, 3) + " mm RMS against " + fmt(nominal, 3) +
+                         " mm for the nominal model.",
+                     "Do not load it as it is: measure configurations chosen by kincal design, "
+                     "add what you know as prior_std, or fix the weakly determined parameters."});
+  }
   if (member(r, "warnings").is_array())
     for (const auto& w : r["warnings"]) out.push_back({L::kWarning, text_of(w), ""});
   return out;
@@ -586,13 +605,13 @@ std::string parameters_html(const Json& r) {
   bool has_prior = false, has_share = false;
   for (const auto& p : member(r, "parameters")) {
     has_prior = has_prior || p.contains("prior_std");
-    has_share = has_share || p.contains("prior_share");
+    has_share = has_share || p.contains("data_share");
   }
   out +=
       "<table><tr><th class=\"name\">parameter</th><th>unit</th><th>nominal</th>"
       "<th>estimate</th><th>correction</th><th>std</th>";
   if (has_prior) out += "<th>prior std</th>";
-  if (has_share) out += "<th>prior share</th>";
+  if (has_share) out += "<th>data share</th>";
   out += "</tr>";
   const Json& params = member(r, "parameters");
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -603,7 +622,7 @@ std::string parameters_html(const Json& r) {
            "</td><td>" + fmt(p.estimate * du.scale, 8) + "</td><td>" + fmt(p.change * du.scale, 4) +
            "</td><td>" + fmt(p.std * du.scale, 3) + "</td>";
     if (has_prior) out += "<td>" + fmt(num(member(params[i], "prior_std")) * du.scale, 3) + "</td>";
-    if (has_share) out += "<td>" + fmt(num(member(params[i], "prior_share")), 3) + "</td>";
+    if (has_share) out += "<td>" + fmt(num(member(params[i], "data_share")), 3) + "</td>";
     out += "</tr>";
   }
   out += "</table>";
@@ -811,9 +830,9 @@ std::string render_calibration_html(const Json& r) {
   page.add_section("correlation", "Correlations", correlation_html(r));
   page.add_section("identifiability", "Identifiability", identifiability_html(r));
   page.add_section("outliers", "Outliers", outliers_html(r));
-  if (r.contains("predicted_pose_accuracy"))
+  if (r.contains("predicted_pose_error") && r["predicted_pose_error"].is_object())
     page.add_section("pose-accuracy", "Predicted pose accuracy",
-                     json_table_html(r["predicted_pose_accuracy"]));
+                     json_table_html(r["predicted_pose_error"]));
   if (r.contains("sensitivity"))
     page.add_section("sensitivity", "Sensitivity to fixed parameters",
                      json_table_html(r["sensitivity"]));

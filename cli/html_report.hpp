@@ -45,9 +45,9 @@ class HtmlPage {
 std::string verdicts_html(const std::vector<Verdict>& verdicts);
 
 /// The calibration report's page. Besides the fields calibrate always writes it renders,
-/// when present: "predicted_pose_accuracy" (an object or array of objects: a table),
-/// per-parameter "prior_std" and "prior_share" (columns of the parameter table),
-/// "sensitivity" (an array of objects: a table) and "warnings".
+/// when present: "predicted_pose_error" (a table, and a verdict when calibration is not expected to
+/// beat the nominal model), per-parameter "prior_std" and "data_share" (columns of the parameter
+/// table), "sensitivity" (an array of objects: a table) and "warnings".
 std::string render_calibration_html(const nlohmann::ordered_json& report);
 
 /// An object or an array of flat objects as an HTML table (keys as headers); nested values

@@ -133,6 +133,8 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   } else {
     r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
   }
+  r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
+                                              problem.free_indices(), r.uncertainty.covariance);
   return r;
 }
 
@@ -248,6 +250,7 @@ Json to_json(const CalibrationReport& r) {
   }
   out["identifiability"] = to_json(r.identifiability);
   out["warnings"] = r.warnings;
+  out["predicted_pose_error"] = to_json(r.predicted_accuracy);
   return out;
 }
 
@@ -376,6 +379,7 @@ std::string to_text(const CalibrationReport& r) {
     out << "largest correlation " << format("%+.3f", r.uncertainty.correlation(wi, wj))
         << " between " << r.names[wi] << " and " << r.names[wj] << "\n";
   out << to_text(r.identifiability);
+  out << to_text(r.predicted_accuracy);
   for (const auto& warning : r.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }

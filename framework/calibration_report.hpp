@@ -9,6 +9,7 @@
 
 #include "kincal/framework/calibration_problem.hpp"
 #include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/pose_accuracy.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/framework/solver.hpp"
 #include "kincal/framework/uncertainty.hpp"
@@ -52,6 +53,9 @@ struct CalibrationReport {
   std::vector<std::string> warnings;
   /// A prior was used: the estimate is MAP, uncertainty.std the posterior std.
   bool prior = false;
+  /// Predicted pose error over the workspace from the estimate's covariance, next to the
+  /// nominal model's (compare_with_nominal at the estimate).
+  AccuracyComparison predicted_accuracy;
 };
 
 /// Fills everything but the file names and the two lists above from the problem solved at x

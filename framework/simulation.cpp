@@ -170,9 +170,28 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
 
   Random config_rng(derive_seed(options.seed, kConfigStream));
   std::vector<Pose> calibration_poses;
-  draw_configurations(*model, s.truth, s.home_actuators, s.actuator_ranges,
-                      options.num_configurations, config_rng, s.calibration.actuators,
-                      calibration_poses);
+  const bool planned = options.planned.size() > 0;
+  if (planned) {
+    if (options.planned.size() != options.num_configurations ||
+        options.planned.actuators.cols() != mechanism.num_actuators() ||
+        options.planned.readings.cols() != model->num_readings())
+      throw std::invalid_argument(
+          "the planned configurations do not fit the model or the number of configurations");
+    s.calibration.actuators = options.planned.actuators;
+    for (int j = 0; j < options.planned.size(); ++j) {
+      const ForwardKinematicsResult fk = mechanism.forward_kinematics(
+          s.truth.head(mechanism.num_parameters()), options.planned.actuators.row(j).transpose(),
+          mechanism.home_pose(), model->forward_kinematics_options());
+      if (!fk.ok())
+        throw std::runtime_error("planned configuration " + std::to_string(j + 1) +
+                                 " is not reachable with the true parameters: " + fk.describe());
+      calibration_poses.push_back(fk.pose);
+    }
+  } else {
+    draw_configurations(*model, s.truth, s.home_actuators, s.actuator_ranges,
+                        options.num_configurations, config_rng, s.calibration.actuators,
+                        calibration_poses);
+  }
 
   Random noise_rng(derive_seed(options.seed, kNoiseStream));
   const int k = model->num_readings();
@@ -183,6 +202,9 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
     model->predict_at_pose(s.truth, calibration_poses[j], reading);
     for (int i = 0; i < k; ++i) noise[i] = noise_rng.symmetric(options.noise_for(units[i]));
     model->retract(reading, noise);
+    if (planned)  // readings the plan does not take stay missing
+      for (int i = 0; i < k; ++i)
+        if (std::isnan(options.planned.readings(j, i))) reading[i] = NAN;
     s.calibration.readings.row(j) = reading.transpose();
   }
 

@@ -43,6 +43,12 @@ struct ScenarioOptions {
   double prior_std = 0;
   double prior_std_rad = 0;
 
+  /// When it has rows: the calibration configurations (actuators) and which readings are
+  /// taken (a NaN reading is not taken, anything else is simulated), e.g. from experiment
+  /// design, instead of num_configurations random draws. Every row must be reachable with
+  /// the true parameters.
+  Measurements planned;
+
   /// The parameter error, noise and range for `unit` ("mm" or "rad").
   double param_error_for(const std::string& unit) const;
   double noise_for(const std::string& unit) const;

@@ -173,14 +173,23 @@ TEST(HtmlReport, VerdictsNameWhatToDo) {
 
 TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   Json r = hostile_report();
-  r["predicted_pose_accuracy"] = {{"position_rms_mm", 0.25}, {"orientation_rms_rad", 1e-3}};
+  r["predicted_pose_error"] = {
+      {"computed", true},
+      {"calibrated", {{"position_rms_mm", 8.5}, {"orientation_rms_rad", 1e-3}}},
+      {"nominal", {{"position_rms_mm", 7.2}, {"orientation_rms_rad", 2e-3}}},
+      {"expected_to_beat_nominal", false}};
   r["parameters"][0]["prior_std"] = 2.0;
-  r["parameters"][0]["prior_share"] = 0.4;
+  r["parameters"][0]["data_share"] = 0.4;
   const std::string html = render_calibration_html(r);
   EXPECT_EQ(markup_problem(html), "");
   EXPECT_NE(html.find("id=\"pose-accuracy\""), std::string::npos);
   EXPECT_NE(html.find("position_rms_mm"), std::string::npos);
-  EXPECT_NE(html.find("prior share"), std::string::npos);
+  EXPECT_NE(html.find("data share"), std::string::npos);
+  EXPECT_NE(html.find("NOT expected to beat the nominal model"), std::string::npos);
+  // Without the field, no section and no verdict about it.
+  const std::string plain = render_calibration_html(hostile_report());
+  EXPECT_EQ(plain.find("id=\"pose-accuracy\""), std::string::npos);
+  EXPECT_EQ(plain.find("expected to beat"), std::string::npos);
 }
 
 // Degenerate reports (a failed solve: no residuals, no std, a zero Jacobian, nulls where

@@ -1,0 +1,92 @@
+// kincal-design-benchmark (Google Benchmark): experiment design for the cube hexapod, 60
+// measurements chosen from 10^5 candidates (issue 13's target: under 2 s on one core), split
+// into drawing the candidates (forward kinematics, reading Jacobian and singularity margin
+// of each) and the exchange, per criterion. Results: docs/benchmarks.md.
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+
+#include "kincal/framework/experiment_design.hpp"
+#include "kincal/models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+DesignOptions hexapod_options(DesignCriterion criterion) {
+  DesignOptions o;
+  o.criterion = criterion;
+  o.count = 60;
+  o.num_random = 100000 - 64;  // + the 64 corners of the box = 10^5 candidates
+  o.noise_std = VectorXd::Constant(1, 0.0125 / std::sqrt(3.0));
+  o.seed = 1;
+  return o;
+}
+
+struct Prepared {
+  std::shared_ptr<MeasurementModel> model = make_cube_hexapod();
+  DesignSetup setup;
+  DesignCandidates candidates;
+  Prepared() {
+    const DesignOptions o = hexapod_options(DesignCriterion::kD);
+    setup = make_design_setup(*model, o, nullptr);
+    candidates = make_design_candidates(*model, setup, o);
+  }
+};
+
+const Prepared& prepared() {
+  static const Prepared p;
+  return p;
+}
+
+void BM_DesignCandidates(benchmark::State& state) {
+  const auto model = make_cube_hexapod();
+  const DesignOptions o = hexapod_options(DesignCriterion::kD);
+  const DesignSetup setup = make_design_setup(*model, o, nullptr);
+  for (auto _ : state) {
+    const DesignCandidates c = make_design_candidates(*model, setup, o);
+    benchmark::DoNotOptimize(c.rows.data());
+    state.counters["candidates"] = c.size();
+  }
+}
+BENCHMARK(BM_DesignCandidates)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_DesignExchange(benchmark::State& state) {
+  const Prepared& p = prepared();
+  const auto criterion = static_cast<DesignCriterion>(state.range(0));
+  const DesignOptions o = hexapod_options(criterion);
+  DesignResult result;
+  for (auto _ : state) {
+    result = choose_design(p.candidates, p.setup, o);
+    benchmark::DoNotOptimize(result.chosen.data());
+  }
+  state.SetLabel(to_string(criterion));
+  state.counters["passes"] = result.passes;
+  state.counters["exchanges"] = result.exchanges;
+}
+BENCHMARK(BM_DesignExchange)
+    ->Arg(static_cast<int>(DesignCriterion::kD))
+    ->Arg(static_cast<int>(DesignCriterion::kA))
+    ->Arg(static_cast<int>(DesignCriterion::kE))
+    ->Arg(static_cast<int>(DesignCriterion::kI))
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Everything `kincal design` does for the hexapod with D, end to end (setup, candidates,
+// exchange).
+void BM_DesignEndToEnd(benchmark::State& state) {
+  const auto model = make_cube_hexapod();
+  const DesignOptions o = hexapod_options(DesignCriterion::kD);
+  for (auto _ : state) {
+    const DesignSetup setup = make_design_setup(*model, o, nullptr);
+    const DesignCandidates c = make_design_candidates(*model, setup, o);
+    const DesignResult result = choose_design(c, setup, o);
+    benchmark::DoNotOptimize(result.chosen.data());
+  }
+}
+BENCHMARK(BM_DesignEndToEnd)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+}  // namespace kincal
+
+BENCHMARK_MAIN();

@@ -1,0 +1,332 @@
+// kincal design: chooses the configurations (and, for a model with several sensors, the
+// sensor placements) to measure, and writes them as a measurement template that calibrate
+// reads once the readings are filled in.
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <set>
+#include <sstream>
+
+#include "kincal/cli/memory_check.hpp"
+#include "kincal/cli/model_args.hpp"
+#include "kincal/cli/simulation_report.hpp"
+#include "kincal/framework/experiment_design.hpp"
+#include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/units.hpp"
+
+namespace kincal::cli {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(); }
+
+const char* criterion_meaning(DesignCriterion c) {
+  switch (c) {
+    case DesignCriterion::kD:
+      return "log det of the information matrix, maximised";
+    case DesignCriterion::kA:
+      return "mean parameter variance / nominal spread^2, minimised";
+    case DesignCriterion::kE:
+      return "smallest eigenvalue of the information matrix, maximised";
+    case DesignCriterion::kI:
+      return "mean predicted position variance over the workspace (mm^2), minimised";
+  }
+  return "";
+}
+
+// The reading noise std per reading: --noise-std per unit, else the model's reading_std.
+VectorXd noise_std_option(const po::variables_map& vm, const MeasurementModel& model,
+                          bool* assumed) {
+  *assumed = false;
+  const std::vector<std::string> units = model.reading_units();
+  if (!vm.count("noise-std")) {
+    *assumed = !model.weighted();
+    return model.reading_std();
+  }
+  const UnitValues values = unit_values_option(vm, "noise-std");
+  VectorXd std(model.num_readings());
+  for (int i = 0; i < model.num_readings(); ++i) {
+    if (!values.has(units[i]))
+      throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + "': no value for " +
+                     units[i] + " (reading " + model.reading_names()[i] + ")");
+    std[i] = values.get(units[i]);
+    if (!(std[i] > 0))
+      throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + "': expected > 0");
+  }
+  return std;
+}
+
+void apply_config_range(const po::variables_map& vm, MeasurementModel& model) {
+  if (!vm.count("config-range")) return;
+  const UnitValues range = unit_values_option(vm, "config-range");
+  for (const Actuator& a : model.mechanism().actuators())
+    if (range.has(a.unit)) model.set_actuator_range(a.name, range.get(a.unit));
+}
+
+// The template: header, comments saying what to fill in, one row per configuration with the
+// actuator values and empty reading fields.
+std::string template_csv(const MeasurementModel& model, const Measurements& rows,
+                         const std::string& heading) {
+  std::ostringstream out;
+  out << heading;
+  const auto actuators = model.mechanism().actuator_names();
+  const auto readings = model.reading_names();
+  const bool several = model.sensors().size() > 1;
+  std::string header;
+  for (const auto& n : actuators) header += (header.empty() ? "" : ",") + n;
+  for (const auto& n : readings) header += "," + n;
+  out << header << "\n";
+  char buf[40];
+  for (int r = 0; r < rows.size(); ++r) {
+    if (several) {
+      out << "# read:";
+      for (std::size_t s = 0; s < model.sensors().size(); ++s)
+        if (!std::isnan(rows.readings(r, model.sensor_reading_offset(static_cast<int>(s)))))
+          out << " " << model.sensors()[s]->name();
+      out << "\n";
+    }
+    for (int a = 0; a < rows.actuators.cols(); ++a) {
+      std::snprintf(buf, sizeof buf, "%.17g", rows.actuators(r, a));
+      out << (a ? "," : "") << buf;
+    }
+    for (int k = 0; k < rows.readings.cols(); ++k) out << ",";
+    out << "\n";
+  }
+  return out.str();
+}
+
+void print_prediction_row(const char* label, double designed, double random, double nominal) {
+  std::printf("  %-34s %12.4g %12.4g %12.4g\n", label, designed, random, nominal);
+}
+
+}  // namespace
+
+int run_design(const Args& args) {
+  po::options_description options("kincal design");
+  options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
+      "count", po::value<int>(), "number of measurements to choose")(
+      "criterion", po::value<std::string>()->default_value("D"),
+      "D (parameters' confidence volume), A (mean parameter variance), E (worst direction) or I "
+      "(mean predicted position variance over the workspace)")(
+      "candidates", po::value<int>()->default_value(10000),
+      "random candidate configurations drawn in the box (the box's corners are added)")(
+      "config-range", po::value<std::string>(),
+      "half-width of the configuration box around home per unit, e.g. 20mm,0.5rad (default: "
+      "each actuator's range in the model)")(
+      "existing", po::value<std::string>(),
+      "measurement file (CSV) already measured: its readings count as information, and the "
+      "design adds to them")(
+      "noise-std", po::value<std::string>(),
+      "reading noise standard deviation per unit, e.g. 0.0072mm (default: the model's "
+      "reading_std)")("singularity-margin",
+                      po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
+                      "keep configurations whose conditioning is at least this fraction of home's")(
+      "seed", po::value<Seed>()->default_value(Seed{1}, "1"),
+      "random seed (candidates, workspace samples, the random design compared with)")(
+      "out", po::value<std::string>(), "write the measurement template (CSV) to FILE")(
+      "json", po::value<std::string>(), "write the design as JSON to FILE, or - for stdout");
+  add_free_fix_options(options);
+  add_prior_std_option(options);
+  po::variables_map vm;
+  if (!parse_command_line("design", args, options, vm)) return 0;
+  if (!vm.count("count")) throw CliError("--count N is required");
+  if (!vm.count("out")) throw CliError("--out FILE is required (the measurement template)");
+  DesignOptions design;
+  design.count = vm["count"].as<int>();
+  design.num_random = vm["candidates"].as<int>();
+  design.seed = vm["seed"].as<Seed>().value;
+  design.min_singularity_margin = vm["singularity-margin"].as<double>();
+  try {
+    design.criterion = parse_design_criterion(vm["criterion"].as<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw CliError(std::string("--criterion: ") + e.what());
+  }
+  if (design.count < 1) throw CliError("--count must be at least 1");
+  if (design.num_random < 0) throw CliError("--candidates must be >= 0");
+  if (!(design.min_singularity_margin >= 0)) throw CliError("--singularity-margin must be >= 0");
+  OutputPlan plan;
+  for (const char* option : {"model", "existing"})
+    if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
+  plan.output("--out", vm["out"].as<std::string>());
+  if (plan.to_stdout("--out")) throw CliError("--out needs a file name (the template)");
+  if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
+  plan.check();
+
+  const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
+  std::shared_ptr<MeasurementModel> model = load_model_option(vm);
+  apply_free_fix(vm, *model);
+  apply_prior_std(vm, *model);
+  apply_config_range(vm, *model);
+  const int n = model->parameters().num_free();
+  if (n == 0) throw CliError("no free parameters: nothing to design for (use --free)");
+  bool assumed_noise = false;
+  design.noise_std = noise_std_option(vm, *model, &assumed_noise);
+  check_memory("--candidates " + std::to_string(design.num_random), design.num_random,
+               kConfigurationBytes + 8LL * model->num_readings() * (n + 2), "candidate");
+
+  const VectorXd nominal = model->parameters().nominal_values();
+  Measurements existing;
+  if (vm.count("existing"))
+    existing = load_measurements("design", vm["existing"].as<std::string>(), *model, nominal, false,
+                                 model_file)
+                   .data;
+  DesignSetup setup = make_design_setup(*model, design, vm.count("existing") ? &existing : nullptr);
+  if (assumed_noise && setup.has_prior)
+    note("design",
+         "the model states no reading_std: the readings' noise is taken as 1 of their unit, "
+         "which decides how much the prior weighs; give --noise-std");
+  const DesignCandidates candidates = make_design_candidates(*model, setup, design);
+  if (candidates.size() < design.count)
+    throw CliError("only " + std::to_string(candidates.size()) + " reachable candidates (" +
+                   std::to_string(candidates.rejected_unreachable) + " unreachable, " +
+                   std::to_string(candidates.rejected_singular) + " near-singular) for --count " +
+                   std::to_string(design.count) +
+                   "; raise --candidates or lower --singularity-margin");
+  const long long new_readings = [&] {
+    long long k = 0;
+    for (const auto& s : model->sensors()) k = std::max<long long>(k, s->num_readings());
+    return k * design.count;
+  }();
+  if (!setup.has_prior && setup.existing_readings + new_readings < n)
+    throw CliError("--count " + std::to_string(design.count) + " gives at most " +
+                   std::to_string(new_readings + setup.existing_readings) + " readings for " +
+                   std::to_string(n) +
+                   " free parameters; expected at least as many readings as free parameters");
+  const DesignResult result = choose_design(candidates, setup, design);
+  const Measurements rows = design_rows(*model, candidates, result.chosen);
+  const std::vector<int> random = random_design(candidates, design.count, design.seed);
+
+  const MatrixXd designed_cov =
+      design_covariance(design_information(candidates, result.chosen, setup), setup);
+  const MatrixXd random_cov =
+      design_covariance(design_information(candidates, random, setup), setup);
+  const MatrixXd nominal_cov = setup.scale.array().square().matrix().asDiagonal();
+  const PoseErrorPrediction designed_pose = predict_pose_errors(setup.workspace, designed_cov);
+  const PoseErrorPrediction random_pose = predict_pose_errors(setup.workspace, random_cov);
+  const PoseErrorPrediction nominal_pose = predict_pose_errors(setup.workspace, nominal_cov);
+
+  const std::vector<int> free = setup.free_indices;
+  const char* criterion = to_string(design.criterion);
+  char noise_text[200] = "";
+  {
+    std::string t;
+    const auto names = model->reading_names();
+    const auto units = model->reading_units();
+    std::set<std::string> seen;
+    for (int i = 0; i < model->num_readings(); ++i) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%s%s %g %s", t.empty() ? "" : ", ", names[i].c_str(),
+                    setup.noise_std[i], units[i].c_str());
+      if (seen.insert(names[i]).second && t.size() < 150) t += buf;
+    }
+    std::snprintf(noise_text, sizeof noise_text, "%s", t.c_str());
+  }
+  const std::string heading =
+      "# kincal design: " + model_file + ", criterion " + criterion + " (" +
+      criterion_meaning(design.criterion) + "), " + std::to_string(design.count) +
+      " measurements in " + std::to_string(rows.size()) + " configurations, seed " +
+      std::to_string(design.seed) + "\n# fill in the empty reading columns with the measured " +
+      "values" +
+      (model->sensors().size() > 1
+           ? " of the sensors each row's '# read:' line names (leave the others empty)"
+           : "") +
+      ", then: kincal calibrate --model " + model_file + " --data <this file>\n";
+
+  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
+  if (!json_to_stdout) {
+    std::printf(
+        "kincal design: %s, criterion %s, %d measurements in %d configurations, seed %llu\n",
+        model_file.c_str(), criterion, design.count, rows.size(),
+        static_cast<unsigned long long>(design.seed));
+    std::printf(
+        "candidates: %d (%d box corners + random; rejected: %d unreachable, %d below the "
+        "singularity margin %g)\n",
+        candidates.size(), candidates.num_corners, candidates.rejected_unreachable,
+        candidates.rejected_singular, design.min_singularity_margin);
+    std::printf("exchange: %d passes, %d exchanges; criterion %s: greedy %.6g -> %.6g\n",
+                result.passes, result.exchanges, criterion, result.greedy_value,
+                result.criterion_value);
+    std::printf(
+        "prediction (linearised at the nominal values; reading noise std %s%s%s%s):\n", noise_text,
+        assumed_noise ? ", assumed: the model states none" : "",
+        setup.has_prior ? "; with the model's prior" : "",
+        setup.existing_readings
+            ? ("; with " + std::to_string(setup.existing_readings) + " existing readings").c_str()
+            : "");
+    std::printf("  %-34s %12s %12s %12s\n", "", "designed", "random", "nominal");
+    print_prediction_row("position error RMS (mm)", designed_pose.position_rms,
+                         random_pose.position_rms, nominal_pose.position_rms);
+    print_prediction_row("position error mean 1sigma (mm)", designed_pose.position_mean_1sigma,
+                         random_pose.position_mean_1sigma, nominal_pose.position_mean_1sigma);
+    print_prediction_row("position error max 95% (mm)", designed_pose.position_max_95,
+                         random_pose.position_max_95, nominal_pose.position_max_95);
+    print_prediction_row("orientation error RMS (rad)", designed_pose.orientation_rms,
+                         random_pose.orientation_rms, nominal_pose.orientation_rms);
+    print_prediction_row("orientation error max 95% (rad)", designed_pose.orientation_max_95,
+                         random_pose.orientation_max_95, nominal_pose.orientation_max_95);
+    std::printf("predicted parameter std:\n  %-22s %-4s %12s %12s %12s\n", "name", "unit",
+                "designed", "random", "nominal");
+    for (int c = 0; c < n; ++c) {
+      const Parameter& p = model->parameters()[free[c]];
+      std::printf("  %-22s %-4s %12.4g %12.4g %12.4g\n", p.name.c_str(), p.unit.c_str(),
+                  std::sqrt(designed_cov(c, c)), std::sqrt(random_cov(c, c)), setup.scale[c]);
+    }
+    std::printf("template: %s (%d configurations; fill in the reading columns)\n",
+                vm["out"].as<std::string>().c_str(), rows.size());
+  }
+
+  std::vector<std::pair<std::string, std::string>> outputs;
+  if (vm.count("json")) {
+    Json j;
+    j["format"] = "kincal-design";
+    j["version"] = 1;
+    j["model"] = model_file;
+    j["criterion"] = criterion;
+    j["criterion_meaning"] = criterion_meaning(design.criterion);
+    j["count"] = design.count;
+    j["configurations"] = rows.size();
+    j["seed"] = design.seed;
+    j["candidates"] = {{"total", candidates.size()},
+                       {"corners", candidates.num_corners},
+                       {"rejected_unreachable", candidates.rejected_unreachable},
+                       {"rejected_singular", candidates.rejected_singular},
+                       {"singularity_margin", design.min_singularity_margin}};
+    Json noise = Json::object();
+    for (int i = 0; i < model->num_readings(); ++i)
+      noise[model->reading_names()[i]] = setup.noise_std[i];
+    j["noise_std"] = noise;
+    j["noise_std_assumed"] = assumed_noise;
+    j["prior"] = setup.has_prior;
+    j["existing_readings"] = setup.existing_readings;
+    j["exchange"] = {{"passes", result.passes},
+                     {"exchanges", result.exchanges},
+                     {"greedy_value", number(result.greedy_value)},
+                     {"value", number(result.criterion_value)},
+                     {"random_value", number(criterion_value(
+                                          design.criterion,
+                                          design_information(candidates, random, setup), setup))}};
+    j["parameters"] = Json::array();
+    for (int c = 0; c < n; ++c) {
+      const Parameter& p = model->parameters()[free[c]];
+      j["parameters"].push_back({{"name", p.name},
+                                 {"unit", p.unit},
+                                 {"designed_std", number(std::sqrt(designed_cov(c, c)))},
+                                 {"random_std", number(std::sqrt(random_cov(c, c)))},
+                                 {"nominal_std", setup.scale[c]}});
+    }
+    j["predicted_pose_error"] = {{"workspace_samples", designed_pose.samples},
+                                 {"designed", to_json(designed_pose)},
+                                 {"random", to_json(random_pose)},
+                                 {"nominal", to_json(nominal_pose)}};
+    j["template"] = vm["out"].as<std::string>();
+    outputs.push_back({"--json", j.dump(2) + "\n"});
+  }
+  outputs.push_back({"--out", template_csv(*model, rows, heading)});
+  plan.write(outputs);
+  return 0;
+}
+
+}  // namespace kincal::cli
