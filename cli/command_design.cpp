@@ -8,6 +8,8 @@
 #include <set>
 #include <sstream>
 
+#include "kincal/cli/common_options.hpp"
+#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
@@ -127,7 +129,9 @@ int run_design(const Args& args) {
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"),
       "random seed (candidates, workspace samples, the random design compared with)")(
       "out", po::value<std::string>(), "write the measurement template (CSV) to FILE")(
-      "json", po::value<std::string>(), "write the design as JSON to FILE, or - for stdout");
+      "html", po::value<std::string>(),
+      "write the design for people to FILE: one self-contained HTML page");
+  add_json_option(options, "the design");
   add_free_fix_options(options);
   add_prior_std_option(options);
   po::variables_map vm;
@@ -153,6 +157,7 @@ int run_design(const Args& args) {
   plan.output("--out", vm["out"].as<std::string>());
   if (plan.to_stdout("--out")) throw CliError("--out needs a file name (the template)");
   if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
+  if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   plan.check();
 
   const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
@@ -235,7 +240,8 @@ int run_design(const Args& args) {
            : "") +
       ", then: kincal calibrate --model " + model_file + " --data <this file>\n";
 
-  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
+  const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
+                              (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     std::printf(
         "kincal design: %s, criterion %s, %d measurements in %d configurations, seed %llu\n",
@@ -279,7 +285,7 @@ int run_design(const Args& args) {
   }
 
   std::vector<std::pair<std::string, std::string>> outputs;
-  if (vm.count("json")) {
+  if (vm.count("json") || vm.count("html")) {
     Json j;
     j["format"] = "kincal-design";
     j["version"] = 1;
@@ -322,7 +328,8 @@ int run_design(const Args& args) {
                                  {"random", to_json(random_pose)},
                                  {"nominal", to_json(nominal_pose)}};
     j["template"] = vm["out"].as<std::string>();
-    outputs.push_back({"--json", j.dump(2) + "\n"});
+    if (vm.count("json")) outputs.push_back({"--json", j.dump(2) + "\n"});
+    if (vm.count("html")) outputs.push_back({"--html", render_design_html(j)});
   }
   outputs.push_back({"--out", template_csv(*model, rows, heading)});
   plan.write(outputs);

@@ -7,6 +7,8 @@
 #include <iostream>
 #include <map>
 
+#include "kincal/cli/common_options.hpp"
+#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/json_input.hpp"
@@ -101,7 +103,9 @@ int run_validate(const Args& args) {
       "the calibration's report (JSON): its sigma_hat is the noise, and its parameters' std "
       "and correlation are propagated to the readings")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
-      "json", po::value<std::string>(), "write the result as JSON to FILE, or - for stdout");
+      "html", po::value<std::string>(),
+      "write the result for people to FILE: one self-contained HTML page");
+  add_json_option(options, "the result");
   po::variables_map vm;
   if (!parse_command_line("validate", args, options, vm)) return 0;
   if (!vm.count("model")) throw CliError("--model FILE is required (the calibrated model)");
@@ -110,6 +114,7 @@ int run_validate(const Args& args) {
   for (const char* option : {"model", "data", "report"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
+  if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   plan.check();
 
   const std::string model_file = vm["model"].as<std::string>();
@@ -169,7 +174,8 @@ int run_validate(const Args& args) {
     throw CliError(data_file + ": " + e.what());
   }
 
-  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
+  const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
+                              (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     std::cout << "held-out validation of " << model_file << " on " << data_file << ": "
               << v.configurations << " configurations, " << v.readings << " readings\n";
@@ -198,7 +204,7 @@ int run_validate(const Args& args) {
     else
       std::cout << "smaller than predicted: the stated noise or uncertainty is pessimistic\n";
   }
-  if (vm.count("json")) {
+  if (vm.count("json") || vm.count("html")) {
     Json out;
     out["format"] = "kincal-validation";
     out["version"] = 1;
@@ -242,7 +248,10 @@ int run_validate(const Args& args) {
       residuals.push_back(row);
     }
     out["residuals"] = residuals;
-    plan.write({{"--json", out.dump(2) + "\n"}});
+    std::vector<std::pair<std::string, std::string>> outputs;
+    if (vm.count("json")) outputs.push_back({"--json", out.dump(2) + "\n"});
+    if (vm.count("html")) outputs.push_back({"--html", render_validation_html(out)});
+    plan.write(outputs);
   }
   // As verify: a check that fails is exit code 1.
   return v.verdict == "larger_than_predicted" ? 1 : 0;

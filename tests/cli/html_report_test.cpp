@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/html_report.hpp"
 #include "kincal/cli/svg_plot.hpp"
 
@@ -235,6 +236,75 @@ TEST(HtmlReport, CalibrateWritesItNextToTheJsonReport) {
   const auto to_stdout = run_cli("calibrate --model " + m + " --data " + d + " --html -");
   EXPECT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
   EXPECT_EQ(to_stdout.out.rfind("<!DOCTYPE html>", 0), 0u);
+}
+
+// validate --html and design --html: pages from the commands' JSON, escaped, with verdicts.
+TEST(HtmlPages, ValidationPageSaysWhetherTheResidualsAreAsPredicted) {
+  Json v = {{"model", "<c>.json"},
+            {"data", "held & out.csv"},
+            {"configurations", 3},
+            {"readings", 3},
+            {"standardized_rms", 4.2},
+            {"p_larger", 1e-9},
+            {"parameter_uncertainty", true},
+            {"verdict", "larger_than_predicted"},
+            {"per_reading", Json::array({{{"name", "<g>"}, {"unit", "mm"}, {"rms", 0.04}}})},
+            {"residuals", Json::array({{{"line", 2}, {"<g>", 0.04}}})}};
+  std::string html = cli::render_validation_html(v);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_EQ(html.find("<c>"), std::string::npos);
+  EXPECT_EQ(html.find("<g>"), std::string::npos);
+  EXPECT_NE(html.find("&lt;c&gt;.json"), std::string::npos);
+  EXPECT_NE(html.find("larger than predicted"), std::string::npos);
+  v["verdict"] = "consistent";
+  v["parameter_uncertainty"] = false;
+  html = cli::render_validation_html(v);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("what the calibration predicts"), std::string::npos);
+  EXPECT_NE(html.find("taken as exact"), std::string::npos);
+}
+
+TEST(HtmlPages, DesignPageComparesWithRandomAndNominal) {
+  auto pose = [](double mm) {
+    return Json{{"position_rms_mm", mm}, {"orientation_rms_rad", 1e-3}};
+  };
+  Json d = {{"model", "m<1>.json"},
+            {"criterion", "D"},
+            {"noise_std_assumed", true},
+            {"predicted_pose_error",
+             {{"designed", pose(0.5)}, {"random", pose(2.0)}, {"nominal", pose(7.0)}}},
+            {"parameters", Json::array({{{"name", "leg1.base.z"}, {"designed_std", 0.1}}})}};
+  std::string html = cli::render_design_html(d);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_EQ(html.find("m<1>"), std::string::npos);
+  EXPECT_NE(html.find("(4 times)"), std::string::npos) << html;
+  EXPECT_NE(html.find("expected to beat the nominal model"), std::string::npos);
+  EXPECT_NE(html.find("noise was assumed"), std::string::npos);
+  d["predicted_pose_error"]["designed"] = pose(9.0);
+  html = cli::render_design_html(d);
+  EXPECT_NE(html.find("Even this design is not expected to beat"), std::string::npos);
+}
+
+TEST(HtmlPages, ValidateAndDesignWriteThePageOfTheirJson) {
+  TempDir dir("html-pages");
+  const std::string m = dir / "m.json", d = dir / "d.csv", c = dir / "c.json", r = dir / "r.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  ASSERT_EQ(run_cli("simulate --model " + m + " --case 5 --seed 7 --write-data " + d).exit_code, 0);
+  ASSERT_EQ(
+      run_cli("calibrate --model " + m + " --data " + d + " --out " + c + " --json " + r).exit_code,
+      0);
+  // The calibration data as "held-out" data: the verdict does not matter here, the page does.
+  const std::string vj = dir / "v.json", vh = dir / "v.html";
+  const auto v = run_cli("validate --model " + c + " --data " + d + " --report " + r + " --json " +
+                         vj + " --html " + vh);
+  ASSERT_NE(v.exit_code, 2) << v.err;
+  EXPECT_EQ(read_text(vh), cli::render_validation_html(Json::parse(read_text(vj))));
+  const std::string t = dir / "t.csv", dj = dir / "d.json", dh = dir / "d.html";
+  const auto g = run_cli("design --model " + m + " --count 30 --candidates 300 --out " + t +
+                         " --json " + dj + " --html " + dh);
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_EQ(read_text(dh), cli::render_design_html(Json::parse(read_text(dj))));
+  EXPECT_EQ(markup_problem(read_text(dh)), "");
 }
 
 }  // namespace

@@ -1,0 +1,133 @@
+#include "kincal/cli/html_pages.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include "kincal/cli/html_report.hpp"
+#include "kincal/cli/svg_plot.hpp"
+
+namespace kincal::cli {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using L = Verdict::Level;
+
+double number_at(const Json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
+
+std::string text_at(const Json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
+}
+
+std::string fmt(double v, int digits = 4) { return format_number(v, digits); }
+
+}  // namespace
+
+std::string render_validation_html(const Json& v) {
+  std::vector<Verdict> verdicts;
+  const std::string verdict = text_at(v, "verdict");
+  const std::string stats = "standardized RMS " + fmt(number_at(v, "standardized_rms"), 3) +
+                            " (1 = as predicted), P(larger) " + fmt(number_at(v, "p_larger"), 3);
+  if (verdict == "consistent")
+    verdicts.push_back(
+        {L::kGood, "The held-out residuals are what the calibration predicts: " + stats + ".", ""});
+  else if (verdict == "larger_than_predicted")
+    verdicts.push_back({L::kProblem,
+                        "The held-out residuals are larger than predicted: " + stats +
+                            ". The model misses something, or its uncertainty is understated.",
+                        "Check the rows with the largest residuals, the fixed parameters "
+                        "(kincal observability --sensitivity) and the stated reading_std."});
+  else
+    verdicts.push_back({L::kNote,
+                        "The held-out residuals are smaller than predicted: " + stats +
+                            ". The stated noise or uncertainty is pessimistic.",
+                        ""});
+  if (!(v.contains("parameter_uncertainty") && v["parameter_uncertainty"] == true))
+    verdicts.push_back({L::kNote,
+                        "The prediction is the noise alone: the parameters are taken as exact.",
+                        "Give the calibration's report (--report) to include their uncertainty."});
+
+  HtmlPage page("kincal validate: " + text_at(v, "model") + " on " + text_at(v, "data"));
+  page.add_section("verdicts", "Verdicts", verdicts_html(verdicts));
+  Json summary = Json::object();
+  for (const char* key :
+       {"model", "data", "report", "configurations", "readings", "noise", "standardized_rms",
+        "chi_square", "degrees_of_freedom", "p_larger", "p_smaller", "significance", "verdict"})
+    if (v.contains(key)) summary[key] = v[key];
+  page.add_section("summary", "Summary", json_table_html(summary));
+  if (v.contains("per_reading"))
+    page.add_section("readings", "Residuals per reading against the prediction",
+                     json_table_html(v["per_reading"]));
+  if (v.contains("residuals") && !v["residuals"].empty())
+    page.add_section("residuals", "Residuals per configuration", json_table_html(v["residuals"]));
+  return page.str();
+}
+
+std::string render_design_html(const Json& d) {
+  const Json& predicted = d.contains("predicted_pose_error") ? d["predicted_pose_error"] : Json();
+  auto rms = [&](const char* which) {
+    return predicted.is_object() && predicted.contains(which)
+               ? number_at(predicted[which], "position_rms_mm")
+               : NAN;
+  };
+  const double designed = rms("designed"), random = rms("random"), nominal = rms("nominal");
+  std::vector<Verdict> verdicts;
+  if (std::isfinite(designed) && std::isfinite(random) && designed > 0)
+    verdicts.push_back({designed < random ? L::kGood : L::kWarning,
+                        "Predicted position error over the workspace: " + fmt(designed, 3) +
+                            " mm RMS with this design, " + fmt(random, 3) +
+                            " mm with random configurations of the same count (" +
+                            fmt(random / designed, 3) + " times).",
+                        ""});
+  if (std::isfinite(designed) && std::isfinite(nominal))
+    verdicts.push_back(
+        designed < nominal
+            ? Verdict{L::kGood,
+                      "Calibrating from it is expected to beat the nominal model (" +
+                          fmt(nominal, 3) + " mm RMS).",
+                      "Measure the configurations of the template, fill in the readings, then "
+                      "kincal calibrate."}
+            : Verdict{L::kProblem,
+                      "Even this design is not expected to beat the nominal model (" +
+                          fmt(nominal, 3) + " mm RMS).",
+                      "Add measurements (--count), a second sensor placement, or what you know "
+                      "as prior_std."});
+  if (d.contains("noise_std_assumed") && d["noise_std_assumed"] == true)
+    verdicts.push_back({L::kWarning,
+                        "The reading noise was assumed (the model states no reading_std): the "
+                        "absolute predictions scale with it.",
+                        "State reading_std in the model, or give --noise-std."});
+
+  HtmlPage page("kincal design: " + text_at(d, "model"));
+  page.add_section("verdicts", "Verdicts", verdicts_html(verdicts));
+  Json summary = Json::object();
+  for (const char* key : {"model", "criterion", "criterion_meaning", "count", "configurations",
+                          "seed", "prior", "existing_readings", "template"})
+    if (d.contains(key)) summary[key] = d[key];
+  page.add_section("summary", "Summary", json_table_html(summary));
+  if (predicted.is_object()) {
+    // One row per quantity, one column per design.
+    Json rows = Json::array();
+    if (predicted.contains("designed"))
+      for (const auto& [quantity, value] : predicted["designed"].items()) {
+        Json row = {{"quantity", quantity}};
+        for (const char* which : {"designed", "random", "nominal"})
+          row[which] = predicted.contains(which) && predicted[which].contains(quantity)
+                           ? predicted[which][quantity]
+                           : Json();
+        rows.push_back(row);
+      }
+    page.add_section("prediction", "Predicted pose error", json_table_html(rows));
+  }
+  if (d.contains("parameters"))
+    page.add_section("parameters", "Predicted parameter std", json_table_html(d["parameters"]));
+  Json search = Json::object();
+  if (d.contains("candidates")) search["candidates"] = d["candidates"];
+  if (d.contains("exchange")) search["exchange"] = d["exchange"];
+  page.add_section("search", "Candidates and exchange", json_table_html(search));
+  return page.str();
+}
+
+}  // namespace kincal::cli

@@ -1,0 +1,20 @@
+#pragma once
+// The pages for people of `validate --html` and `design --html`, rendered from the commands'
+// JSON results with the building blocks of cli/html_report.hpp (the calibration report has
+// its own, larger page there).
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace kincal::cli {
+
+/// The page of a held-out validation (the JSON of `kincal validate --json`): the verdict in
+/// plain words, the residuals per reading against their prediction, the chi-square check.
+std::string render_validation_html(const nlohmann::ordered_json& validation);
+
+/// The page of an experiment design (the JSON of `kincal design --json`): what the design
+/// gains over a random one and over the nominal model, the predicted parameter std, the
+/// candidates and the exchange.
+std::string render_design_html(const nlohmann::ordered_json& design);
+
+}  // namespace kincal::cli
