@@ -16,18 +16,9 @@ stages=("$@")
 if ((${#stages[@]} == 0)); then stages=(clang gcc fuzz); fi
 
 packages=(clang-14 libclang-rt-14-dev llvm-14)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  echo "sanitize: installing ${missing[*]}" >&2
-  sudo_cmd=()
-  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
-  export DEBIAN_FRONTEND=noninteractive
-  "${sudo_cmd[@]}" apt-get update -qq
-  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+# shellcheck source=scripts/install_packages.sh
+source scripts/install_packages.sh
+install_missing sanitize "${packages[@]}"
 
 jobs=$(nproc)
 # Every report stops the program; symbolized stacks (llvm-symbolizer from llvm-14).

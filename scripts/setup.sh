@@ -13,18 +13,9 @@ packages=(
   python3 python3-matplotlib
   chromium  # tests: the HTML report rendered headless (ctest html_report_renders_in_chromium)
 )
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  echo "setup: installing ${missing[*]}" >&2
-  sudo_cmd=()
-  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
-  export DEBIAN_FRONTEND=noninteractive
-  "${sudo_cmd[@]}" apt-get update -qq
-  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+# shellcheck source=scripts/install_packages.sh
+source scripts/install_packages.sh
+install_missing setup "${packages[@]}"
 
 jobs=$(nproc)
 if [ ! -f build/CMakeCache.txt ]; then
