@@ -44,6 +44,8 @@
 namespace kincal {
 namespace {
 
+using kincal::testing::backend_test_name;
+using kincal::testing::every_backend;
 using kincal::testing::FencedFit;
 using kincal::testing::stalled;
 using kincal::testing::why_not_built;
@@ -125,19 +127,6 @@ class UncomputableProblem : public LeastSquaresProblem {
 };
 
 // Every featured backend of this build, then every backend the build left out (skipped).
-std::vector<std::string> every_backend() {
-  std::vector<std::string> names = SolverRegistry::global().featured_names();
-  for (const auto& missing : SolverRegistry::global().unavailable()) names.push_back(missing.name);
-  return names;
-}
-
-std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
-  std::string name = info.param;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
 class Conformance : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
@@ -309,7 +298,7 @@ TEST_P(Conformance, CallbackCanStopTheSolve) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryBackend, Conformance, ::testing::ValuesIn(every_backend()),
-                         test_name);
+                         backend_test_name);
 
 // (b) A noisy case: every least-squares backend (SolverKind::kLeastSquares: gn, ceres, ipopt,
 // and any added later) reaches lm's minimum, parameters within 1e-6 mm. Least-squares
@@ -355,7 +344,7 @@ TEST_P(SameNoisyMinimum, AgreesWithLm) {
 }
 
 INSTANTIATE_TEST_SUITE_P(LeastSquaresBackends, SameNoisyMinimum,
-                         ::testing::ValuesIn(least_squares_backends_but_lm()), test_name);
+                         ::testing::ValuesIn(least_squares_backends_but_lm()), backend_test_name);
 
 // (d) Unknown solver names are rejected by the registry.
 TEST(ConformanceRegistry, UnknownSolverNameIsRejected) {

@@ -18,21 +18,10 @@
 namespace kincal {
 namespace {
 
+using kincal::testing::backend_test_name;
+using kincal::testing::every_backend;
 using kincal::testing::why_not_built;
 using problems::SuiteCaseResult;
-
-std::vector<std::string> every_backend() {
-  std::vector<std::string> names = SolverRegistry::global().featured_names();
-  for (const auto& missing : SolverRegistry::global().unavailable()) names.push_back(missing.name);
-  return names;
-}
-
-std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
-  std::string name = info.param;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
 
 class MghContract : public ::testing::TestWithParam<std::string> {
  protected:
@@ -57,7 +46,7 @@ TEST_P(MghContract, EveryStartOfEveryProblemKeepsTheContract) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryBackend, MghContract, ::testing::ValuesIn(every_backend()),
-                         test_name);
+                         backend_test_name);
 
 // Options away from the defaults take other paths through the backends (a Ceres FAILURE after
 // consecutive invalid steps once left final_cost at Ceres' value, not the cost of the x it

@@ -18,6 +18,8 @@
 namespace kincal {
 namespace {
 
+using kincal::testing::backend_test_name;
+using kincal::testing::every_backend;
 using kincal::testing::why_not_built;
 
 bool is_least_squares(const std::string& name) {
@@ -54,13 +56,6 @@ class LinearFit : public LeastSquaresProblem {
   MatrixXd A_;
   VectorXd y_;
 };
-
-std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
-  std::string name = info.param;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
 
 class PriorConformance : public ::testing::TestWithParam<std::string> {
  protected:
@@ -149,14 +144,8 @@ TEST_P(PriorConformance, EveryBackendReachesTheSameMapOnTheHexapod) {
   EXPECT_LT(run.after.position_mean_mm, run.before.position_mean_mm);
 }
 
-std::vector<std::string> every_backend() {
-  std::vector<std::string> names = SolverRegistry::global().featured_names();
-  for (const auto& missing : SolverRegistry::global().unavailable()) names.push_back(missing.name);
-  return names;
-}
-
 INSTANTIATE_TEST_SUITE_P(Backends, PriorConformance, ::testing::ValuesIn(every_backend()),
-                         test_name);
+                         backend_test_name);
 
 }  // namespace
 }  // namespace kincal

@@ -1,9 +1,13 @@
 #pragma once
 // Problems shared by the solver tests: the paper's scenarios and a small generic curve fit.
 
+#include <gtest/gtest.h>
 #include <cmath>
 #include <cstdint>
+
+#include <cctype>
 #include <string>
+#include <vector>
 
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
@@ -61,6 +65,22 @@ class FencedFit : public ExponentialFit {
 /// Empty when `name` can be created in this build; otherwise why not, in the registry's words
 /// (for a backend left out of the build they name its KINCAL_WITH_<NAME> option). Tests of a
 /// backend skip with this reason.
+/// Every backend name, those left out of the build included (their tests then skip with the
+/// reason): the parameters of the suites every backend runs.
+inline std::vector<std::string> every_backend() {
+  std::vector<std::string> names = SolverRegistry::global().featured_names();
+  for (const auto& missing : SolverRegistry::global().unavailable()) names.push_back(missing.name);
+  return names;
+}
+
+/// A backend name as a GoogleTest parameter name ("nlopt:LD_LBFGS" -> "nlopt_LD_LBFGS").
+inline std::string backend_test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
 inline std::string why_not_built(const std::string& name) {
   try {
     SolverRegistry::global().create(name);
