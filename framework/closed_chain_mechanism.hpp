@@ -56,6 +56,11 @@ class ClosedChainMechanism : public Mechanism {
   void pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                             Eigen::Ref<Matrix6Xd> J_pose_params) const override;
 
+  /// -E J_g_pose^-1 J_g_q, with J_g_q from central differences of the constraints (cheap:
+  /// no Newton iteration, and the constraints are smooth in q).
+  bool pose_jacobian_actuators(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
+                               const ForwardKinematicsOptions& options,
+                               Eigen::Ref<Matrix6Xd> J_pose_actuators) const override;
   /// Adjoint form: J_out_params = -(J_out_pose E J_g_pose^-1) J_g_params, one transposed
   /// Dof x Dof solve per output row instead of the 6 x num_parameters() J_pose_params.
   void output_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,

@@ -101,6 +101,33 @@ void ClosedChainMechanism<Dof>::pose_jacobian_params(const ParamsRef& params, co
 }
 
 template <int Dof>
+bool ClosedChainMechanism<Dof>::pose_jacobian_actuators(
+    const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
+    const ForwardKinematicsOptions&, Eigen::Ref<Matrix6Xd> J_pose_actuators) const {
+  ConstraintVector g_plus, g_minus;
+  ConstraintJacobian J_g_pose;
+  constraints(params, q, pose, g_plus, &J_g_pose);
+  const SmallLu<Dof> lu(J_g_pose);
+  if (!g_plus.allFinite() || lu.near_singular(J_g_pose)) return false;
+  VectorXd moved = q;
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const double h = 1e-6 * (1 + std::abs(q[i]));
+    moved[i] = q[i] + h;
+    constraints(params, moved, pose, g_plus, nullptr);
+    moved[i] = q[i] - h;
+    constraints(params, moved, pose, g_minus, nullptr);
+    moved[i] = q[i];
+    const ConstraintVector dg_dq = (g_plus - g_minus) / (2 * h);
+    // The pose moves so that the constraints stay 0: J_g_pose d_local + J_g_q dq = 0.
+    if constexpr (Dof == 6)
+      J_pose_actuators.col(i) = -lu.solve(dg_dq);
+    else
+      J_pose_actuators.col(i) = basis_ * -lu.solve(dg_dq);
+  }
+  return J_pose_actuators.allFinite();
+}
+
+template <int Dof>
 void ClosedChainMechanism<Dof>::constraint_jacobian_params_left(
     const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
     const ConstraintVector& lambda,

@@ -65,27 +65,18 @@ SingularityGauge::SingularityGauge(const MeasurementModel& model, const VectorXd
 bool SingularityGauge::actuator_jacobian(const ActuatorsRef& q, const Pose& pose,
                                          Matrix6Xd& J) const {
   const Mechanism& mechanism = model_.mechanism();
-  const auto mech_params = params_.head(mechanism.num_parameters());
   const VectorXd& range = model_.actuator_ranges();
   const int na = mechanism.num_actuators();
+  Matrix6Xd all(6, na);
+  if (!mechanism.pose_jacobian_actuators(params_.head(mechanism.num_parameters()), q, pose,
+                                         model_.forward_kinematics_options(), all))
+    return false;
   int moving = 0;
   for (int i = 0; i < na; ++i) moving += range[i] > 0;
   J.resize(6, moving);
   int column = 0;
-  VectorXd moved = q;
-  for (int i = 0; i < na; ++i) {
-    if (!(range[i] > 0)) continue;  // an actuator that does not move has no say
-    const double h = 1e-5 * range[i];
-    moved[i] = q[i] + h;
-    const ForwardKinematicsResult fk =
-        mechanism.forward_kinematics(mech_params, moved, pose, model_.forward_kinematics_options());
-    moved[i] = q[i];
-    if (!fk.ok()) return false;
-    J.col(column).head<3>() = (fk.pose.translation - pose.translation) * (range[i] / h);
-    J.col(column).tail<3>() =
-        log_so3(fk.pose.rotation * pose.rotation.transpose()) * (range[i] / h);
-    ++column;
-  }
+  for (int i = 0; i < na; ++i)
+    if (range[i] > 0) J.col(column++) = all.col(i) * range[i];  // a fixed actuator has no say
   return true;
 }
 
@@ -313,6 +304,9 @@ class ExchangeState {
     }
     g_.resize(g_offset_.back());
     h_.resize(linear_ ? g_offset_.back() : 0);
+    // One candidate row per column: the products over all candidates below read each row
+    // once, contiguously (a product with the rows as stored made Eigen copy them all first).
+    rows_t_ = c_.rows.transpose();
   }
 
   int rows(int c) const { return c_.row_offset[c + 1] - c_.row_offset[c]; }
@@ -325,15 +319,14 @@ class ExchangeState {
       M_.noalias() += X.transpose() * X;
     }
     Minv_ = M_.llt().solve(MatrixXd::Identity(n_, n_));
-    const MatrixXd P = c_.rows * Minv_;
-    MatrixXd PW;
-    if (linear_) PW = P * W_;
+    P_t_.noalias() = Minv_ * rows_t_;  // column i: M^-1 x_i
+    if (linear_) PW_t_.noalias() = W_ * P_t_;
     for (int c = 0; c < c_.size(); ++c) {
       const int k = rows(c), first = c_.row_offset[c];
       for (int r = 0; r < k; ++r)
         for (int s = 0; s < k; ++s) {
-          g_[g_offset_[c] + r * k + s] = P.row(first + r).dot(c_.rows.row(first + s));
-          if (linear_) h_[g_offset_[c] + r * k + s] = PW.row(first + r).dot(P.row(first + s));
+          g_[g_offset_[c] + r * k + s] = P_t_.col(first + r).dot(rows_t_.col(first + s));
+          if (linear_) h_[g_offset_[c] + r * k + s] = PW_t_.col(first + r).dot(P_t_.col(first + s));
         }
     }
   }
@@ -354,6 +347,48 @@ class ExchangeState {
     if (!linear_) return std::log(G.determinant());
     const SmallMatrix H = Eigen::Map<const SmallMatrix>(&h_[g_offset_[c]], k, k);
     return G.ldlt().solve(H).trace();
+  }
+
+  // One reading per candidate (the rows are rank-one updates): the exchange step can look at
+  // the design without candidate `c` before changing anything, and leave the state alone when
+  // `c` is still the best choice, as it is for most steps once the design has settled.
+  bool can_stage() const { return unit_rows_; }
+
+  // Prepares removing c: the product over the candidates that the removal's update needs,
+  // without applying it.
+  void stage_removal(int c) {
+    staged_ = c;
+    prepare_rank_one(c_.rows.row(c_.row_offset[c]).transpose(), -1);
+  }
+
+  // The best available candidate (c included) were the staged candidate removed, and
+  // whether it beats c clearly; apply_staged() then commits the removal.
+  int best_staged(const std::vector<char>& available) const {
+    const int c = staged_;
+    int best_c = -1;
+    if (criterion_ == DesignCriterion::kE) {
+      best_c = best_e(available, true);
+    } else {
+      const bool rank_by_g = criterion_ == DesignCriterion::kD;  // log(1 + g) grows with g
+      double best_gain = -std::numeric_limits<double>::infinity();
+      for (int i = 0; i < c_.size(); ++i) {
+        if (!available[i] && i != c) continue;
+        const double g = rank_by_g ? staged_g(i) : staged_gain(i);
+        if (g > best_gain) {
+          best_gain = g;
+          best_c = i;
+        }
+      }
+    }
+    // Only a clear improvement counts, so that rounding cannot make the exchange cycle.
+    const double old_gain = staged_gain(c);
+    if (best_c != c && !(staged_gain(best_c) > old_gain + 1e-12 * std::abs(old_gain))) best_c = c;
+    return best_c;
+  }
+
+  void apply_staged() {
+    apply_rank_one();
+    staged_ = -1;
   }
 
   // The best of the candidates marked available (ties: the lowest index).
@@ -379,21 +414,38 @@ class ExchangeState {
     return c_.rows.middleRows(c_.row_offset[c], rows(c));
   }
 
-  double lambda_min_with(int c) const {
+  // g and h of candidate i after the staged removal (the update rank_one would write).
+  double staged_g(int i) const {
+    const double a = ab_(i, 0);
+    return g_[i] + k_ * a * a;
+  }
+  double staged_gain(int i) const {
+    if (criterion_ == DesignCriterion::kE) return lambda_min_with(i, true);
+    const double g = staged_g(i);
+    if (!linear_) return std::log1p(g);
+    const double a = ab_(i, 0);
+    return (h_[i] + 2 * k_ * a * ab_(i, 1) + k_ * k_ * uwu_ * a * a) / (1 + g);
+  }
+
+  double lambda_min_with(int c, bool staged = false) const {
     const auto X = block(c);
-    const MatrixXd M = M_ + X.transpose() * X;
+    const MatrixXd M = (staged ? M_staged_ : M_) + X.transpose() * X;
     return Eigen::SelfAdjointEigenSolver<MatrixXd>(M, Eigen::EigenvaluesOnly).eigenvalues()[0];
   }
 
   // E is not a smooth function of rank-one updates: the candidates are screened by their D
   // gain (information in the directions M^-1 weighs most), and the best few compared exactly.
-  int best_e(const std::vector<char>& available) const {
-    std::vector<std::pair<double, int>> ranked;
+  int best_e(const std::vector<char>& available, bool staged = false) const {
+    std::vector<std::pair<double, int>>& ranked = ranked_;  // reused: no allocation per step
+    ranked.clear();
     for (int c = 0; c < c_.size(); ++c)
-      if (available[c]) {
+      if (available[c] || (staged && c == staged_)) {
         const int k = rows(c);
         double trace = 0;
-        for (int r = 0; r < k; ++r) trace += g_[g_offset_[c] + r * k + r];
+        if (staged)
+          trace = staged_g(c);
+        else
+          for (int r = 0; r < k; ++r) trace += g_[g_offset_[c] + r * k + r];
         ranked.push_back({-trace, c});
       }
     const std::size_t keep = std::min<std::size_t>(ranked.size(), 32);
@@ -401,7 +453,7 @@ class ExchangeState {
     int best_c = -1;
     double best_value = -std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < keep; ++i) {
-      const double v = lambda_min_with(ranked[i].second);
+      const double v = lambda_min_with(ranked[i].second, staged);
       if (v > best_value || (v == best_value && ranked[i].second < best_c)) {
         best_value = v;
         best_c = ranked[i].second;
@@ -417,19 +469,37 @@ class ExchangeState {
 
   // M += sign v v^T, by Sherman-Morrison on M^-1 and on every candidate's forms.
   void rank_one(const VectorXd& v, double sign) {
-    const VectorXd u = Minv_ * v;
-    const double denominator = 1 + sign * v.dot(u);
-    const double k = -sign / denominator;
-    MatrixXd uz(n_, linear_ ? 2 : 1);
-    uz.col(0) = u;
-    double uwu = 0;
+    prepare_rank_one(v, sign);
+    apply_rank_one();
+  }
+
+  // The update's coefficients and the product over every candidate's rows (the costly part,
+  // a pass over the 10^5 x n rows), kept in ab_, k_, uwu_ until apply_rank_one().
+  void prepare_rank_one(const VectorXd& v, double sign) {
+    v_ = v;
+    sign_ = sign;
+    u_.noalias() = Minv_ * v;
+    const double denominator = 1 + sign * v.dot(u_);
+    k_ = -sign / denominator;
+    uz_.resize(n_, linear_ ? 2 : 1);
+    uz_.col(0) = u_;
+    uwu_ = 0;
     if (linear_) {
-      uz.col(1) = Minv_ * (W_ * u);
-      uwu = u.dot(W_ * u);
+      uz_.col(1).noalias() = Minv_ * (W_ * u_);
+      uwu_ = u_.dot(W_ * u_);
     }
-    ab_.noalias() = c_.rows * uz;
-    Minv_.noalias() += k * u * u.transpose();
-    M_.noalias() += sign * v * v.transpose();
+    ab_.resize(rows_t_.cols(), uz_.cols());
+    for (Eigen::Index i = 0; i < rows_t_.cols(); ++i) {
+      ab_(i, 0) = rows_t_.col(i).dot(u_);
+      if (linear_) ab_(i, 1) = rows_t_.col(i).dot(uz_.col(1));
+    }
+    if (criterion_ == DesignCriterion::kE) M_staged_ = M_ + sign * v * v.transpose();
+  }
+
+  void apply_rank_one() {
+    const double k = k_, uwu = uwu_;
+    Minv_.noalias() += k * u_ * u_.transpose();
+    M_.noalias() += sign_ * v_ * v_.transpose();
     if (unit_rows_) {
       const auto a = ab_.col(0).array();
       Eigen::Map<Eigen::ArrayXd>(g_.data(), g_.size()) += k * a.square();
@@ -455,7 +525,12 @@ class ExchangeState {
   DesignCriterion criterion_;
   int n_;
   bool linear_ = false, unit_rows_ = true;
-  MatrixXd W_, M0_, M_, Minv_, ab_;
+  MatrixXd W_, M0_, M_, Minv_, ab_, uz_, M_staged_;
+  MatrixXd rows_t_, P_t_, PW_t_;  // candidate rows, M^-1 and W M^-1 times them, per column
+  VectorXd u_, v_;
+  double k_ = 0, uwu_ = 0, sign_ = 0;
+  int staged_ = -1;
+  mutable std::vector<std::pair<double, int>> ranked_;  // best_e's screening
   std::vector<int> g_offset_;
   std::vector<double> g_, h_;
 };
@@ -495,13 +570,23 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
     int changed = 0;
     for (int j = 0; j < options.count; ++j) {
       const int old = result.chosen[j];
-      state.remove(old);
-      available[old] = 1;
-      int best = state.best(available);
-      // Only a clear improvement counts, so that rounding cannot make the exchange cycle.
-      if (best != old && !(state.gain(best) > state.gain(old) + 1e-12 * std::abs(state.gain(old))))
-        best = old;
+      int best = old;
+      if (state.can_stage()) {
+        state.stage_removal(old);
+        best = state.best_staged(available);
+        if (best == old) continue;  // removing and adding it back would change nothing
+        state.apply_staged();
+      } else {
+        state.remove(old);
+        available[old] = 1;
+        best = state.best(available);
+        // Only a clear improvement counts, so that rounding cannot make the exchange cycle.
+        if (best != old &&
+            !(state.gain(best) > state.gain(old) + 1e-12 * std::abs(state.gain(old))))
+          best = old;
+      }
       state.add(best);
+      available[old] = 1;
       available[best] = 0;
       if (best != old) {
         result.chosen[j] = best;

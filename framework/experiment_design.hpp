@@ -52,7 +52,7 @@ struct DesignOptions {
 
 /// How far a configuration is from a singular one, relative to home: kappa^-1(q) /
 /// kappa^-1(home), where kappa^-1 = s_min / s_max is the inverse condition number of the
-/// actuator-to-pose Jacobian d pose / d q (finite differences of forward kinematics), its
+/// actuator-to-pose Jacobian d pose / d q (Mechanism::pose_jacobian_actuators), its
 /// columns scaled by the actuator ranges and its rotation rows by the length that gives the
 /// translation and rotation blocks equal norms at home. 1 = as well conditioned as home, 0 =
 /// singular.
@@ -61,14 +61,14 @@ class SingularityGauge {
   /// Throws std::invalid_argument when the home pose is unreachable.
   SingularityGauge(const MeasurementModel& model, const VectorXd& params);
   /// The margin at q whose pose (reached with the gauge's parameters) is `pose`; 0 when
-  /// forward kinematics fails next to q.
+  /// d pose / d q cannot be computed there (singular, or forward kinematics fails nearby).
   double margin(const ActuatorsRef& q, const Pose& pose) const;
   const VectorXd& home_actuators() const { return home_; }
 
  private:
   double inverse_condition(const ActuatorsRef& q, const Pose& pose) const;
   /// d pose / d q of the actuators that move (range > 0), columns scaled by the ranges;
-  /// false when forward kinematics fails next to q.
+  /// false when it cannot be computed at q.
   bool actuator_jacobian(const ActuatorsRef& q, const Pose& pose, Matrix6Xd& J) const;
   const MeasurementModel& model_;
   VectorXd params_, home_;

@@ -105,4 +105,23 @@ void Mechanism::output_jacobian_params(const ParamsRef& params, const ActuatorsR
   J_out_params.noalias() = J_out_pose * J_pose_params;
 }
 
+bool Mechanism::pose_jacobian_actuators(const ParamsRef& params, const ActuatorsRef& q,
+                                        const Pose& pose, const ForwardKinematicsOptions& options,
+                                        Eigen::Ref<Matrix6Xd> J_pose_actuators) const {
+  VectorXd moved = q;
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const double h = 1e-6 * (1 + std::abs(q[i]));
+    moved[i] = q[i] + h;
+    const ForwardKinematicsResult plus = forward_kinematics(params, moved, pose, options);
+    moved[i] = q[i] - h;
+    const ForwardKinematicsResult minus = forward_kinematics(params, moved, pose, options);
+    moved[i] = q[i];
+    if (!plus.ok() || !minus.ok()) return false;
+    J_pose_actuators.col(i).head<3>() = (plus.pose.translation - minus.pose.translation) / (2 * h);
+    J_pose_actuators.col(i).tail<3>() =
+        log_so3(plus.pose.rotation * minus.pose.rotation.transpose()) / (2 * h);
+  }
+  return J_pose_actuators.allFinite();
+}
+
 }  // namespace kincal

@@ -111,6 +111,15 @@ class Mechanism {
                                     const Pose& pose,
                                     Eigen::Ref<Matrix6Xd> J_pose_params) const = 0;
 
+  /// J_pose_actuators (6 x num_actuators()): how the pose reached at q moves when the
+  /// actuators move (local perturbation of `pose`, the pose reached at q), per unit of each
+  /// actuator. False when it cannot be computed (forward kinematics fails next to q, or q is
+  /// singular). The default takes central differences of forward kinematics; closed chains
+  /// override it with the implicit-function form, which needs no forward kinematics.
+  virtual bool pose_jacobian_actuators(const ParamsRef& params, const ActuatorsRef& q,
+                                       const Pose& pose, const ForwardKinematicsOptions& options,
+                                       Eigen::Ref<Matrix6Xd> J_pose_actuators) const;
+
   /// J_out_params = J_out_pose * J_pose_params (k x num_parameters()) for an output of k
   /// values that depends on the pose alone, with J_out_pose (k x 6): how a sensor reading
   /// moves when the parameters move at fixed q. The default forms J_pose_params in a

@@ -4,7 +4,8 @@
 //   - its model file round-trips exactly;
 //   - every analytic Jacobian against central finite differences, at configurations drawn
 //     as a simulation draws them: the mechanism's J_pose_params, each sensor's
-//     J_reading_pose and J_reading_params, and the calibration residuals' Jacobian;
+//     J_reading_pose and J_reading_params, the calibration residuals' Jacobian, and the
+//     mechanism's d pose / d q;
 //   - inverse kinematics of forward kinematics returns to the same pose;
 //   - zero-noise recovery: from the nominal geometry, every least-squares backend reaches
 //     the true value of every free parameter within 1e-6 (of its unit).
@@ -142,6 +143,31 @@ TEST_P(PresetConformance, PoseJacobianMatchesFiniteDifferences) {
     };
     EXPECT_TRUE(jacobians_match(J, numerical_jacobian(pose_at, params, 1e-6), 1e-6,
                                 s.model->parameters().names()))
+        << "configuration " << j;
+  }
+}
+
+// d pose / d q (experiment design's singularity margin): the closed chains' implicit-function
+// form and the default's differences of forward kinematics, against central differences
+// with another step.
+TEST_P(PresetConformance, ActuatorJacobianMatchesFiniteDifferences) {
+  const Scenario s = scenario_of(GetParam(), 5);
+  const Mechanism& mechanism = s.model->mechanism();
+  const VectorXd params = s.truth.head(mechanism.num_parameters());
+  const auto fk_options = s.model->forward_kinematics_options();
+  for (int j = 0; j < std::min(4, s.calibration.size()); ++j) {
+    const VectorXd q = s.calibration.actuators.row(j).transpose();
+    const auto fk = mechanism.forward_kinematics(params, q, mechanism.home_pose(), fk_options);
+    ASSERT_TRUE(fk.ok()) << fk.describe();
+    Matrix6Xd J(6, mechanism.num_actuators());
+    ASSERT_TRUE(mechanism.pose_jacobian_actuators(params, q, fk.pose, fk_options, J));
+    auto pose_at = [&](const VectorXd& moved_q) -> VectorXd {
+      const auto moved = mechanism.forward_kinematics(params, moved_q, fk.pose, fk_options);
+      EXPECT_TRUE(moved.ok()) << moved.describe();
+      return pose_difference(fk.pose, moved.pose);
+    };
+    EXPECT_TRUE(
+        jacobians_match(J, numerical_jacobian(pose_at, q, 1e-5), 1e-6, mechanism.actuator_names()))
         << "configuration " << j;
   }
 }
