@@ -118,7 +118,7 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   using namespace kincal;
-  int seeds = 200, candidates = 10000, validation = 200, threads = 1;
+  int seeds = 200, candidates = 10000, validation = 200, threads = 1, bound_iterations = 500;
   std::uint64_t design_seed = 1;
   std::vector<int> cases = {3, 4, 5};
   std::string out_dir = "design-study";
@@ -137,6 +137,8 @@ int main(int argc, char** argv) {
       validation = std::stoi(value());
     else if (a == "--threads")
       threads = std::stoi(value());
+    else if (a == "--bound-iterations")
+      bound_iterations = std::stoi(value());
     else if (a == "--design-seed")
       design_seed = std::stoull(value());
     else if (a == "--out")
@@ -150,7 +152,7 @@ int main(int argc, char** argv) {
     } else {
       std::cerr << "usage: kincal-design-study [--seeds N=200] [--cases 3,4,5] [--candidates "
                    "K=10000] [--design-seed S=1] [--validation N=200] [--threads N=1] [--out DIR] "
-                   "[--quiet]\n";
+                   "[--bound-iterations N=500] [--quiet]\n";
       return 2;
     }
   }
@@ -162,6 +164,11 @@ int main(int argc, char** argv) {
   // when measurements are planned) and measured on every simulated machine, as an engineer
   // would: the seeds vary the machine's errors, the noise and the validation poses.
   std::map<std::pair<int, int>, Measurements> designs;
+  struct BoundRow {
+    double criterion, bound, std_ratio;
+    int iterations;
+  };
+  std::map<std::pair<int, int>, BoundRow> design_bounds;
   for (int c : cases)
     for (int v = 0; v < static_cast<int>(variants().size()); ++v) {
       const Variant& variant = variants()[v];
@@ -180,10 +187,21 @@ int main(int argc, char** argv) {
       d.noise_std = VectorXd::Constant(1, pc.noise_half_width / std::sqrt(3.0));
       const DesignRun run = run_design(*model, d);
       designs[{c, v}] = run.rows;
+      // How far the exchange is from the best any design of these candidates can be.
+      const DesignBound bound =
+          design_bound(run.candidates, run.setup, d, run.result.chosen, bound_iterations);
+      const double std_ratio =
+          design_std_ratio_to_bound(d.criterion, run.result.criterion_value, bound,
+                                    static_cast<int>(run.setup.free_indices.size()));
+      design_bounds[{c, v}] = {run.result.criterion_value, bound.bound, std_ratio,
+                               bound.iterations};
       if (!quiet)
-        std::printf("case %d %-13s design: %d passes, %d exchanges, criterion %.6g (greedy %.6g)\n",
-                    c, variant.name.c_str(), run.result.passes, run.result.exchanges,
-                    run.result.criterion_value, run.result.greedy_value);
+        std::printf(
+            "case %d %-13s design: %d passes, %d exchanges, criterion %.6g (greedy %.6g), "
+            "bound %.6g after %d Frank-Wolfe iterations (std ratio to the bound %.4f)\n",
+            c, variant.name.c_str(), run.result.passes, run.result.exchanges,
+            run.result.criterion_value, run.result.greedy_value, bound.bound, bound.iterations,
+            std_ratio);
     }
 
   std::vector<Run> runs;
@@ -248,7 +266,8 @@ int main(int argc, char** argv) {
   summary["validation"] = validation;
   summary["cells"] = nlohmann::ordered_json::array();
   for (int c : cases)
-    for (const Variant& v : variants()) {
+    for (int vi = 0; vi < static_cast<int>(variants().size()); ++vi) {
+      const Variant& v = variants()[vi];
       std::vector<double> before, after, rms, predicted;
       double ms = 0, pms = 0;
       int worse = 0, n = 0, failed = 0;
@@ -275,6 +294,14 @@ int main(int argc, char** argv) {
                                   {"predicted_rms_mm", std::sqrt(pms / n)},
                                   {"worse_than_nominal", worse},
                                   {"solver_failures", failed}});
+      if (design_bounds.count({c, vi})) {
+        const BoundRow& b = design_bounds.at({c, vi});
+        auto& cell = summary["cells"].back();
+        cell["design_criterion"] = b.criterion;
+        cell["design_criterion_bound"] = b.bound;
+        cell["design_std_ratio_to_bound"] = b.std_ratio;
+        cell["bound_iterations"] = b.iterations;
+      }
       if (!quiet)
         std::printf(
             "case %d %-13s median after %8.4f mm (before %.3f), MC RMS %8.4f, predicted "

@@ -5,7 +5,8 @@ usage: plot_design_study.py RESULTS_DIR OUT_DIR
 Reads RESULTS_DIR/runs.csv and summary.json; writes OUT_DIR/design-study-errors.svg (the
 validation position error per case and variant over seeds, with the nominal model's and the
 predicted bound's medians) and OUT_DIR/design-study-predicted.svg (predicted RMS against the
-Monte Carlo RMS), and prints the Markdown table.
+Monte Carlo RMS), and prints the Markdown tables: the results, and each design against the
+relaxation bound of design_bound (how far the best possible design of its size could go).
 """
 import csv
 import json
@@ -82,3 +83,17 @@ for case in cases:
               f"{c['mc_rms_mm']:.3g} | {c['predicted_rms_mm']:.3g} | "
               f"{c['predicted_rms_mm'] / c['mc_rms_mm']:.2f} | {c['worse_than_nominal']}/{c['runs']} |")
     print(f"| {case} | nominal model | {cell[(case, 'random')]['median_before_mm']:.3g} | | | | | |")
+
+# How close each design is to the best any design of the same size from the same candidates
+# can be (the relaxation's bound, design_bound in framework/experiment_design.hpp).
+print()
+print("| case | variant | design's criterion | bound (no design does better) | "
+      "std ratio to the bound |")
+print("|---|---|---|---|---|")
+for case in cases:
+    for v in variants:
+        c = cell[(case, v)]
+        if "design_criterion_bound" not in c:
+            continue
+        print(f"| {case} | {v} | {c['design_criterion']:.6g} | {c['design_criterion_bound']:.6g} | "
+              f"{c['design_std_ratio_to_bound']:.4f} |")

@@ -21,6 +21,7 @@
 // I), so a pass costs a few matrix-vector products over the candidates per measurement.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -125,6 +126,28 @@ struct DesignResult {
 /// std::invalid_argument when there are fewer candidates than asked for.
 DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup& setup,
                            const DesignOptions& options);
+
+/// How good any design of options.count candidates (without repeats) can be: a bound on the
+/// criterion from the continuous relaxation, weights 0 <= w_c <= 1 summing to count in place
+/// of the 0/1 choice. The relaxed criterion is convex (D: concave), so Frank-Wolfe iterations
+/// from `start` (a design, e.g. the exchange's) give at each step a certified bound, the
+/// relaxed value minus the duality gap. E is not smooth: its bound is NaN.
+struct DesignBound {
+  /// D: no design's log det M exceeds it; A, I: no design's value is below it.
+  double bound = std::numeric_limits<double>::quiet_NaN();
+  double relaxed_value = std::numeric_limits<double>::quiet_NaN();  ///< of the best weights
+  int iterations = 0;
+};
+DesignBound design_bound(const DesignCandidates& candidates, const DesignSetup& setup,
+                         const DesignOptions& options, const std::vector<int>& start,
+                         int max_iterations = 200, double relative_gap = 1e-4);
+
+/// The criterion's efficiency against the bound, as a ratio of parameter (D) or pose (I, A)
+/// standard deviations: how much larger they are than the best any design could give, >= 1.
+/// D: exp((bound - value) / (2 n)) (the geometric mean of the confidence ellipsoid's axes);
+/// A, I: sqrt(value / bound). NaN without a bound.
+double design_std_ratio_to_bound(DesignCriterion criterion, double value, const DesignBound& bound,
+                                 int num_free);
 
 /// `count` candidates drawn uniformly without repeats among the random (non-corner) ones:
 /// the paper's design, for comparison.

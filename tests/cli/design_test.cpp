@@ -76,6 +76,38 @@ TEST(CliDesign, TemplateFilledWithReadingsCalibrates) {
   for (const auto& p : design["parameters"]) EXPECT_GT(p["designed_std"].get<double>(), 0);
 }
 
+// --bound: the relaxation's certified bound, on both outputs, never beaten by the design
+// itself; E (not smooth) says it has none.
+TEST(CliDesign, BoundSaysHowCloseTheDesignComes) {
+  TempDir dir("design-bound");
+  const std::string m = dir / "m.json", t = dir / "t.csv", d = dir / "d.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  for (const std::string criterion : {"D", "A", "I"}) {
+    SCOPED_TRACE(criterion);
+    const auto r = run_cli("design --model " + m + " --count 30 --candidates 300 --criterion " +
+                           criterion + " --bound --out " + t + " --json " + d);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("bound: no design of 30 from these candidates"), std::string::npos)
+        << r.out;
+    const Json j = Json::parse(read_text(d));
+    const Json& b = j["exchange"]["bound"];
+    ASSERT_TRUE(b.is_object()) << j["exchange"].dump();
+    const double value = j["exchange"]["value"].get<double>();
+    if (criterion == "D")
+      EXPECT_LE(value, b["value"].get<double>());
+    else
+      EXPECT_GE(value, b["value"].get<double>());
+    EXPECT_GE(b["std_ratio"].get<double>(), 1.0);
+    EXPECT_LT(b["std_ratio"].get<double>(), 1.2) << "the exchange should come close";
+  }
+  const auto e =
+      run_cli("design --model " + m + " --count 30 --candidates 300 --criterion E --bound --out " +
+              t + " --json " + d);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.err.find("no bound is computed"), std::string::npos) << e.err;
+  EXPECT_FALSE(Json::parse(read_text(d))["exchange"].contains("bound"));
+}
+
 TEST(CliDesign, SameSeedSameTemplate) {
   TempDir dir("design-seed");
   const std::string m = dir / "m.json";

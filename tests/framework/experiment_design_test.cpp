@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "jacobian_check.hpp"
@@ -150,6 +151,48 @@ TEST_P(ExchangeOptimum, EndsAtALocalOptimumBetterThanGreedyAndRandom) {
   }
 }
 INSTANTIATE_TEST_SUITE_P(Models, ExchangeOptimum, ::testing::Values("cube_hexapod", "puma560"));
+
+// The relaxation's bound holds against every exact design (all 59640 designs of 3 of the 72
+// candidates, 3 free parameters), and Frank-Wolfe converges to it: the relaxed optimum is at
+// least as good as the best exact design, and the exchange's design is within the bound.
+TEST(ExperimentDesign, RelaxationBoundHoldsAgainstEveryDesign) {
+  auto model = make_cube_hexapod();
+  model->parameters().set_free("*", false);
+  model->parameters().set_free("leg4.base.?", true);
+  for (DesignCriterion criterion :
+       {DesignCriterion::kD, DesignCriterion::kA, DesignCriterion::kI}) {
+    SCOPED_TRACE(to_string(criterion));
+    DesignOptions options = small_options(criterion);
+    options.count = 3;
+    options.num_random = 8;
+    const DesignSetup setup = make_design_setup(*model, options, nullptr);
+    const DesignCandidates c = make_design_candidates(*model, setup, options);
+    ASSERT_EQ(c.size(), 72);
+    const DesignResult exchange = choose_design(c, setup, options);
+    const DesignBound bound = design_bound(c, setup, options, exchange.chosen, 2000, 1e-4);
+    ASSERT_TRUE(std::isfinite(bound.bound));
+    EXPECT_LT(bound.iterations, 2000)
+        << "Frank-Wolfe did not close its gap: " << bound.bound << " " << bound.relaxed_value;
+    double best = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < c.size(); ++a)
+      for (int b = a + 1; b < c.size(); ++b)
+        for (int d = b + 1; d < c.size(); ++d)
+          best = std::min(best, loss(criterion, c, {a, b, d}, setup));
+    const bool maximised = criterion == DesignCriterion::kD;
+    const double lower = maximised ? -bound.bound : bound.bound;
+    const double relaxed = maximised ? -bound.relaxed_value : bound.relaxed_value;
+    const double tol = 1e-9 * std::abs(best);
+    EXPECT_LE(lower, best + tol);
+    EXPECT_LE(relaxed, best + tol);
+    EXPECT_LE(lower, relaxed + tol);
+    EXPECT_LE(relaxed - lower, 1e-4 * std::max(1.0, std::abs(relaxed)));
+    EXPECT_GE(design_std_ratio_to_bound(criterion, exchange.criterion_value, bound, 3), 1.0);
+  }
+  DesignOptions e = small_options(DesignCriterion::kE);
+  const DesignSetup setup = make_design_setup(*model, e, nullptr);
+  const DesignCandidates c = make_design_candidates(*model, setup, e);
+  EXPECT_TRUE(std::isnan(design_bound(c, setup, e, choose_design(c, setup, e).chosen).bound));
+}
 
 TEST(ExperimentDesign, ECriterionBeatsRandomDesigns) {
   const auto model = small_model();
