@@ -25,7 +25,15 @@ using Json = nlohmann::ordered_json;
 
 Json number(double v) { return std::isfinite(v) ? Json(v) : Json(); }
 
-const char* criterion_meaning(DesignCriterion c) {
+std::string criterion_meaning(DesignCriterion c, double orientation_length) {
+  if (c == DesignCriterion::kI && orientation_length > 0) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "mean predicted pose variance |dp|^2 + (%g mm x dtheta)^2 over the workspace "
+                  "(mm^2), minimised",
+                  orientation_length);
+    return buf;
+  }
   switch (c) {
     case DesignCriterion::kD:
       return "log det of the information matrix, maximised";
@@ -126,6 +134,9 @@ int run_design(const Args& args) {
       "reading_std)")("singularity-margin",
                       po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
                       "keep configurations whose conditioning is at least this fraction of home's")(
+      "orientation-length", po::value<std::string>(),
+      "criterion I only: also weigh the orientation error, a rotation of 1 rad counting as a "
+      "displacement of this length, e.g. 300mm (the tool's reach; default: position only)")(
       "bound", po::bool_switch(),
       "also bound how good any design of --count measurements from these candidates can be "
       "(D, A, I: the continuous relaxation's optimum, certified; a fraction of a second for "
@@ -155,6 +166,18 @@ int run_design(const Args& args) {
   if (design.count < 1) throw CliError("--count must be at least 1");
   if (design.num_random < 0) throw CliError("--candidates must be >= 0");
   if (!(design.min_singularity_margin >= 0)) throw CliError("--singularity-margin must be >= 0");
+  if (vm.count("orientation-length")) {
+    if (design.criterion != DesignCriterion::kI)
+      throw CliError("--orientation-length applies to --criterion I only");
+    const UnitValues length = unit_values_option(vm, "orientation-length");
+    if (length.values().size() != 1 || !length.has(kMillimetre))
+      throw CliError("--orientation-length '" + vm["orientation-length"].as<std::string>() +
+                     "': expected a length, e.g. 300mm");
+    design.orientation_length = length.get(kMillimetre);
+    if (!(design.orientation_length >= 0) || !std::isfinite(design.orientation_length))
+      throw CliError("--orientation-length '" + vm["orientation-length"].as<std::string>() +
+                     "': expected a finite length >= 0");
+  }
   OutputPlan plan;
   for (const char* option : {"model", "existing"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
@@ -242,10 +265,10 @@ int run_design(const Args& args) {
   }
   const std::string heading =
       "# kincal design: " + model_file + ", criterion " + criterion + " (" +
-      criterion_meaning(design.criterion) + "), " + std::to_string(design.count) +
-      " measurements in " + std::to_string(rows.size()) + " configurations, seed " +
-      std::to_string(design.seed) + "\n# fill in the empty reading columns with the measured " +
-      "values" +
+      criterion_meaning(design.criterion, design.orientation_length) + "), " +
+      std::to_string(design.count) + " measurements in " + std::to_string(rows.size()) +
+      " configurations, seed " + std::to_string(design.seed) +
+      "\n# fill in the empty reading columns with the measured " + "values" +
       (model->sensors().size() > 1
            ? " of the sensors each row's '# read:' line names (leave the others empty)"
            : "") +
@@ -312,7 +335,9 @@ int run_design(const Args& args) {
     j["version"] = 1;
     j["model"] = model_file;
     j["criterion"] = criterion;
-    j["criterion_meaning"] = criterion_meaning(design.criterion);
+    j["criterion_meaning"] = criterion_meaning(design.criterion, design.orientation_length);
+    if (design.criterion == DesignCriterion::kI)
+      j["orientation_length_mm"] = design.orientation_length;
     j["count"] = design.count;
     j["configurations"] = rows.size();
     j["seed"] = design.seed;

@@ -131,6 +131,8 @@ DesignSetup make_design_setup(const MeasurementModel& model, const DesignOptions
   if (s.noise_std.size() != model.num_readings() || !(s.noise_std.array() > 0).all() ||
       !s.noise_std.allFinite())
     throw std::invalid_argument("the reading noise std must be finite and > 0 for every reading");
+  if (!(options.orientation_length >= 0) || !std::isfinite(options.orientation_length))
+    throw std::invalid_argument("the orientation length must be finite and >= 0");
   s.base_information = MatrixXd::Zero(n, n);
   for (int c = 0; c < n; ++c) {
     const Parameter& p = model.parameters()[s.free_indices[c]];
@@ -163,9 +165,14 @@ DesignSetup make_design_setup(const MeasurementModel& model, const DesignOptions
   s.workspace = sample_workspace(model, nominal, s.free_indices, options.workspace_samples,
                                  derive_seed(options.seed, kWorkspaceStream));
   s.workspace_weight = MatrixXd::Zero(n, n);
+  const double l2 = options.orientation_length * options.orientation_length;
   for (const Matrix6Xd& J : s.workspace.J_free) {
     const MatrixXd Jp = J.topRows<3>() * s.scale.asDiagonal();
     s.workspace_weight += Jp.transpose() * Jp;
+    if (l2 > 0) {
+      const MatrixXd Jr = J.bottomRows<3>() * s.scale.asDiagonal();
+      s.workspace_weight += l2 * (Jr.transpose() * Jr);
+    }
   }
   if (!s.workspace.J_free.empty()) s.workspace_weight /= double(s.workspace.J_free.size());
   return s;

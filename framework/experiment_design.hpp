@@ -12,8 +12,9 @@
 //   D: maximise log det M         (the volume of the confidence ellipsoid; scale-free),
 //   A: minimise trace(M^-1) / n   (mean variance, relative to the nominal spread^2),
 //   E: maximise lambda_min(M)     (the worst-determined direction),
-//   I: minimise trace(W M^-1)     (W = mean J_pos^T J_pos over workspace samples: the mean
-//                                  predicted position variance over the workspace, mm^2).
+//   I: minimise trace(W M^-1)     (W = mean J_pos^T J_pos + L^2 J_rot^T J_rot over workspace
+//                                  samples: the mean predicted position variance over the
+//                                  workspace, mm^2, plus the orientation's at length L).
 // The choice is a modified Fedorov exchange (Cook and Nachtsheim 1980) started from a greedy
 // design: for each chosen measurement in turn, remove it and add the best candidate (which
 // may be itself), until a pass changes nothing. Removing and adding are rank-one updates of
@@ -41,6 +42,10 @@ struct DesignOptions {
   int num_random = 10000;       ///< random candidate configurations (besides the corners)
   std::uint64_t seed = 1;       ///< candidates, workspace samples and the random baseline
   int workspace_samples = 200;  ///< for criterion I and the predicted pose error
+  /// Criterion I weighs the pose error |dp|^2 + (L dtheta)^2 with this L (mm per rad, the
+  /// length at which a rotation error counts as much as a position error: e.g. the tool's
+  /// reach); 0 = position only.
+  double orientation_length = 0;
   /// A configuration is a candidate when its singularity margin (see singularity_margin) is
   /// at least this.
   double min_singularity_margin = 0.5;

@@ -108,6 +108,22 @@ TEST(CliDesign, BoundSaysHowCloseTheDesignComes) {
   EXPECT_FALSE(Json::parse(read_text(d))["exchange"].contains("bound"));
 }
 
+TEST(CliDesign, OrientationLengthIsStatedInTheOutputs) {
+  TempDir dir("design-orientation");
+  const std::string m = dir / "m.json", t = dir / "t.csv", d = dir / "d.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  const auto r = run_cli("design --model " + m +
+                         " --count 30 --candidates 300 --criterion I --orientation-length 250mm "
+                         "--out " +
+                         t + " --json " + d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json j = Json::parse(read_text(d));
+  EXPECT_EQ(j["orientation_length_mm"].get<double>(), 250.0);
+  EXPECT_NE(j["criterion_meaning"].get<std::string>().find("250 mm x dtheta"), std::string::npos)
+      << j["criterion_meaning"];
+  EXPECT_NE(read_text(t).find("250 mm x dtheta"), std::string::npos);
+}
+
 TEST(CliDesign, SameSeedSameTemplate) {
   TempDir dir("design-seed");
   const std::string m = dir / "m.json";
@@ -131,6 +147,11 @@ TEST(CliDesign, BadOptionsGiveOneLineAndExit2) {
       {"--count 5 --out " + dir / "t.csv", "free parameters"},
       {"--count 30 --noise-std 0mm --out " + dir / "t.csv", "--noise-std"},
       {"--count 30 --existing " + dir / "missing.csv" + " --out " + dir / "t.csv", "missing.csv"},
+      {"--count 30 --orientation-length 300mm --out " + dir / "t.csv", "criterion I only"},
+      {"--count 30 --criterion I --orientation-length 1rad --out " + dir / "t.csv",
+       "--orientation-length"},
+      {"--count 30 --criterion I --orientation-length -5mm --out " + dir / "t.csv",
+       "--orientation-length"},
   };
   for (const auto& [args, expected] : cases) {
     const auto r = run_cli("design --model " + m + " " + args);

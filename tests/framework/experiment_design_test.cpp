@@ -194,6 +194,41 @@ TEST(ExperimentDesign, RelaxationBoundHoldsAgainstEveryDesign) {
   EXPECT_TRUE(std::isnan(design_bound(c, setup, e, choose_design(c, setup, e).chosen).bound));
 }
 
+// Criterion I with an orientation length L weighs |dp|^2 + L^2 |dtheta|^2: W grows by L^2 times
+// the orientation part, and a design for a long L predicts smaller orientation errors than one
+// for position alone.
+TEST(ExperimentDesign, OrientationLengthWeighsOrientationInCriterionI) {
+  const auto model = make_cube_hexapod();
+  DesignOptions options = small_options(DesignCriterion::kI);
+  options.count = 30;
+  options.num_random = 300;
+  options.workspace_samples = 50;
+  const DesignSetup position = make_design_setup(*model, options, nullptr);
+  options.orientation_length = 1;
+  const MatrixXd orientation =
+      make_design_setup(*model, options, nullptr).workspace_weight - position.workspace_weight;
+  EXPECT_GT(orientation.trace(), 0);
+  options.orientation_length = 500;
+  const DesignSetup pose = make_design_setup(*model, options, nullptr);
+  EXPECT_TRUE((pose.workspace_weight - position.workspace_weight)
+                  .isApprox(500.0 * 500.0 * orientation, 1e-9));
+
+  const DesignCandidates c = make_design_candidates(*model, pose, options);
+  const auto predicted = [&](const DesignSetup& setup) {
+    options.orientation_length = &setup == &pose ? 500 : 0;
+    const DesignResult r = choose_design(c, setup, options);
+    return predict_pose_errors(setup.workspace,
+                               design_covariance(design_information(c, r.chosen, setup), setup));
+  };
+  const PoseErrorPrediction for_position = predicted(position);
+  const PoseErrorPrediction for_pose = predicted(pose);
+  EXPECT_LT(for_pose.orientation_rms, for_position.orientation_rms);
+  EXPECT_GT(for_pose.position_rms, for_position.position_rms);
+
+  options.orientation_length = -1;
+  EXPECT_THROW(make_design_setup(*model, options, nullptr), std::invalid_argument);
+}
+
 TEST(ExperimentDesign, ECriterionBeatsRandomDesigns) {
   const auto model = small_model();
   const DesignOptions options = small_options(DesignCriterion::kE);
