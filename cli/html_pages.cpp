@@ -100,6 +100,21 @@ std::string render_design_html(const Json& d) {
                         "absolute predictions scale with it.",
                         "State reading_std in the model, or give --noise-std."});
 
+  if (d.contains("exchange") && d["exchange"].contains("bound")) {
+    const double ratio = number_at(d["exchange"]["bound"], "std_ratio");
+    if (std::isfinite(ratio))
+      verdicts.push_back({ratio < 1.05 ? L::kGood : L::kNote,
+                          "No design of " +
+                              (d.contains("count") && d["count"].is_number_integer()
+                                   ? std::to_string(d["count"].get<long long>())
+                                   : std::string("this size")) +
+                              " from these candidates can do more than " +
+                              fmt(100 * (ratio - 1), 3) +
+                              " % better than this one (a certified bound on the criterion, "
+                              "converted to standard deviations).",
+                          ratio < 1.05 ? "" : "More exchange passes or candidates may help."});
+  }
+
   HtmlPage page("kincal design: " + text_at(d, "model"));
   page.add_section("verdicts", "Verdicts", verdicts_html(verdicts));
   Json summary = Json::object();
@@ -123,9 +138,18 @@ std::string render_design_html(const Json& d) {
   }
   if (d.contains("parameters"))
     page.add_section("parameters", "Predicted parameter std", json_table_html(d["parameters"]));
+  // One row per figure: the nested objects flattened ("exchange passes", "bound value").
   Json search = Json::object();
-  if (d.contains("candidates")) search["candidates"] = d["candidates"];
-  if (d.contains("exchange")) search["exchange"] = d["exchange"];
+  if (d.contains("candidates"))
+    for (const auto& [key, value] : d["candidates"].items()) search["candidates " + key] = value;
+  if (d.contains("exchange"))
+    for (const auto& [key, value] : d["exchange"].items()) {
+      if (key != "bound") {
+        search["exchange " + key] = value;
+        continue;
+      }
+      for (const auto& [b, v] : value.items()) search["bound " + b] = v;
+    }
   page.add_section("search", "Candidates and exchange", json_table_html(search));
   return page.str();
 }

@@ -280,9 +280,20 @@ TEST(HtmlPages, DesignPageComparesWithRandomAndNominal) {
   EXPECT_NE(html.find("(4 times)"), std::string::npos) << html;
   EXPECT_NE(html.find("expected to beat the nominal model"), std::string::npos);
   EXPECT_NE(html.find("noise was assumed"), std::string::npos);
+  EXPECT_EQ(html.find("can do more than"), std::string::npos) << "no bound, no verdict on it";
   d["predicted_pose_error"]["designed"] = pose(9.0);
   html = cli::render_design_html(d);
   EXPECT_NE(html.find("Even this design is not expected to beat"), std::string::npos);
+  // design --bound: a verdict in words, and the nested figures as rows of their own.
+  d["count"] = 30;
+  d["exchange"] = {{"passes", 2}, {"bound", {{"value", 1.5}, {"std_ratio", 1.0123}}}};
+  html = cli::render_design_html(d);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("No design of 30 from these candidates can do more than 1.23 % better"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("bound std_ratio"), std::string::npos) << html;
+  EXPECT_EQ(html.find("&quot;std_ratio"), std::string::npos) << "a JSON dump in a cell";
 }
 
 TEST(HtmlPages, ValidateAndDesignWriteThePageOfTheirJson) {
