@@ -8,6 +8,7 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/cli/progress.hpp"
@@ -130,17 +131,36 @@ int run_solver_suite(const Args& args) {
     for (const auto& start : problems::suite_starts(*p)) runs_per_solver += start.evaluable;
   Progress progress("solver-suite", runs_per_solver * static_cast<long>(solvers.size()), "runs",
                     progress_wanted(vm));
+  // Ctrl-C: the problem under way finishes, the rest are skipped, what finished is written
+  // (marked partial) and the exit code is 130.
+  const InterruptGuard interrupt_guard("solver-suite");
+  bool partial = false;
+  long finished = 0;
   for (const auto& name : solvers) {
+    if (interrupt_requested()) {
+      partial = true;
+      break;
+    }
     // configure() is called as each run starts: the one before it is done.
     bool started = false;
-    const auto results = problems::run_suite(name, selected, [&](SolverOptions& o) {
+    const auto configure = [&](SolverOptions& o) {
       if (started) progress.advance();
       started = true;
       if (!overrides.backend_options.empty()) o.backend_options = overrides.backend_options;
       if (vm.count("max-iterations")) o.max_iterations = vm["max-iterations"].as<int>();
-    });
+    };
+    std::vector<problems::SuiteCaseResult> results;
+    for (const auto& problem : selected) {
+      if (interrupt_requested()) {
+        partial = true;
+        break;
+      }
+      const auto runs = problems::run_suite(name, {problem}, configure);
+      results.insert(results.end(), runs.begin(), runs.end());
+    }
     if (started) progress.advance();
     const problems::SuiteTally t = problems::tally(results);
+    finished += t.cases;
     broken += t.violations;
     nlohmann::json entry = {{"name", name},
                             {"cases", t.cases},
@@ -163,9 +183,11 @@ int run_solver_suite(const Args& args) {
              << ": CONTRACT BROKEN: " << r.contract.report() << "\n";
     }
     progress.finish();
-    text << tally_line(name, t) << "\n";
+    text << tally_line(name, t) << (t.cases < runs_per_solver ? " (PARTIAL: interrupted)" : "")
+         << "\n";
     out["solvers"].push_back(entry);
   }
+  out["partial"] = partial;
   if (!vm.count("solver")) {
     out["skipped"] = nlohmann::json::array();
     for (const auto& missing : registry.unavailable()) {
@@ -174,6 +196,14 @@ int run_solver_suite(const Args& args) {
     }
   }
   if (json) plan.write({{"--json", out.dump(2) + "\n"}});
+  if (partial) {
+    std::fprintf(stderr,
+                 "kincal solver-suite: interrupted: %ld of %ld runs finished; the tallies%s "
+                 "cover those only\n",
+                 finished, runs_per_solver * static_cast<long>(solvers.size()),
+                 json ? " and the JSON (\"partial\": true)" : "");
+    return 130;  // the shell's code for a run ended by SIGINT
+  }
   return broken > 0 ? 1 : 0;
 }
 

@@ -400,6 +400,24 @@ TEST(CliLongRuns, FirstCtrlCWritesTheFinishedTrialsMarkedPartial) {
   EXPECT_EQ(count_lines(read_text(dir / "out/trials.csv")), trials + 1);
 }
 
+TEST(CliLongRuns, CtrlCStopsTheSolverSuiteAndWritesWhatFinished) {
+  TempDir dir("sigint-suite");
+  Child child;
+  start(child, {"solver-suite", "--progress", "--json", dir / "s.json"}, dir / "err.txt");
+  ASSERT_TRUE(wait_for(child, "left")) << read_text(dir / "err.txt");
+  ::kill(child.pid, SIGINT);
+  const int status = wait_status(child);
+  const std::string err = read_text(dir / "err.txt");
+  ASSERT_TRUE(WIFEXITED(status)) << err;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << err;
+  EXPECT_NE(err.find("kincal solver-suite: interrupted: "), std::string::npos) << err;
+  const Json j = Json::parse(read_text(dir / "s.json"));
+  EXPECT_EQ(j["partial"], true);
+  int runs = 0;
+  for (const auto& s : j["solvers"]) runs += s["cases"].get<int>();
+  EXPECT_GT(runs, 0);
+}
+
 TEST(CliLongRuns, SecondCtrlCAbortsAtOnceAndWritesNothing) {
   TempDir dir("sigint2");
   // Slow trials (tracking the error over many validation poses at every iteration), so the
