@@ -72,16 +72,6 @@ RobustLoss loss_option(const po::variables_map& vm, SolverChoice& choice) {
   return loss;
 }
 
-// Whether JSON can hold `text` as a string (its dump() throws otherwise).
-bool is_valid_utf8(const std::string& text) {
-  try {
-    (void)nlohmann::json(text).dump();
-    return true;
-  } catch (const nlohmann::json::type_error&) {
-    return false;
-  }
-}
-
 // The report's option as the user spelt it, for messages: --json, or its older name --report.
 std::string report_label(const po::variables_map& vm) {
   return vm.count("report") ? "--report" : "--json";
@@ -97,13 +87,6 @@ OutputPlan plan_files(const po::variables_map& vm) {
   const std::string report = json_output(vm, "report");
   if (!report.empty()) plan.output(report_label(vm), report);
   if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
-  // The report is JSON and names the files: a name JSON cannot hold would fail at the end.
-  if (!report.empty() || vm.count("html"))
-    for (const char* option : {"model", "data", "out"})
-      if (vm.count(option) && !is_valid_utf8(vm[option].as<std::string>()))
-        throw CliError("--" + std::string(option) +
-                       ": the file name is not valid UTF-8, so the "
-                       "report (JSON) cannot name it; expected a UTF-8 name (rename the file)");
   plan.check();
   return plan;
 }
@@ -163,6 +146,7 @@ int run_calibrate(const Args& args) {
   add_free_fix_options(options);
   add_prior_std_option(options);
   add_solver_options(options);
+  add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("calibrate", args, options, vm)) return 0;
   if (!vm.count("data")) throw CliError("--data FILE is required");
@@ -189,8 +173,9 @@ int run_calibrate(const Args& args) {
   const VectorXd nominal = model->parameters().nominal_values();
   std::vector<int> free = model->parameters().free_indices();
   if (free.empty()) throw CliError("no free parameters: nothing to calibrate (use --free)");
-  const LoadedData loaded = load_measurements("calibrate", data_file, *model, nominal,
-                                              vm["skip-bad-rows"].as<bool>(), model_file);
+  const LoadedData loaded =
+      load_measurements("calibrate", data_file, *model, nominal, vm["skip-bad-rows"].as<bool>(),
+                        model_file, data_limits(vm));
   check_memory(data_file, loaded.data.size(),
                model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
                "configuration");

@@ -15,6 +15,7 @@
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/units.hpp"
 
 namespace kincal::cli {
@@ -149,6 +150,7 @@ int run_design(const Args& args) {
   add_json_option(options, "the design");
   add_free_fix_options(options);
   add_prior_std_option(options);
+  add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("design", args, options, vm)) return 0;
   if (!vm.count("count")) throw CliError("--count N is required");
@@ -203,7 +205,7 @@ int run_design(const Args& args) {
   Measurements existing;
   if (vm.count("existing"))
     existing = load_measurements("design", vm["existing"].as<std::string>(), *model, nominal, false,
-                                 model_file)
+                                 model_file, data_limits(vm))
                    .data;
   DesignSetup setup = make_design_setup(*model, design, vm.count("existing") ? &existing : nullptr);
   if (assumed_noise && setup.has_prior)
@@ -264,7 +266,7 @@ int run_design(const Args& args) {
     std::snprintf(noise_text, sizeof noise_text, "%s", t.c_str());
   }
   const std::string heading =
-      "# kincal design: " + model_file + ", criterion " + criterion + " (" +
+      "# kincal design: " + printable(model_file) + ", criterion " + criterion + " (" +
       criterion_meaning(design.criterion, design.orientation_length) + "), " +
       std::to_string(design.count) + " measurements in " + std::to_string(rows.size()) +
       " configurations, seed " + std::to_string(design.seed) +
@@ -272,14 +274,14 @@ int run_design(const Args& args) {
       (model->sensors().size() > 1
            ? " of the sensors each row's '# read:' line names (leave the others empty)"
            : "") +
-      ", then: kincal calibrate --model " + model_file + " --data <this file>\n";
+      ", then: kincal calibrate --model " + printable(model_file) + " --data <this file>\n";
 
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     std::printf(
         "kincal design: %s, criterion %s, %d measurements in %d configurations, seed %llu\n",
-        model_file.c_str(), criterion, design.count, rows.size(),
+        printable(model_file).c_str(), criterion, design.count, rows.size(),
         static_cast<unsigned long long>(design.seed));
     std::printf(
         "candidates: %d (%d box corners + random; rejected: %d unreachable, %d below the "

@@ -1,13 +1,12 @@
 // kincal export: a calibrated model in a form a controller or robot description takes
 // (URDF for serial arms, a joint-coordinate CSV, plain JSON); cli/export_formats.hpp.
 
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "kincal/cli/export_formats.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
+#include "kincal/framework/json_input.hpp"
 
 namespace kincal::cli {
 
@@ -31,10 +30,8 @@ int run_export(const Args& args) {
   const std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   ExportSource source;
   source.model_file = vm["model"].as<std::string>();
-  std::ifstream in(source.model_file, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  source.sha256 = sha256_hex(bytes.str());
+  source.sha256 =
+      sha256_hex(read_file_text(source.model_file, "model file", JsonLimits{}.max_bytes));
   std::string text;
   try {
     text = format == "urdf"  ? export_urdf(*model, source)

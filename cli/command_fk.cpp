@@ -29,6 +29,7 @@ int run_fk(const Args& args) {
       "instead of --actuators: a CSV file with the actuator columns (a measurement file; "
       "other columns are ignored): one result per row, failures as statuses");
   add_table_outputs(options);
+  add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("fk", args, options, vm)) return 0;
   OutputPlan plan;  // standard output must not be an input

@@ -26,6 +26,7 @@ int run_ik(const Args& args) {
       "instead of --pose: a CSV file with columns x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg (other "
       "columns are ignored): one result per row, failures as statuses");
   add_table_outputs(options);
+  add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("ik", args, options, vm)) return 0;
   OutputPlan plan;  // standard output must not be an input

@@ -29,9 +29,9 @@ int run_table(const std::string& command, const po::variables_map& vm, OutputPla
 
   MeasurementTable table;
   try {
-    table = read_measurements(input_file, columns, {});
+    table = read_measurements(input_file, columns, {}, data_limits(vm));
   } catch (const std::invalid_argument& e) {
-    throw CliError(e.what());
+    throw measurement_file_error(e);
   }
   // A measurement file given to fk has reading columns: expected there, not worth a note.
   for (const auto& n : table.notices) {

@@ -86,6 +86,7 @@ int run_observability(const Args& args) {
   add_json_option(options, "the analysis");
   add_free_fix_options(options);
   add_prior_std_option(options);
+  add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("observability", args, options, vm)) return 0;
   if (vm.count("data") == vm.count("poses"))
@@ -111,7 +112,8 @@ int run_observability(const Args& args) {
   Measurements data;
   if (vm.count("data")) {
     data = load_measurements("observability", vm["data"].as<std::string>(), *model, values,
-                             vm["skip-bad-rows"].as<bool>(), vm["model"].as<std::string>())
+                             vm["skip-bad-rows"].as<bool>(), vm["model"].as<std::string>(),
+                             data_limits(vm))
                .data;
     check_memory(vm["data"].as<std::string>(), data.size(),
                  model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),

@@ -14,6 +14,7 @@
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
@@ -275,12 +276,12 @@ int run_simulate(const Args& args) {
     char noise[96];
     std::snprintf(noise, sizeof noise, "%g mm, %g rad", scenario_options.noise_half_width,
                   scenario_options.noise_half_width_rad);
-    const std::string comment = "kincal simulate: " + model_name + ", " +
+    const std::string comment = "kincal simulate: " + printable(model_name) + ", " +
                                 std::to_string(scenario_options.num_configurations) +
                                 " configurations, reading noise U[-a, a] with a = " + noise +
                                 ", seed " + std::to_string(scenario_options.seed) +
-                                "\ntrue model: " + truth_file + " (sha256 " + sha256_hex(truth) +
-                                ")";
+                                "\ntrue model: " + printable(truth_file) + " (sha256 " +
+                                sha256_hex(truth) + ")";
     outputs.push_back({kTruthLabel, truth});
     outputs.push_back({"--write-data", measurements_to_csv(scenario.calibration,
                                                            model->mechanism().actuator_names(),

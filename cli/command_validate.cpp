@@ -12,6 +12,7 @@
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/json_input.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/validation.hpp"
 
 namespace kincal::cli {
@@ -106,6 +107,7 @@ int run_validate(const Args& args) {
       "html", po::value<std::string>(),
       "write the result for people to FILE: one self-contained HTML page");
   add_json_option(options, "the result");
+  add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("validate", args, options, vm)) return 0;
   if (!vm.count("model")) throw CliError("--model FILE is required (the calibrated model)");
@@ -163,8 +165,9 @@ int run_validate(const Args& args) {
     noise_source = "reading_std";
   }
 
-  const LoadedData loaded = load_measurements("validate", data_file, *model, values,
-                                              vm["skip-bad-rows"].as<bool>(), model_file);
+  const LoadedData loaded =
+      load_measurements("validate", data_file, *model, values, vm["skip-bad-rows"].as<bool>(),
+                        model_file, data_limits(vm));
   check_memory(data_file, loaded.data.size(),
                k * solve_bytes_per_row(static_cast<int>(input.parameters.size())), "configuration");
   Validation v;
@@ -177,8 +180,9 @@ int run_validate(const Args& args) {
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
-    std::cout << "held-out validation of " << model_file << " on " << data_file << ": "
-              << v.configurations << " configurations, " << v.readings << " readings\n";
+    std::cout << "held-out validation of " << printable(model_file) << " on "
+              << printable(data_file) << ": " << v.configurations << " configurations, "
+              << v.readings << " readings\n";
     std::cout << "predicted: noise = " << noise_source
               << (v.parameter_uncertainty
                       ? " + the parameters' uncertainty from the report (J Sigma J^T)"

@@ -3,26 +3,27 @@
 // two renames can leave a new report beside an old model; the report records the SHA-256
 // of its model, and this command compares it.
 
-#include <fstream>
 #include <iostream>
-#include <sstream>
+#include <stdexcept>
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/json_input.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 
 namespace kincal::cli {
 
 namespace {
 
+// A model file is at most the reader's limit (JsonLimits): a larger file (or /dev/zero) is
+// not one, and reading it whole would only use up memory.
 std::string file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CliError(path + ": cannot open model file (missing or unreadable)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw CliError(path + ": cannot read model file");
-  return text.str();
+  try {
+    return read_file_text(path, "model file", JsonLimits{}.max_bytes);
+  } catch (const std::invalid_argument& e) {
+    throw CliError(e.what());
+  }
 }
 
 }  // namespace
@@ -77,8 +78,8 @@ int run_verify(const Args& args) {
     return 1;
   }
   if (json_to_stdout) return 0;
-  std::cout << model_file << " is the calibrated model " << report_file << " describes (SHA-256 "
-            << actual << ")\n";
+  std::cout << printable(model_file) << " is the calibrated model " << printable(report_file)
+            << " describes (SHA-256 " << actual << ")\n";
   return 0;
 }
 

@@ -2,4 +2,7 @@
 
 #include "kincal/cli/run.hpp"
 
-int main(int argc, char** argv) { return kincal::cli::run(argc, argv); }
+int main(int argc, char** argv) {
+  kincal::cli::prepare_process();
+  return kincal::cli::run(argc, argv);
+}

@@ -1,12 +1,16 @@
 #include "kincal/cli/model_args.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <iostream>
 
+#include "kincal/cli/memory_check.hpp"
 #include "kincal/framework/data_checks.hpp"
 #include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
@@ -144,10 +148,52 @@ void note(const std::string& command, const std::string& text) {
   std::cerr << "kincal " << command << ": note: " << text << "\n";
 }
 
+void add_data_size_option(po::options_description& options) {
+  options.add_options()("max-data-size", po::value<std::string>(),
+                        "largest measurement file read, e.g. 8GiB (default 4GiB; the rows are "
+                        "also checked against the memory available)");
+}
+
+CsvLimits data_limits(const po::variables_map& vm) {
+  CsvLimits limits;
+  limits.max_table_bytes = static_cast<std::size_t>(
+      std::min<std::uint64_t>(available_memory_bytes() / 2, static_cast<std::size_t>(-1)));
+  if (!vm.count("max-data-size")) return limits;
+  const std::string text = vm["max-data-size"].as<std::string>();
+  char* end = nullptr;
+  errno = 0;
+  const double number = std::strtod(text.c_str(), &end);
+  const std::string unit = end ? std::string(end) : "";
+  const std::pair<const char*, double> units[] = {
+      {"", 1},     {"B", 1},         {"KB", 1e3},      {"MB", 1e6},
+      {"GB", 1e9}, {"KiB", 1 << 10}, {"MiB", 1 << 20}, {"GiB", double(1 << 30)}};
+  double bytes = -1;
+  for (const auto& [name, factor] : units)
+    if (unit == name) bytes = number * factor;
+  if (end == text.c_str() || errno != 0 || !(bytes >= 1) || bytes > 1e18)
+    throw CliError("--max-data-size '" + message_excerpt(text) +
+                   "': expected a size such as 500MB or 8GiB (at least 1 byte)");
+  limits.max_file_bytes = static_cast<std::size_t>(bytes);
+  return limits;
+}
+
+CliError measurement_file_error(const std::invalid_argument& e) {
+  const std::string what = e.what();
+  return CliError(what + (what.find(": larger than the limit of") != std::string::npos
+                              ? "; raise the limit with --max-data-size"
+                              : ""));
+}
+
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
-                             bool skip_bad_rows, const std::string& model_file) {
-  MeasurementTable table = read_measurements(path, model);
+                             bool skip_bad_rows, const std::string& model_file,
+                             const CsvLimits& limits) {
+  MeasurementTable table;
+  try {
+    table = read_measurements(path, model, limits);
+  } catch (const std::invalid_argument& e) {
+    throw measurement_file_error(e);
+  }
   for (const auto& n : table.notices) note(command, n);
   LoadedData loaded;
   const auto bad = find_unreachable_rows(model, params, table.data);

@@ -3,11 +3,13 @@
 // calibrate, observability, simulate --model).
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/measurement_file.hpp"
 
 namespace kincal::cli {
 
@@ -41,6 +43,18 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 /// One "kincal <command>: note: ..." line on stderr.
 void note(const std::string& command, const std::string& text);
 
+/// --max-data-size SIZE (bytes, or with KiB, MiB, GiB, KB, MB, GB): the largest measurement
+/// file the command reads (default 4 GiB).
+void add_data_size_option(po::options_description& options);
+/// The measurement reader's limits for this run: --max-data-size, and memory for the rows
+/// read, half of what this process may still use (available_memory_bytes()), so that a file
+/// too large for the machine stops at the line where it would not fit.
+CsvLimits data_limits(const po::variables_map& vm);
+
+/// A measurement reader's error for the command line: the message, and how to raise the
+/// file-size limit when that is what stopped it.
+CliError measurement_file_error(const std::invalid_argument& e);
+
 /// Measurements read for a model, with unreachable rows screened.
 struct LoadedData {
   Measurements data;
@@ -53,6 +67,7 @@ struct LoadedData {
 /// `model_file` too: then its values are as likely to be wrong as the data.
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
-                             bool skip_bad_rows, const std::string& model_file);
+                             bool skip_bad_rows, const std::string& model_file,
+                             const CsvLimits& limits);
 
 }  // namespace kincal::cli

@@ -86,6 +86,12 @@ void remove_stale_temporaries(const fs::path& dir) {
   }
 }
 
+std::string octal_mode(mode_t mode) {
+  char text[8];
+  std::snprintf(text, sizeof text, "%04o", static_cast<unsigned>(mode & 07777));
+  return text;
+}
+
 // ---- writing -----------------------------------------------------------------------------
 
 // /proc/self/fd/N and the like (reached from /dev/stdout, /dev/fd/N) are handles to open
@@ -175,10 +181,28 @@ void write_all(int fd, const std::string& content, const std::string& path) {
   }
 }
 
+// Whatever the command printed so far, then `content`, on standard output, checked: a full
+// disk, a closed standard output or a broken device is an error, never a silent loss.
+// Through std::cout, which a caller of run() may have pointed elsewhere (the fuzzers do).
+void write_standard_output(const std::string& content) {
+  errno = 0;
+  std::cout << content;
+  std::cout.flush();
+  bool failed = !std::cout;
+  failed = std::fflush(stdout) != 0 || failed;  // what printf wrote (design's summary)
+  const int error = errno;
+  if (failed || std::ferror(stdout)) {
+    std::cout.clear();
+    std::clearerr(stdout);
+    throw CliError("cannot write standard output" +
+                   (error != 0 ? ": " + errno_text(error) : std::string()));
+  }
+}
+
 // A character device or FIFO: no temporary file, no rename. O_APPEND so that a /dev/stdout
 // redirected to a file continues after what was printed before instead of overwriting it.
 void write_stream(const OutputTarget& t, const std::string& content) {
-  std::cout.flush();
+  write_standard_output("");  // what was printed before comes first
   const int fd = ::open(t.real.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd < 0) fail_errno(t.path, errno);
   try {
@@ -276,6 +300,8 @@ OutputTarget resolve_output(const std::string& path, const std::string& what) {
     t.real = p.string();
     t.exists = true;
     t.permissions = st.st_mode & 07777;
+    t.links = static_cast<unsigned long>(st.st_nlink);
+    t.writable = (st.st_mode & 0222) != 0 && (::getuid() == 0 || ::access(p.c_str(), W_OK) == 0);
     return t;
   }
   throw CliError(what + ": too many levels of symbolic links");
@@ -285,6 +311,17 @@ std::pair<std::string, std::string> split_at_existing_directory(const std::strin
   const fs::path path(real);
   const fs::path existing = nearest_existing_directory(path.parent_path());
   return {existing.string(), path.lexically_relative(existing).string()};
+}
+
+void check_replaceable(const OutputTarget& target, const std::string& what) {
+  if (!target.exists) return;
+  if (!target.writable)
+    throw CliError(what + ": is read-only (mode " + octal_mode(target.permissions) +
+                   "); make it writable or choose another output");
+  if (target.links > 1)
+    throw CliError(what + ": has " + std::to_string(target.links) +
+                   " names (hard links); replacing it would leave the other names with the "
+                   "old content; expected a file with one name");
 }
 
 void check_can_create_beside(const OutputTarget& target, const std::string& what) {
@@ -314,8 +351,10 @@ void check_can_create_beside(const OutputTarget& target, const std::string& what
 
 void write_files_atomically(const std::vector<OutputFile>& files) {
   std::vector<OutputTarget> targets;
-  for (const auto& f : files)
+  for (const auto& f : files) {
     targets.push_back(resolve_output(f.path, "cannot write '" + f.path + "'"));
+    check_replaceable(targets.back(), "cannot write '" + f.path + "'");
+  }
   for (const auto& t : targets)
     if (t.kind == OutputTarget::Kind::kFile)
       remove_stale_temporaries(fs::path(t.real).parent_path());
@@ -344,11 +383,21 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
                      files[i].path);
       temps[i] = temp;
     }
+    // Phase 2: what cannot be replaced, written before anything is: standard output (what
+    // the command printed and any output "-") and the devices and FIFOs. A failure there
+    // leaves every file as it was, so exit 2 always means "nothing replaced".
+    write_standard_output("");
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      if (targets[i].kind == OutputTarget::Kind::kStdout)
+        write_standard_output(files[i].content);
+      else if (targets[i].kind == OutputTarget::Kind::kStream)
+        write_stream(targets[i], files[i].content);
+    }
   } catch (...) {
     remove_temps();
     throw;
   }
-  // Phase 2: the renames, which cannot run out of space.
+  // Phase 3: the renames, which cannot run out of space.
   for (std::size_t i = 0; i < files.size(); ++i) {
     if (temps[i].empty()) continue;
     if (::rename(temps[i].c_str(), targets[i].real.c_str()) != 0) {
@@ -361,15 +410,9 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
     sync_directory(fs::path(targets[i].real).parent_path().string());
     write_step();
   }
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    if (targets[i].kind == OutputTarget::Kind::kStdout) {
-      std::cout << files[i].content;
-      std::cout.flush();
-    } else if (targets[i].kind == OutputTarget::Kind::kStream) {
-      write_stream(targets[i], files[i].content);
-    }
-  }
 }
+
+void check_standard_output() { write_standard_output(""); }
 
 // ---- a directory replaced whole --------------------------------------------------------
 

@@ -29,6 +29,9 @@ struct OutputTarget {
   std::string real;             ///< symbolic links resolved (the directory made absolute)
   bool exists = false;          ///< kFile: the file is there already
   unsigned permissions = 0666;  ///< kFile: mode bits of the existing file
+  unsigned long links = 1;      ///< kFile: names (hard links) of the existing file
+  bool writable = true;         ///< kFile: the existing file may be written (a write bit set,
+                                ///< and this user may write it)
 };
 
 /// Resolves `path`. A missing directory on the way is fine: it is created (with its missing
@@ -37,6 +40,12 @@ struct OutputTarget {
 /// through a file or a broken symbolic link, or a symlink loop;
 /// `what` names the path in the message (e.g. "--out 'C.json'" or "cannot write 'C.json'").
 OutputTarget resolve_output(const std::string& path, const std::string& what);
+
+/// Throws CliError "<what>: is read-only ..." or "<what>: has N names (hard links) ..." when
+/// `target` is an existing file kincal does not replace: one its owner made read-only (a
+/// rename would replace it regardless), or one with several names (a rename would give the
+/// new content to this name only). docs/reliability.md.
+void check_replaceable(const OutputTarget& target, const std::string& what);
 
 /// Throws CliError "<what>: cannot create a file in '<dir>' (...)" when a new file cannot be
 /// created beside `target` (a read-only directory), or its missing directory cannot be
@@ -59,9 +68,16 @@ struct OutputFile {
 /// written are they renamed over their targets, in the order given. A failure removes the
 /// temporary files and leaves every existing file as it was. A crash (kill -9, power loss)
 /// between two renames leaves the first ones new and the others old, each file whole.
-/// Streams (kStream, "-" for stdout) are written after the renames. Throws CliError
-/// "cannot write '<path>': <reason>".
+/// Standard output (what the command printed so far, then any "-" output) and the other
+/// streams (kStream) are written after the temporary files and before any rename, so that a
+/// stream that fails (a full disk, a closed standard output) leaves every file as it was.
+/// An existing file that is read-only (no write bit) or has several names (hard links) is
+/// refused by resolve_output. Throws CliError "cannot write '<path>': <reason>".
 void write_files_atomically(const std::vector<OutputFile>& files);
+
+/// Flushes what the command printed on standard output and throws CliError "cannot write
+/// standard output: <reason>" when it could not be written (a full disk, a closed stream).
+void check_standard_output();
 
 /// A directory that a command owns and replaces whole (reproduce --out).
 struct DirectoryTarget {

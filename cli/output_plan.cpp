@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "kincal/cli/commands.hpp"
+#include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/names.hpp"
 
 namespace kincal::cli {
 
@@ -103,9 +105,22 @@ void OutputPlan::output_directory(const std::string& label, const std::string& p
 }
 
 void OutputPlan::check() {
+  // Reports and pages (--json, --report, --html) name the files of the run: a name they
+  // cannot hold is refused here, before any work, not after it (docs/reliability.md).
+  bool names_files = false;
+  for (const Entry& e : entries_)
+    names_files =
+        names_files ||
+        (e.is_output && (e.label == "--json" || e.label == "--report" || e.label == "--html"));
+  for (const Entry& e : entries_)
+    if (names_files && !is_valid_utf8(e.path))
+      throw CliError(e.label + ": the file name is not valid UTF-8 ('" + message_excerpt(e.path) +
+                     "'); kincal's reports name their files in JSON, so expected a UTF-8 name "
+                     "(rename the file)");
   // Every output must be writable where it is.
   std::vector<Identity> ids(entries_.size());
   std::vector<std::string> reals(entries_.size());  // absolute, links resolved; "" if none
+  std::vector<OutputTarget> targets(entries_.size());
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     const Entry& e = entries_[i];
     const std::string what = e.label + " '" + e.path + "'";
@@ -123,6 +138,7 @@ void OutputPlan::check() {
     } else if (e.is_output) {
       const OutputTarget t = resolve_output(e.path, what);
       check_can_create_beside(t, what);
+      targets[i] = t;
       ids[i] = output_identity(t);
       if (t.kind == OutputTarget::Kind::kFile) reals[i] = t.real;
     } else {
@@ -159,6 +175,10 @@ void OutputPlan::check() {
                      "destroy the input)");
     }
   }
+  // Last, so that a collision is named as such: an existing output kincal does not replace.
+  for (std::size_t i = 0; i < entries_.size(); ++i)
+    if (entries_[i].is_output && !entries_[i].is_directory)
+      check_replaceable(targets[i], entries_[i].label + " '" + entries_[i].path + "'");
   checked_ = true;
   if (g_stop_after_option_checks) throw OptionsChecked{};
 }
@@ -194,6 +214,7 @@ void OutputPlan::write_directory(
       resolve_output_directory(e.path, "cannot write " + e.label + " '" + e.path + "'", e.files);
   std::vector<OutputFile> out;
   for (const auto& [name, content] : files) out.push_back({name, content});
+  check_standard_output();  // what was printed comes first, as for files
   write_directory_atomically(target, out);
 }
 

@@ -3,11 +3,17 @@
 
 #include "kincal/cli/run.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
 #include <iostream>
 #include <new>
 
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/output_files.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 
@@ -57,24 +63,44 @@ void print_error(const std::string& command, const std::string& what) {
 
 }  // namespace
 
+void prepare_process() {
+  for (int fd = STDIN_FILENO; fd <= STDERR_FILENO; ++fd)
+    if (::fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
+      const int opened = ::open("/dev/null", O_RDONLY);
+      if (opened >= 0 && opened != fd) {
+        ::dup2(opened, fd);
+        ::close(opened);
+      }
+    }
+  std::signal(SIGXFSZ, SIG_IGN);
+}
+
 int run(int argc, const char* const* argv) {
   if (argc < 2) {
     print_usage(std::cerr);
     return 2;
   }
   const std::string name = argv[1];
-  if (name == "--help" || name == "-h" || name == "help") {
-    print_usage(std::cout);
-    return 0;
-  }
-  if (name == "--version" || name == "version") {
-    std::cout << version_text();
+  if (name == "--help" || name == "-h" || name == "help" || name == "--version" ||
+      name == "version") {
+    if (name.find("version") != std::string::npos)
+      std::cout << version_text();
+    else
+      print_usage(std::cout);
+    try {
+      check_standard_output();
+    } catch (const std::exception& e) {
+      print_error(name, e.what());
+      return 2;
+    }
     return 0;
   }
   for (const auto& command : commands()) {
     if (name != command.name) continue;
     try {
-      return command.run(Args(argv + 2, argv + argc));
+      const int code = command.run(Args(argv + 2, argv + argc));
+      check_standard_output();  // what was printed after the last file: never lost silently
+      return code;
     } catch (const OptionsChecked&) {
       return 0;  // the fuzzer's stop before any work (stop_after_option_checks)
     } catch (const std::bad_alloc&) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/units.hpp"
 
 namespace kincal {
@@ -295,7 +296,7 @@ std::string to_text(const Identifiability& a) {
 
 std::string to_text(const CalibrationReport& r) {
   std::ostringstream out;
-  out << "calibration of " << r.model_file << " from " << r.data_file << ": "
+  out << "calibration of " << printable(r.model_file) << " from " << printable(r.data_file) << ": "
       << r.num_configurations << " configurations";
   if (!r.skipped_lines.empty()) out << " (" << r.skipped_lines.size() << " rows skipped)";
   out << "\n" << r.summary.brief_report() << "\n";

@@ -5,6 +5,7 @@
 
 #include "kincal/framework/json_input.hpp"
 #include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/names.hpp"
 
 namespace kincal {
 
@@ -74,12 +75,12 @@ std::string string(const Json& value, const JsonPath& where) {
 }
 
 std::string name(const Json& value, const JsonPath& where) {
-  const std::string text = value.is_string() ? value.get<std::string>() : std::string();
-  if (text.empty() || text.find_first_of(", \t\r\n#\"*?.") != std::string::npos)
-    where.fail(
-        "expected a non-empty name without commas, spaces, '#', quotes, '*', '?' or '.' (it "
-        "names measurement-file columns and prefixes parameter names), got " +
-        json_excerpt(value));
+  if (!value.is_string()) where.fail("expected a name (a string), got " + json_excerpt(value));
+  const std::string text = value.get<std::string>();
+  const std::string problem = name_problem(text);
+  if (!problem.empty())
+    where.fail("expected a name within kincal's name policy, got " + json_excerpt(value) +
+               ", which " + problem);
   return text;
 }
 

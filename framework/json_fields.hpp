@@ -46,8 +46,8 @@ double number(const Json& value, const JsonPath& where);
 double number_or(const Json& object, const std::string& key, double fallback,
                  const JsonPath& where);
 std::string string(const Json& value, const JsonPath& where);
-/// A name that is a CSV column and a parameter-name prefix: non-empty, no commas, spaces,
-/// '#', quotes, '*', '?' or '.'.
+/// A name that is a CSV column and a parameter-name prefix, within kincal's name policy
+/// (framework/names.hpp: name_problem).
 std::string name(const Json& value, const JsonPath& where);
 Vector3d vector3(const Json& value, const JsonPath& where);
 /// {"position": [x, y, z] (mm), "rotation_zyx_deg": [rx, ry, rz]}, R = Rz(rz) Ry(ry) Rx(rx).

@@ -197,26 +197,34 @@ Json parse_json_text(const std::string& text, const std::string& source, const J
   return std::move(builder.root());
 }
 
-Json read_json_file(const std::string& path, const std::string& kind, const JsonLimits& limits) {
+std::string read_file_text(const std::string& path, const std::string& kind,
+                           std::size_t max_bytes) {
   // An ifstream opens a directory fine and fails only on the first read, with a message
   // that does not name the file.
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
-    throw std::invalid_argument(path + ": is a directory, expected a " + kind + " (JSON)");
+    throw std::invalid_argument(path + ": is a directory, expected a " + kind);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open " + kind + " (missing or unreadable)");
   // Read at most one byte past the limit: a device such as /dev/zero never ends.
   std::string text;
   std::vector<char> chunk(1 << 16);
-  while (text.size() <= limits.max_bytes && in) {
+  while (text.size() <= max_bytes && in) {
     in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
     text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
   }
   if (in.bad()) throw std::invalid_argument(path + ": cannot read " + kind + " (read error)");
-  if (text.size() > limits.max_bytes)
-    throw std::invalid_argument(path + ": larger than the limit of " + mebibytes(limits.max_bytes) +
+  if (text.size() > max_bytes)
+    throw std::invalid_argument(path + ": larger than the limit of " + mebibytes(max_bytes) +
                                 " for a " + kind);
-  return parse_json_text(text, path, limits);
+  return text;
+}
+
+Json read_json_file(const std::string& path, const std::string& kind, const JsonLimits& limits) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::invalid_argument(path + ": is a directory, expected a " + kind + " (JSON)");
+  return parse_json_text(read_file_text(path, kind, limits.max_bytes), path, limits);
 }
 
 std::string json_excerpt(const Json& value, std::size_t max_chars) {

@@ -24,6 +24,12 @@ struct JsonLimits {
 nlohmann::ordered_json parse_json_text(const std::string& text, const std::string& source,
                                        const JsonLimits& limits = {});
 
+/// The bytes of file `path`, at most `max_bytes` (reading stops one byte past it, so a
+/// device such as /dev/zero fails at once). Throws std::invalid_argument "<path>: is a
+/// directory, expected a <kind>", "<path>: cannot open <kind> (missing or unreadable)" or
+/// "<path>: larger than the limit of N MiB for a <kind>".
+std::string read_file_text(const std::string& path, const std::string& kind, std::size_t max_bytes);
+
 /// Reads the file `path` and parses it as parse_json_text does; `kind` names what the file
 /// should be in messages (e.g. "model file"): "<path>: is a directory, expected a model file
 /// (JSON)", "<path>: cannot open model file (missing or unreadable)".

@@ -243,6 +243,10 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                            ? std::numeric_limits<double>::quiet_NaN()
                            : parse_value(field, at + ": field '" + wanted[w] + "'"));
     }
+    if ((rows.size() + 1) * table_bytes_per_row(values.size()) > limits.max_table_bytes)
+      throw std::invalid_argument(at + ": the rows read so far need more than the " +
+                                  std::to_string(limits.max_table_bytes >> 20) +
+                                  " MiB of memory allowed for them; expected a smaller file");
     rows.push_back(std::move(values));
     table.line_numbers.push_back(line_number);
   }
@@ -290,9 +294,10 @@ std::string measurements_to_csv(const Measurements& data,
   return out.str();
 }
 
-MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model) {
+MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
+                                   const CsvLimits& limits) {
   MeasurementTable table =
-      read_measurements(path, model.mechanism().actuator_names(), model.reading_names());
+      read_measurements(path, model.mechanism().actuator_names(), model.reading_names(), limits);
   check_sensor_readings(model, table, path);
   return table;
 }

@@ -20,12 +20,20 @@
 
 namespace kincal {
 
-/// Bounds on what is read, so that a wrong file (/dev/zero, a binary, a log of gigabytes)
-/// fails fast with a message instead of filling memory.
+/// Bounds on what is read, so that a wrong file (/dev/zero, a binary) fails fast with a
+/// message instead of filling memory. The file limit is far above what kincal writes and
+/// instruments log (a tracker at 1 kHz for an hour is about 0.5 GiB); what really bounds a
+/// file is memory, which the command line sets from the machine (cli/model_args.hpp).
 struct CsvLimits {
   std::size_t max_line_bytes = std::size_t{64} << 10;  ///< 64 KiB, line break not counted
-  std::size_t max_file_bytes = std::size_t{64} << 20;  ///< 64 MiB
+  std::size_t max_file_bytes = std::size_t{4} << 30;   ///< 4 GiB
+  /// Memory the rows read may take (table_bytes_per_row each); reading stops with a message
+  /// naming the line where they would take more.
+  std::size_t max_table_bytes = static_cast<std::size_t>(-1);
 };
+
+/// Memory one row of `values` numbers takes while a measurement file is read and after.
+inline std::size_t table_bytes_per_row(std::size_t values) { return 16 * values + 64; }
 
 struct MeasurementTable {
   Measurements data;
@@ -46,7 +54,8 @@ MeasurementTable read_measurements(const std::string& path,
                                    const CsvLimits& limits = {});
 
 /// read_measurements for `model`'s actuators and readings, then check_sensor_readings.
-MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model);
+MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
+                                   const CsvLimits& limits = {});
 
 /// Throws std::invalid_argument "<source>:<line>: ..." when a row gives some of a sensor's
 /// readings but not all, or when no reading at all is given; adds a notice for each row

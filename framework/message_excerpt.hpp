@@ -12,4 +12,11 @@ namespace kincal {
 /// Never contains a line break.
 std::string message_excerpt(const std::string& text, std::size_t max_chars = 60);
 
+/// `text` whole, with control characters and bytes outside valid UTF-8 written as \xNN: a
+/// file name or other user text that is safe on a terminal (no escape sequences, no bell)
+/// and stays on one line of a report or a comment line of a file.
+inline std::string printable(const std::string& text) {
+  return message_excerpt(text, static_cast<std::size_t>(-1));
+}
+
 }  // namespace kincal

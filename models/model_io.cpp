@@ -10,6 +10,7 @@
 #include "kincal/framework/json_input.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/names.hpp"
 
 namespace kincal {
 
@@ -41,15 +42,27 @@ void for_each_pattern(
 }
 
 // Readings and actuators share the columns of a measurement file.
+// Every column of the model's measurement files, whatever type made it (a registered type's
+// own names included), within the name policy (framework/names.hpp), so that every file
+// kincal writes with these names reads back, and unique.
 void check_columns(const MeasurementModel& model, const JsonPath& where) {
+  const auto check = [](const std::string& name, const JsonPath& at) {
+    const std::string problem = name_problem(name, NameKind::kColumn);
+    if (!problem.empty()) at.fail("column '" + message_excerpt(name) + "' " + problem);
+  };
   std::set<std::string> columns;
-  for (const auto& name : model.mechanism().actuator_names()) columns.insert(name);
+  for (const auto& name : model.mechanism().actuator_names()) {
+    check(name, where / "mechanism");
+    columns.insert(name);
+  }
   for (std::size_t s = 0; s < model.sensors().size(); ++s)
-    for (const auto& name : model.sensors()[s]->reading_names())
+    for (const auto& name : model.sensors()[s]->reading_names()) {
+      check(name, (where / "sensors")[s]);
       if (!columns.insert(name).second)
         (where / "sensors")[s].fail("reading '" + name +
                                     "' has the name of an actuator or of another reading; "
                                     "expected a different sensor name");
+    }
 }
 
 }  // namespace

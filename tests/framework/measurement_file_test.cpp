@@ -139,6 +139,24 @@ TEST(MeasurementFile, LinesAndFilesHaveSizeLimits) {
     EXPECT_STREQ(e.what(),
                  "D.csv: larger than the limit of 0 MiB (60 bytes) for a measurement file");
   }
+  // Memory for the rows read (the command line sets it from the machine): the row that would
+  // not fit is named. Rows of 3 values take table_bytes_per_row(3) = 112 bytes.
+  CsvLimits memory;
+  memory.max_table_bytes = 3 * table_bytes_per_row(3);
+  std::istringstream three("a,b,g\n1,2,3\n1,2,3\n1,2,3\n");
+  EXPECT_EQ(parse_measurements(three, "D.csv", {"a", "b"}, {"g"}, memory).data.size(), 3);
+  std::istringstream four("a,b,g\n1,2,3\n1,2,3\n1,2,3\n1,2,3\n");
+  try {
+    parse_measurements(four, "D.csv", {"a", "b"}, {"g"}, memory);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "D.csv:5: the rows read so far need more than the 0 MiB of memory allowed for "
+                 "them; expected a smaller file");
+  }
+  // The default file limit covers what kincal writes (simulate --poses 1000000 is 132 MB)
+  // and an hour of a tracker logging at 1 kHz.
+  EXPECT_GE(CsvLimits{}.max_file_bytes, std::size_t{1} << 30);
   // /dev/zero: stops at once, on the first NUL byte.
   try {
     read_measurements("/dev/zero", kActuators, kReadings);

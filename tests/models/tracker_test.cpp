@@ -231,7 +231,9 @@ TEST(TrackerFiles, RoundTripAndErrorsNameTheField) {
   p = ModelRegistry::global().sensor("pose-tracker").write(pose, params_of(pose));
   p["name"] = "my cam";
   EXPECT_EQ(sensor_read_error("pose-tracker", p)
-                .rfind("m.json: sensors[0].name: expected a non-empty name", 0),
+                .rfind("m.json: sensors[0].name: expected a name within kincal's name policy, got "
+                       "\"my cam\", which contains ' '",
+                       0),
             0u);
 }
 
