@@ -68,8 +68,8 @@ int run_fk(const Args& args) {
     throw CliError("--" + option + " '" + text + "': " + row.reason +
                    "; expected actuator values the model can reach");
   if (!json_file.empty()) {
-    nlohmann::ordered_json json = {{"format", "kincal-fk"},
-                                   {"model", vm["model"].as<std::string>()}};
+    nlohmann::ordered_json json = {
+        {"format", "kincal-fk"}, {"version", 1}, {"model", vm["model"].as<std::string>()}};
     json.update(row_json(*model, row));
     plan.write({{"--json", json.dump(2) + "\n"}});
     if (plan.to_stdout("--json")) return 0;

@@ -57,8 +57,8 @@ int run_ik(const Args& args) {
     throw CliError("--pose '" + text + "': " + row.reason +
                    "; expected a pose the model can reach");
   if (!json_file.empty()) {
-    nlohmann::ordered_json json = {{"format", "kincal-ik"},
-                                   {"model", vm["model"].as<std::string>()}};
+    nlohmann::ordered_json json = {
+        {"format", "kincal-ik"}, {"version", 1}, {"model", vm["model"].as<std::string>()}};
     json.update(row_json(*model, row));
     plan.write({{"--json", json.dump(2) + "\n"}});
     if (plan.to_stdout("--json")) return 0;

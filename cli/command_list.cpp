@@ -105,7 +105,7 @@ int run_list(const Args& args) {
   if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();
   const bool json_to_stdout = !json_file.empty() && plan.to_stdout("--json");
-  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  nlohmann::ordered_json json = json_document("kincal-list");
   bool first = true;
   for (const auto& [name, list] : sections) {
     if (!what.empty() && what != name) continue;

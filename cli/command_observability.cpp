@@ -180,7 +180,8 @@ int run_observability(const Args& args) {
     if (want_sensitivity) std::cout << sensitivity_text(sensitivity);
   }
   if (vm.count("json")) {
-    nlohmann::ordered_json out = to_json(a);
+    nlohmann::ordered_json out = json_document("kincal-observability");
+    out.update(to_json(a));
     if (want_sensitivity) out["sensitivity"] = sensitivity_json(sensitivity);
     plan.write({{"--json", out.dump(2) + "\n"}});
   }

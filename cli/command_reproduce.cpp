@@ -290,6 +290,7 @@ int run_reproduce(const Args& args) {
                                  {"trace.csv", trace_csv.str()}});
   if (!json_file.empty()) {
     nlohmann::ordered_json json = {{"format", "kincal-reproduce"},
+                                   {"version", 1},
                                    {"solver", choice.name},
                                    {"trials_per_case", num_trials},
                                    {"partial", partial},

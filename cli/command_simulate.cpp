@@ -267,6 +267,8 @@ int run_simulate(const Args& args) {
   std::vector<std::pair<std::string, std::string>> outputs;
   if (vm.count("json")) {
     auto json = to_json(scenario, run, case_id, model_name);
+    json["format"] = "kincal-simulate";  // keys are sorted in this document
+    json["version"] = 1;
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
     outputs.push_back({"--json", json.dump(2) + "\n"});
   }

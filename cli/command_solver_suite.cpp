@@ -123,7 +123,10 @@ int run_solver_suite(const Args& args) {
   plan.check();
   const bool json_to_stdout = json && plan.to_stdout("--json");
 
-  nlohmann::json out = {{"problems", selected.size()}, {"solvers", nlohmann::json::array()}};
+  nlohmann::json out = {{"format", "kincal-solver-suite"},
+                        {"version", 1},
+                        {"problems", selected.size()},
+                        {"solvers", nlohmann::json::array()}};
   std::ostream& text = json_to_stdout ? std::cerr : std::cout;
   int broken = 0;
   long runs_per_solver = 0;

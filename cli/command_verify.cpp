@@ -65,9 +65,10 @@ int run_verify(const Args& args) {
   const std::string expected = (*entry)["sha256"].get<std::string>();
   const std::string actual = sha256_hex(file_bytes(model_file));
   if (!json_file.empty()) {
-    const nlohmann::ordered_json verdict = {
-        {"format", "kincal-verify"},   {"report", report_file}, {"model", model_file},
-        {"match", actual == expected}, {"sha256", actual},      {"expected_sha256", expected}};
+    const nlohmann::ordered_json verdict = {{"format", "kincal-verify"},   {"version", 1},
+                                            {"report", report_file},       {"model", model_file},
+                                            {"match", actual == expected}, {"sha256", actual},
+                                            {"expected_sha256", expected}};
     plan.write({{"--json", verdict.dump(2) + "\n"}});
   }
   if (actual != expected) {

@@ -66,4 +66,8 @@ std::string version_text() {
   return text + "\n";
 }
 
+nlohmann::ordered_json json_document(const std::string& format, int version) {
+  return {{"format", format}, {"version", version}};
+}
+
 }  // namespace kincal::cli

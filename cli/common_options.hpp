@@ -2,11 +2,13 @@
 // The options every command spells the same way, in one place, so that a new command gets
 // them right by calling these (docs/architecture.md, "A CLI command"):
 //
-//   --json FILE|-   the command's result as JSON (add_json_option / json_output)
+//   --json FILE|-   the command's result as JSON (add_json_option / json_output), a document
+//                   that starts with its format and version (json_document)
 //   --progress      progress with time remaining on stderr (add_progress_option; cli/progress.hpp)
 //   --version       handled by parse_command_line for every command (version_text)
 //   defaults        shown as a person writes them (default_text)
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "kincal/cli/cli_util.hpp"
@@ -19,6 +21,11 @@ void add_json_option(po::options_description& options, const std::string& what);
 /// The --json path, or "" when not given. `alias` is an older name of the same option
 /// (calibrate's --report): it is accepted, and giving both is an error.
 std::string json_output(const po::variables_map& vm, const char* alias = nullptr);
+
+/// The start of every --json document: {"format": "kincal-<command>", "version": N}, so
+/// that a reader can tell what it holds and whether it knows that version (a test checks
+/// every command's). A format's version changes when a key changes meaning or goes away.
+nlohmann::ordered_json json_document(const std::string& format, int version = 1);
 
 /// Adds --progress: progress with time remaining on stderr even when stderr is not a
 /// terminal (it is shown on a terminal anyway).

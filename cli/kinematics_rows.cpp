@@ -147,8 +147,8 @@ nlohmann::ordered_json rows_json(const std::string& format, const std::string& m
     list.push_back(row_json(model, row));
     failures += !row.ok();
   }
-  return {{"format", format}, {"model", model_file}, {"input", input_file},
-          {"units", units},   {"rows", list},        {"failed", failures}};
+  return {{"format", format}, {"version", 1}, {"model", model_file}, {"input", input_file},
+          {"units", units},   {"rows", list}, {"failed", failures}};
 }
 
 }  // namespace kincal::cli

@@ -1,0 +1,69 @@
+// Every command's --json document starts with its format ("kincal-<something>") and a version
+// number (cli/common_options.hpp: json_document), so that a reader can tell what it holds.
+// The walk covers every command in the program's table: a new command without a case here
+// fails the test.
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "cli_runner.hpp"
+#include "kincal/cli/commands.hpp"
+
+namespace kincal::testing {
+namespace {
+
+TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
+  TempDir dir("json-format");
+  const std::string m = dir / "M.json", d = dir / "D.csv", c = dir / "C.json", r = dir / "R.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  ASSERT_EQ(
+      run_cli("simulate --model " + m + " --poses 30 --seed 4 --validation 1 --write-data " + d)
+          .exit_code,
+      0);
+  ASSERT_EQ(
+      run_cli("calibrate --model " + m + " --data " + d + " --out " + c + " --json " + r).exit_code,
+      0);
+  // The command line of each command that writes a --json document (given as --json -).
+  const std::map<std::string, std::string> commands = {
+      {"list", "list"},
+      {"simulate", "simulate --case 1 --validation 1"},
+      {"reproduce", "reproduce --trials 1"},
+      {"fk", "fk --model " + m + " --actuators 354,354,354,354,354,382"},
+      {"ik", "ik --model " + m + " --pose 0,0,300,0,0,0"},
+      {"calibrate", "calibrate --model " + m + " --data " + d},
+      {"observability", "observability --model " + m + " --data " + d},
+      {"validate", "validate --model " + c + " --data " + d + " --report " + r},
+      {"design", "design --model " + m + " --count 30 --candidates 60 --out /dev/null"},
+      {"solver-suite", "solver-suite --solver gn --problem mgh01*"},
+      {"verify", "verify --report " + r + " --model " + c},
+  };
+  // Commands whose result is a file of their own format, not a --json report.
+  const std::map<std::string, std::string> documents = {
+      {"model", "model"},
+      {"export", "export --model " + c + " --format json"},
+  };
+  std::set<std::string> covered;
+  for (const auto& [name, args] : commands) covered.insert(name);
+  for (const auto& [name, args] : documents) covered.insert(name);
+  for (const auto& command : cli::commands())
+    EXPECT_EQ(covered.count(command.name), 1u) << "no case for command " << command.name;
+
+  const auto check = [](const std::string& what, const CliResult& run) {
+    ASSERT_EQ(run.exit_code, 0) << what << ": " << run.err;
+    const auto json = nlohmann::json::parse(run.out, nullptr, false);
+    ASSERT_TRUE(json.is_object()) << what << ": " << run.out.substr(0, 200);
+    ASSERT_TRUE(json.contains("format") && json["format"].is_string()) << what;
+    EXPECT_EQ(json["format"].get<std::string>().rfind("kincal-", 0), 0u) << what;
+    ASSERT_TRUE(json.contains("version") && json["version"].is_number_integer()) << what;
+    EXPECT_GE(json["version"].get<int>(), 1) << what;
+  };
+  for (const auto& [name, args] : commands) check(name, run_cli(args + " --json -"));
+  for (const auto& [name, args] : documents) check(name, run_cli(args));
+}
+
+}  // namespace
+}  // namespace kincal::testing
