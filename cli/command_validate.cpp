@@ -155,7 +155,8 @@ int run_validate(const Args& args) {
       "data", po::value<std::string>(),
       "held-out measurement file (CSV): configurations the calibration did not use")(
       "report", po::value<std::string>(),
-      "the calibration's report (JSON): its sigma_hat is the noise, and its parameters' std "
+      "the calibration's report (JSON) written with --model (its calibrated_model.sha256 "
+      "must be the model file's): its sigma_hat is the noise, and its parameters' std "
       "and correlation are propagated to the readings")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "html", po::value<std::string>(),
