@@ -293,9 +293,9 @@ TEST(CliDesignDegenerate, MemoryForTheMatricesIsCheckedBeforeAnyWork) {
     m["mechanism"]["joints"] = joints;
     m["free"] = {"j*.a", "j*.alpha", "j*.d", "j*.theta"};
   });
-  // 3 GB of address space: 16 matrices of 10^4 x 10^4 doubles need 12.8 GB.
+  // 2 GB of address space: 16 matrices of 10^4 x 10^4 doubles need 12.8 GB.
   const auto r = run_cli("design --model " + big + " --count 30 --candidates 100 --out " + out,
-                         "ulimit -v 3000000; ");
+                         "ulimit -v 2000000; ");
   expect_one_line_error(r, "big.json (10000 free parameters): needs about", "10^4 parameters");
   EXPECT_NE(r.err.find("of memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("expected at most about"), std::string::npos) << r.err;
