@@ -262,6 +262,7 @@ int run_simulate(const Args& args) {
   // The same identifiability check as calibrate's, on the simulated data at the nominal
   // values: calibrate refuses data that cannot determine the free parameters, and a solve of
   // them would end "converged" somewhere in a valley of equally good fits.
+  std::vector<std::string> fixed_by_identifiability;
   {
     const std::shared_ptr<CalibrationProblem> problem = scenario.make_problem();
     VectorXd r;
@@ -276,6 +277,7 @@ int run_simulate(const Args& args) {
           "widen --config-range, measure more --poses, fix parameters (the model file's "
           "\"free\" list), or pass --allow-rank-deficient");
       scenario.free_indices = check.free;
+      fixed_by_identifiability = check.fixed;
     }
   }
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
@@ -291,6 +293,7 @@ int run_simulate(const Args& args) {
   if (vm.count("json")) {
     auto json = to_json(scenario, run, case_id, model_name);
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
+    json["fixed_by_identifiability"] = fixed_by_identifiability;
     outputs.push_back({"--json", json.dump(2) + "\n"});
   }
   if (vm.count("trace")) outputs.push_back({"--trace", trace_csv(run)});

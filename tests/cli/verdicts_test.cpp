@@ -230,6 +230,9 @@ TEST(CliRankDeficient, SimulateRefusesWhatCalibrateRefuses) {
   ASSERT_TRUE(fs::exists(data));
   EXPECT_NE(allowed.err.find("fixing"), std::string::npos) << allowed.err;
   EXPECT_NE(allowed.out.find("(1 free parameters)"), std::string::npos) << allowed.out;
+  const Json result = Json::parse(read_text(json));
+  EXPECT_EQ(result["parameters"].size(), 1u);
+  EXPECT_EQ(result["fixed_by_identifiability"].size(), 23u);
   ASSERT_EQ(run_cli("model --out " + dir / "M.json").exit_code, 0);
   const auto calibrate = run_cli("calibrate --model " + dir / "M.json" + " --data " + data);
   expect_one_line_error(calibrate, "the data determine only 1 of 24 free parameters",
