@@ -196,8 +196,8 @@ int run_calibrate(const Args& args) {
       throw CliError(data_file + ": " + why);
     check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
     const IdentifiabilityCheck check = check_identifiability(
-        "calibrate", data_file, probe, J, with_prior, vm["allow-rank-deficient"].as<bool>(),
-        id_options, "fix parameters with --fix, or pass --allow-rank-deficient");
+        "calibrate", data_file, probe, J, vm["allow-rank-deficient"].as<bool>(), id_options,
+        "fix parameters with --fix, or pass --allow-rank-deficient");
     free = check.free;
     fixed_by_identifiability = check.fixed;
   }

@@ -15,7 +15,6 @@
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
@@ -272,8 +271,7 @@ int run_simulate(const Args& args) {
           "simulate",
           "the simulated data (" + std::to_string(scenario.calibration.size()) +
               " configurations, seed " + std::to_string(scenario.options.seed) + ")",
-          *problem, J, model_prior(*problem).any(), vm["allow-rank-deficient"].as<bool>(),
-          IdentifiabilityOptions{},
+          *problem, J, vm["allow-rank-deficient"].as<bool>(), IdentifiabilityOptions{},
           "widen --config-range, measure more --poses, fix parameters (the model file's "
           "\"free\" list), or pass --allow-rank-deficient");
       scenario.free_indices = check.free;

@@ -31,7 +31,7 @@ std::string describe_deficiency(const Identifiability& a) {
 
 IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
                                            const CalibrationProblem& problem, const MatrixXd& J,
-                                           bool with_prior, bool allow_rank_deficient,
+                                           bool allow_rank_deficient,
                                            const IdentifiabilityOptions& options,
                                            const std::string& remedy) {
   IdentifiabilityCheck check;
@@ -41,8 +41,10 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
   // With a prior, a direction the data cannot see is determined by the prior: what must
   // have full rank is the data stacked with the prior's rows.
   MatrixXd determining = J;
+  const Prior prior = model_prior(problem);
+  const bool with_prior = prior.any();
   if (with_prior) {
-    const VectorXd precision = model_prior(problem).precision();
+    const VectorXd precision = prior.precision();
     add_prior(a, J, precision, data_share(J, precision), options);
     determining.conservativeResize(J.rows() + J.cols(), J.cols());
     determining.bottomRows(J.cols()) = precision.cwiseSqrt().asDiagonal();

@@ -23,14 +23,15 @@ struct IdentifiabilityCheck {
   std::vector<std::string> fixed;  ///< free parameters fixed because the data cannot see them
 };
 
-/// Checks `problem` (its free parameters at their initial values; J its Jacobian there).
+/// Checks `problem` (its free parameters at their initial values; J its Jacobian there),
+/// with the prior the model states on them (model_prior), if any.
 /// When data and prior do not determine every free parameter: without
 /// `allow_rank_deficient`, throws CliError "<where>: <describe_deficiency>; <remedy>"; with it,
 /// keeps the identifiable subset (identifiable_subset), says on stderr which parameters it fixes at
 /// their model values, and throws when no free parameter is left to solve for.
 IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
                                            const CalibrationProblem& problem, const MatrixXd& J,
-                                           bool with_prior, bool allow_rank_deficient,
+                                           bool allow_rank_deficient,
                                            const IdentifiabilityOptions& options,
                                            const std::string& remedy);
 
