@@ -7,6 +7,7 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_report.hpp"
+#include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
@@ -19,27 +20,6 @@
 namespace kincal::cli {
 
 namespace {
-
-// One line naming what the data cannot determine, for the error before solving.
-std::string describe_deficiency(const Identifiability& a) {
-  char rcond[32];
-  std::snprintf(rcond, sizeof rcond, "%g", a.rcond);
-  std::string text;
-  if (!a.unseen.empty()) {
-    text = "no reading depends on free parameter(s)";
-    for (const auto& name : a.unseen) text += " " + name;
-    text += "; ";
-  }
-  text += "the data determine only " + std::to_string(a.numerical_rank) + " of " +
-          std::to_string(a.num_parameters) + " free parameters (numerical rank, threshold " +
-          rcond + " x largest scaled singular value)";
-  int shown = 0;
-  for (const auto& c : a.combinations) {
-    if (!c.null_space || shown == 3) continue;
-    text += std::string(shown++ ? "; " : ": cannot separate ") + "[" + c.describe() + "]";
-  }
-  return text;
-}
 
 // The loss must reach the report (its name and the standard deviations depend on it), so it
 // has one way in: --loss. A backend option would solve with it behind the report's back.
@@ -200,40 +180,11 @@ int run_calibrate(const Args& args) {
     if (!probe.evaluate(probe.initial_free_parameters(), &r, &J, &why))
       throw CliError(data_file + ": " + why);
     check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
-    Identifiability a = analyze_identifiability(J, probe.parameter_names(), id_options);
-    // With a prior, a direction the data cannot see is determined by the prior: what must
-    // have full rank is the data stacked with the prior's rows.
-    const VectorXd precision = model_prior(probe).precision();
-    MatrixXd determining = J;
-    if (with_prior) {
-      add_prior(a, J, precision, data_share(J, precision), id_options);
-      determining.conservativeResize(J.rows() + J.cols(), J.cols());
-      determining.bottomRows(J.cols()) = precision.cwiseSqrt().asDiagonal();
-      if (a.rank_deficient() && !a.undetermined())
-        note("calibrate", "the data alone determine " + std::to_string(a.numerical_rank) + " of " +
-                              std::to_string(a.num_parameters) +
-                              " free parameters; the prior determines the rest");
-    }
-    if (a.undetermined()) {
-      if (!vm["allow-rank-deficient"].as<bool>())
-        throw CliError(data_file + ": " + describe_deficiency(a) +
-                       (with_prior ? " (the prior does not make up for it)" : "") +
-                       "; fix parameters with --fix, or pass --allow-rank-deficient");
-      const std::vector<int> keep = identifiable_subset(determining, id_options);
-      std::vector<int> kept;
-      std::size_t next = 0;
-      for (std::size_t i = 0; i < free.size(); ++i) {
-        if (next < keep.size() && keep[next] == static_cast<int>(i)) {
-          kept.push_back(free[i]);
-          ++next;
-        } else {
-          fixed_by_identifiability.push_back(model->parameters()[free[i]].name);
-          note("calibrate", "fixing " + fixed_by_identifiability.back() +
-                                " at its model value (not identifiable from this data)");
-        }
-      }
-      free = kept;
-    }
+    const IdentifiabilityCheck check = check_identifiability(
+        "calibrate", data_file, probe, J, vm["allow-rank-deficient"].as<bool>(), id_options,
+        "fix parameters with --fix, or pass --allow-rank-deficient");
+    free = check.free;
+    fixed_by_identifiability = check.fixed;
   }
   if (readings == static_cast<int>(free.size()))
     note("calibrate",

@@ -2,6 +2,7 @@
 // sensor placements) to measure, and writes them as a measurement template that calibrate
 // reads once the readings are filled in.
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +11,7 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_pages.hpp"
+#include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
@@ -48,6 +50,43 @@ std::string criterion_meaning(DesignCriterion c, double orientation_length) {
   return "";
 }
 
+constexpr double kNoiseStdMin = 1e-9, kNoiseStdMax = 1e6;
+
+// n x n matrices design holds at once, at most: the prior and existing data, the workspace
+// weight, the exchange's M, M^-1, M0 and W, a criterion's eigenvectors and inverse, the
+// covariances compared, and temporaries.
+constexpr double kDesignMatrices = 16;
+
+// The information matrix M (normalised parameters) must determine every free parameter:
+// finite, and of full numerical rank, with its square root's columns scaled as calibrate
+// scales the Jacobian's. Throws CliError "<what>: <the deficiency>; <remedy>" otherwise.
+void check_information(const MatrixXd& M, const std::vector<std::string>& names,
+                       const std::string& what, const std::string& remedy) {
+  const int n = static_cast<int>(M.rows());
+  if (!M.allFinite())
+    throw CliError(what +
+                   ": the information matrix is not finite; expected a reading noise std "
+                   "(--noise-std, the model's reading_std) on the scale of the readings");
+  // R with R^T R = M: zero columns for the parameters nothing informs (exactly, so that
+  // they are named), the symmetric square root of the rest.
+  std::vector<int> seen;
+  for (int i = 0; i < n; ++i)
+    if (M(i, i) > 0) seen.push_back(i);
+  const int n_seen = static_cast<int>(seen.size());
+  MatrixXd R = MatrixXd::Zero(std::max(n_seen, 1), n);
+  if (n_seen > 0) {
+    MatrixXd sub(n_seen, n_seen);
+    for (int a = 0; a < n_seen; ++a)
+      for (int b = 0; b < n_seen; ++b) sub(a, b) = M(seen[a], seen[b]);
+    const Eigen::SelfAdjointEigenSolver<MatrixXd> eig(sub);
+    const MatrixXd root =
+        eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eig.eigenvectors().transpose();
+    for (int a = 0; a < n_seen; ++a) R.col(seen[a]) = root.col(a);
+  }
+  const Identifiability a = analyze_identifiability(R, names);
+  if (a.rank_deficient()) throw CliError(what + ": " + describe_deficiency(a) + "; " + remedy);
+}
+
 // The reading noise std per reading: --noise-std per unit, else the model's reading_std.
 VectorXd noise_std_option(const po::variables_map& vm, const MeasurementModel& model,
                           bool* assumed) {
@@ -64,8 +103,15 @@ VectorXd noise_std_option(const po::variables_map& vm, const MeasurementModel& m
       throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + "': no value for " +
                      units[i] + " (reading " + model.reading_names()[i] + ")");
     std[i] = values.get(units[i]);
-    if (!(std[i] > 0))
-      throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + "': expected > 0");
+    // Outside this range the information (spread / noise)^2 over- or underflows, or the
+    // figures mean nothing: 1e-9 mm is a picometre, 1e6 mm a kilometre.
+    if (!(std[i] >= kNoiseStdMin && std[i] <= kNoiseStdMax)) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "': %g %s for reading %s; expected a noise std between %g and %g", std[i],
+                    units[i].c_str(), model.reading_names()[i].c_str(), kNoiseStdMin, kNoiseStdMax);
+      throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + text + " " + units[i]);
+    }
   }
   return std;
 }
@@ -109,8 +155,20 @@ std::string template_csv(const MeasurementModel& model, const Measurements& rows
   return out.str();
 }
 
+// A figure, or "n/a" where it is not a number (the random design compared with may not
+// determine every parameter).
+std::string figure(double v) {
+  char text[32];
+  if (std::isfinite(v))
+    std::snprintf(text, sizeof text, "%12.4g", v);
+  else
+    std::snprintf(text, sizeof text, "%12s", "n/a");
+  return text;
+}
+
 void print_prediction_row(const char* label, double designed, double random, double nominal) {
-  std::printf("  %-34s %12.4g %12.4g %12.4g\n", label, designed, random, nominal);
+  std::printf("  %-34s %s %s %s\n", label, figure(designed).c_str(), figure(random).c_str(),
+              figure(nominal).c_str());
 }
 
 }  // namespace
@@ -131,10 +189,11 @@ int run_design(const Args& args) {
       "measurement file (CSV) already measured: its readings count as information, and the "
       "design adds to them")(
       "noise-std", po::value<std::string>(),
-      "reading noise standard deviation per unit, e.g. 0.0072mm (default: the model's "
-      "reading_std)")("singularity-margin",
-                      po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
-                      "keep configurations whose conditioning is at least this fraction of home's")(
+      "reading noise standard deviation per unit, e.g. 0.0072mm, between 1e-9 and 1e6 (default: "
+      "the model's reading_std)")(
+      "singularity-margin",
+      po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
+      "keep configurations whose conditioning is at least this fraction of home's")(
       "orientation-length", po::value<std::string>(),
       "criterion I only: also weigh the orientation error, a rotation of 1 rad counting as a "
       "displacement of this length, e.g. 300mm (the tool's reach; default: position only)")(
@@ -198,8 +257,18 @@ int run_design(const Args& args) {
   if (n == 0) throw CliError("no free parameters: nothing to design for (use --free)");
   bool assumed_noise = false;
   design.noise_std = noise_std_option(vm, *model, &assumed_noise);
+  // The n x n matrices first (a model of 10^4 free parameters needs GBs of them), then the
+  // candidates' rows beside them: the exchange keeps each row, its transpose and M^-1 times
+  // it (and W M^-1 times it for A and I), and the workspace samples hold 6 rows each.
+  const double matrix_bytes =
+      kDesignMatrices * 8.0 * n * n + 8.0 * 6 * n * DesignOptions{}.workspace_samples;
+  check_memory_square((model_file.empty() ? std::string("the model") : model_file) + " (" +
+                          std::to_string(n) + " free parameters)",
+                      n, kDesignMatrices, "free parameter",
+                      8.0 * 6 * n * DesignOptions{}.workspace_samples);
   check_memory("--candidates " + std::to_string(design.num_random), design.num_random,
-               kConfigurationBytes + 8LL * model->num_readings() * (n + 2), "candidate");
+               kConfigurationBytes + 8.0 * model->num_readings() * (4.0 * n + 2 * 16 + 2),
+               "candidate", matrix_bytes);
 
   const VectorXd nominal = model->parameters().nominal_values();
   Measurements existing;
@@ -229,7 +298,29 @@ int run_design(const Args& args) {
                    std::to_string(new_readings + setup.existing_readings) + " readings for " +
                    std::to_string(n) +
                    " free parameters; expected at least as many readings as free parameters");
+  std::vector<std::string> free_names;
+  for (int i : setup.free_indices) free_names.push_back(model->parameters()[i].name);
+  // No design from these candidates can determine more than all of them together: a
+  // parameter no reading sees, or a box of 0 (every candidate at home), is an error here,
+  // not a template of copies of home with a criterion of -inf.
+  check_information(setup.base_information + candidates.rows.transpose() * candidates.rows,
+                    free_names,
+                    "no design of these " + std::to_string(candidates.size()) +
+                        " candidates determines every free parameter",
+                    "widen the box (--config-range), fix the parameters (--fix) or state a prior "
+                    "(--prior-std)");
   const DesignResult result = choose_design(candidates, setup, design);
+  check_information(design_information(candidates, result.chosen, setup), free_names,
+                    "the " + std::to_string(design.count) +
+                        " measurements chosen do not determine every free parameter",
+                    "raise --count, widen the box (--config-range) or state a prior "
+                    "(--prior-std)");
+  if (!std::isfinite(result.criterion_value))
+    throw CliError("the design's criterion " + std::string(to_string(design.criterion)) + " is " +
+                   (std::isnan(result.criterion_value) ? "not a number"
+                                                       : std::to_string(result.criterion_value)) +
+                   "; expected a finite value (a reading noise std on the scale of the readings, "
+                   "a box the readings see)");
   const bool want_bound = vm["bound"].as<bool>();
   if (want_bound && design.criterion == DesignCriterion::kE)
     note("design", "--bound: the E criterion is not smooth; no bound is computed for it");
@@ -244,6 +335,10 @@ int run_design(const Args& args) {
       design_covariance(design_information(candidates, result.chosen, setup), setup);
   const MatrixXd random_cov =
       design_covariance(design_information(candidates, random, setup), setup);
+  if (!random_cov.allFinite())
+    note("design",
+         "the random design compared with does not determine every free parameter: "
+         "its predictions are n/a (null in the JSON)");
   const MatrixXd nominal_cov = setup.scale.array().square().matrix().asDiagonal();
   const PoseErrorPrediction designed_pose = predict_pose_errors(setup.workspace, designed_cov);
   const PoseErrorPrediction random_pose = predict_pose_errors(setup.workspace, random_cov);
@@ -323,8 +418,9 @@ int run_design(const Args& args) {
                 "designed", "random", "nominal");
     for (int c = 0; c < n; ++c) {
       const Parameter& p = model->parameters()[free[c]];
-      std::printf("  %-22s %-4s %12.4g %12.4g %12.4g\n", p.name.c_str(), p.unit.c_str(),
-                  std::sqrt(designed_cov(c, c)), std::sqrt(random_cov(c, c)), setup.scale[c]);
+      std::printf("  %-22s %-4s %s %s %s\n", p.name.c_str(), p.unit.c_str(),
+                  figure(std::sqrt(designed_cov(c, c))).c_str(),
+                  figure(std::sqrt(random_cov(c, c))).c_str(), figure(setup.scale[c]).c_str());
     }
     std::printf("template: %s (%d configurations; fill in the reading columns)\n",
                 vm["out"].as<std::string>().c_str(), rows.size());

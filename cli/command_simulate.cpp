@@ -8,6 +8,7 @@
 #include <set>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
@@ -170,7 +171,10 @@ int run_simulate(const Args& args) {
       "model file (JSON) to simulate instead of a preset; its free parameters get the errors")(
       "write-data", po::value<std::string>(),
       "write the simulated measurements as CSV to FILE, and the true model beside it as "
-      "<FILE stem>.truth.json");
+      "<FILE stem>.truth.json")(
+      "allow-rank-deficient", po::bool_switch(),
+      "as calibrate's: when the simulated data cannot determine every free parameter, fix the "
+      "dependent ones at their nominal values and solve for the rest instead of stopping");
   po::variables_map vm;
   if (!parse_command_line("simulate", args, options, vm)) return 0;
 
@@ -255,6 +259,26 @@ int run_simulate(const Args& args) {
                    std::to_string((unknowns + scenario.model->num_readings() - 1) /
                                   scenario.model->num_readings()) +
                    " configurations; see kincal observability)");
+  // The same identifiability check as calibrate's, on the simulated data at the nominal
+  // values: calibrate refuses data that cannot determine the free parameters, and a solve of
+  // them would end "converged" somewhere in a valley of equally good fits.
+  std::vector<std::string> fixed_by_identifiability;
+  {
+    const std::shared_ptr<CalibrationProblem> problem = scenario.make_problem();
+    VectorXd r;
+    MatrixXd J;
+    if (problem->evaluate(problem->initial_free_parameters(), &r, &J)) {
+      const IdentifiabilityCheck check = check_identifiability(
+          "simulate",
+          "the simulated data (" + std::to_string(scenario.calibration.size()) +
+              " configurations, seed " + std::to_string(scenario.options.seed) + ")",
+          *problem, J, vm["allow-rank-deficient"].as<bool>(), IdentifiabilityOptions{},
+          "widen --config-range, measure more --poses, fix parameters (the model file's "
+          "\"free\" list), or pass --allow-rank-deficient");
+      scenario.free_indices = check.free;
+      fixed_by_identifiability = check.fixed;
+    }
+  }
   const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
 
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
@@ -270,6 +294,7 @@ int run_simulate(const Args& args) {
     json["format"] = "kincal-simulate";  // keys are sorted in this document
     json["version"] = 1;
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
+    json["fixed_by_identifiability"] = fixed_by_identifiability;
     outputs.push_back({"--json", json.dump(2) + "\n"});
   }
   if (vm.count("trace")) outputs.push_back({"--trace", trace_csv(run)});

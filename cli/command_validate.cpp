@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 
@@ -11,6 +12,7 @@
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/sha256.hpp"
 #include "kincal/framework/json_input.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/validation.hpp"
@@ -39,6 +41,20 @@ double report_number(const Json& value, const std::string& where) {
   return value.get<double>();
 }
 
+// A report's number must be one validate can compute with: its square a finite, normal
+// double (so 5e-324 and 1e300 are refused as a noise or a std), within [low, high].
+double report_number_in(const Json& value, const std::string& where, double low, double high,
+                        const char* expected) {
+  const double v = report_number(value, where);
+  if (!(v >= low && v <= high)) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    throw CliError(where + " is " + text + "; expected " + expected);
+  }
+  return v;
+}
+constexpr double kLargest = 1e150, kSmallest = 1e-150;
+
 ReportPrediction read_report(const std::string& path) {
   const Json report = read_json_file(path, "calibration report");
   if (!report.is_object() || report.value("format", "") != "kincal-calibration-report")
@@ -46,8 +62,12 @@ ReportPrediction read_report(const std::string& path) {
   ReportPrediction p;
   for (const char* key : {"sigma_hat", "weighted", "parameters", "correlation"})
     if (!report.contains(key)) throw CliError(path + ": no '" + key + "' field");
-  if (!report["sigma_hat"].is_null())
+  if (!report["sigma_hat"].is_null()) {
     p.sigma_hat = report_number(report["sigma_hat"], path + ": sigma_hat");
+    if (p.sigma_hat != 0)  // 0 (an exact fit) is refused with its reason by the caller
+      report_number_in(report["sigma_hat"], path + ": sigma_hat", kSmallest, kLargest,
+                       "a finite noise >= 1e-150 and <= 1e150");
+  }
   if (!report["weighted"].is_boolean()) throw CliError(path + ": weighted: expected true or false");
   p.weighted = report["weighted"].get<bool>();
   p.sigma_unit = report.value("sigma_hat_unit", "");
@@ -66,7 +86,8 @@ ReportPrediction read_report(const std::string& path) {
       throw CliError(where +
                      ": std is null (the calibration could not estimate it); "
                      "validate without --report to compare with the noise alone");
-    p.std[i] = report_number(entry["std"], where + ".std");
+    p.std[i] = report_number_in(entry["std"], where + ".std", 0, kLargest,
+                                "a finite std >= 0 and <= 1e150");
   }
   const Json& correlation = report["correlation"];
   if (!correlation.is_array() || static_cast<int>(correlation.size()) != n)
@@ -78,13 +99,47 @@ ReportPrediction read_report(const std::string& path) {
       throw CliError(path + ": correlation[" + std::to_string(i) + "]: expected " +
                      std::to_string(n) + " numbers");
     for (int j = 0; j < n; ++j)
-      p.correlation(i, j) =
-          report_number(correlation[i][j], path + ": correlation[" + std::to_string(i) + "][" +
-                                               std::to_string(j) + "]");
+      p.correlation(i, j) = report_number_in(
+          correlation[i][j],
+          path + ": correlation[" + std::to_string(i) + "][" + std::to_string(j) + "]", -1 - 1e-9,
+          1 + 1e-9, "a correlation in [-1, 1]");
   }
-  if (report.contains("calibrated_model") && report["calibrated_model"].is_object())
-    p.calibrated_sha256 = report["calibrated_model"].value("sha256", "");
+  if (report.contains("calibrated_model") && !report["calibrated_model"].is_null()) {
+    const Json& entry = report["calibrated_model"];
+    if (!entry.is_object() || !entry.contains("sha256") || !entry["sha256"].is_string())
+      throw CliError(path +
+                     ": calibrated_model: expected {\"file\": ..., \"sha256\": ...} or null");
+    p.calibrated_sha256 = entry["sha256"].get<std::string>();
+  }
   return p;
+}
+
+// The report must be the one written with the model file: calibrate records the SHA-256 of
+// the model it wrote, as `kincal verify` checks. A report without one (calibrate without
+// --out) cannot be checked, and validate says so.
+void check_report_is_for_model(const std::string& report_file, const std::string& expected,
+                               const std::string& model_file) {
+  if (expected.empty()) {
+    note("validate", report_file +
+                         " names no calibrated model (calibrate ran without --out), so it cannot "
+                         "be checked to be the report of " +
+                         model_file);
+    return;
+  }
+  // The model file has been read with the JSON limits already; read at most as much again.
+  std::ifstream in(model_file, std::ios::binary);
+  std::string bytes;
+  char chunk[65536];
+  while (in && bytes.size() <= JsonLimits{}.max_bytes) {
+    in.read(chunk, sizeof chunk);
+    bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
+  if (!in.eof()) throw CliError(model_file + ": cannot read model file");
+  const std::string actual = sha256_hex(bytes);
+  if (actual != expected)
+    throw CliError(model_file + " is not the calibrated model " + report_file +
+                   " describes: its SHA-256 is " + actual + ", the report's " + expected +
+                   "; expected the model written with this report (kincal verify checks a pair)");
 }
 
 std::string format(const char* fmt, double a) {
@@ -101,7 +156,8 @@ int run_validate(const Args& args) {
       "data", po::value<std::string>(),
       "held-out measurement file (CSV): configurations the calibration did not use")(
       "report", po::value<std::string>(),
-      "the calibration's report (JSON): its sigma_hat is the noise, and its parameters' std "
+      "the calibration's report (JSON) written with --model (its calibrated_model.sha256 "
+      "must be the model file's): its sigma_hat is the noise, and its parameters' std "
       "and correlation are propagated to the readings")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "html", po::value<std::string>(),
@@ -131,6 +187,7 @@ int run_validate(const Args& args) {
   if (vm.count("report")) {
     const std::string report_file = vm["report"].as<std::string>();
     report = read_report(report_file);
+    check_report_is_for_model(report_file, report.calibrated_sha256, model_file);
     if (!(report.sigma_hat > 0))
       throw CliError(report_file +
                      ": sigma_hat is null or 0 (an exact fit says nothing about the noise); "
@@ -173,6 +230,13 @@ int run_validate(const Args& args) {
   Validation v;
   try {
     v = validate_held_out(model, loaded.data, values, input);
+  } catch (const NonFiniteValidation& e) {  // no verdict on NaN: name the line instead
+    char residual[40];
+    std::snprintf(residual, sizeof residual, "%.3g", e.residual);
+    throw CliError(data_file + ":" + std::to_string(loaded.lines[e.configuration]) + ": field '" +
+                   model->reading_names()[e.reading] + "': predicted - measured is " + residual +
+                   ", which makes the held-out statistics overflow (not finite: no verdict); "
+                   "expected readings on the scale of the machine");
   } catch (const std::exception& e) {
     throw CliError(data_file + ": " + e.what());
   }

@@ -82,6 +82,22 @@ void check_memory(const std::string& what, double count, double bytes_per_item,
                  unit + "s");
 }
 
+void check_memory_square(const std::string& what, double n, double matrices,
+                         const std::string& unit, double fixed_bytes) {
+  const double per_entry = 8.0 * matrices;
+  const double needed = fixed_bytes + per_entry * n * n;
+  const double available = static_cast<double>(available_memory_bytes());
+  if (needed <= available) return;
+  const double most = std::floor(std::sqrt(std::max(0.0, available - fixed_bytes) / per_entry));
+  char most_text[32], matrices_text[32];
+  std::snprintf(most_text, sizeof most_text, "%.0f", most);
+  std::snprintf(matrices_text, sizeof matrices_text, "%.0f", matrices);
+  throw CliError(what + ": needs about " + human_bytes(needed) + " of memory (" + matrices_text +
+                 " matrices of " + unit + "s x " + unit + "s), more than the " +
+                 human_bytes(available) + " available; expected at most about " + most_text + " " +
+                 unit + "s");
+}
+
 double solve_bytes_per_row(int parameters) { return 12.0 * 8.0 * std::max(parameters, 1); }
 
 }  // namespace kincal::cli

@@ -20,6 +20,12 @@ std::uint64_t available_memory_bytes();
 void check_memory(const std::string& what, double count, double bytes_per_item,
                   const std::string& unit, double fixed_bytes = 0);
 
+/// The same for `matrices` dense n x n matrices of doubles held at once (n = `n`, e.g. the
+/// free parameters): needs matrices x 8 n^2 bytes (plus `fixed_bytes`); the message names
+/// the largest n that fits.
+void check_memory_square(const std::string& what, double n, double matrices,
+                         const std::string& unit, double fixed_bytes = 0);
+
 /// Bytes of memory a least-squares solve needs per residual row with `parameters` unknowns:
 /// the Jacobian, and the copies solvers and the identifiability analysis make of it
 /// (measured: lm and ceres about 4 Jacobians' worth, observability's SVD about 8; 12 is the

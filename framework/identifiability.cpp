@@ -65,6 +65,12 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
   a.rcond = options.rcond;
   const int n = a.num_parameters;
   if (n == 0) return a;
+  if (a.num_residuals == 0) {  // no reading: nothing is seen (and Eigen's SVD needs rows)
+    a.column_norms = a.singular_values = VectorXd::Zero(n);
+    a.unseen = names;
+    a.condition_number = std::numeric_limits<double>::infinity();
+    return a;
+  }
 
   const MatrixXd scaled = scale_columns(J, a.column_norms);
   for (int i = 0; i < n; ++i)
@@ -134,6 +140,9 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
 void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
                const VectorXd& data_share, const IdentifiabilityOptions& options) {
   const int n = static_cast<int>(J.cols());
+  a.data_share = data_share;
+  a.numerical_rank_with_prior = 0;
+  if (n == 0) return;  // Eigen's SVD of a matrix without columns is not defined
   MatrixXd stacked = MatrixXd::Zero(J.rows() + n, n);
   stacked.topRows(J.rows()) = J;
   stacked.bottomRows(n).diagonal() = precision.cwiseSqrt();
@@ -141,13 +150,12 @@ void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
   const MatrixXd scaled = scale_columns(stacked, norms);
   const Eigen::JacobiSVD<MatrixXd> svd(scaled);
   const VectorXd& s = svd.singularValues();
-  a.numerical_rank_with_prior = 0;
   for (int i = 0; i < s.size(); ++i)
     a.numerical_rank_with_prior += s.size() && s[i] > options.rcond * s[0];
-  a.data_share = data_share;
 }
 
 std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options) {
+  if (J.cols() == 0 || J.rows() == 0) return {};
   std::vector<std::string> names(J.cols());
   const Identifiability a = analyze_identifiability(J, names, options);
   VectorXd norms;

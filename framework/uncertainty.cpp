@@ -30,9 +30,39 @@ double robust_factor(const VectorXd& residuals, const RobustLoss& loss, int n) {
   return kappa / mean;
 }
 
+// The square roots of the covariance's diagonal: NaN where the variance is NaN (not
+// determined), 0 where rounding made it slightly negative.
+VectorXd std_from(const MatrixXd& covariance) {
+  VectorXd std(covariance.rows());
+  for (Eigen::Index i = 0; i < std.size(); ++i) {
+    const double v = covariance(i, i);
+    std[i] = std::isnan(v) ? kNaN : std::sqrt(std::max(v, 0.0));
+  }
+  return std;
+}
+
+// covariance_ij / (std_i std_j); 0 where a std is 0, NaN where one is NaN.
+MatrixXd correlation_from(const MatrixXd& covariance, const VectorXd& std) {
+  const Eigen::Index n = std.size();
+  MatrixXd correlation = MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (std::isnan(std[i]) || std::isnan(std[j]))
+        correlation(i, j) = kNaN;
+      else if (std[i] > 0 && std[j] > 0)
+        correlation(i, j) = covariance(i, j) / (std[i] * std[j]);
+  return correlation;
+}
+
 }  // namespace
 
 MatrixXd parameter_covariance(const MatrixXd& J, double sigma, double rcond) {
+  const Eigen::Index n = J.cols();
+  // No parameter: nothing to estimate (Eigen's SVD of an m x 0 matrix is not defined).
+  if (n == 0) return MatrixXd(0, 0);
+  // No reading, a Jacobian that is zero (no reading depends on any parameter) or not
+  // finite: nothing is determined, which is not a variance of 0.
+  if (J.rows() == 0 || !J.allFinite() || J.isZero(0)) return MatrixXd::Constant(n, n, kNaN);
   const Eigen::JacobiSVD<MatrixXd> svd(J, Eigen::ComputeThinV);
   const VectorXd& s = svd.singularValues();
   const double threshold = rcond * (s.size() ? s[0] : 0.0);
@@ -40,7 +70,15 @@ MatrixXd parameter_covariance(const MatrixXd& J, double sigma, double rcond) {
   for (int i = 0; i < s.size(); ++i)
     if (s[i] > threshold) inv_s2[i] = 1.0 / (s[i] * s[i]);
   const MatrixXd& V = svd.matrixV();
-  return sigma * sigma * V * inv_s2.asDiagonal() * V.transpose();
+  MatrixXd covariance = sigma * sigma * V * inv_s2.asDiagonal() * V.transpose();
+  // A parameter no reading depends on (a zero column) is not determined at all: the
+  // pseudo-inverse would give it a variance of 0, as if it were known exactly.
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (J.col(i).isZero(0)) {
+      covariance.row(i).setConstant(kNaN);
+      covariance.col(i).setConstant(kNaN);
+    }
+  return covariance;
 }
 
 ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& residuals,
@@ -56,15 +94,10 @@ ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& res
   u.sigma = u.degrees_of_freedom > 0 ? std::sqrt(psi.squaredNorm() / u.degrees_of_freedom) : kNaN;
   u.robust_factor = robust_factor(residuals, loss, n);
   u.covariance = parameter_covariance(J, u.robust_factor * u.sigma, rcond);
-  u.std = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  u.std = std_from(u.covariance);
   // The correlation does not depend on sigma: take it from (J^T J)^-1, defined even for m = n.
   const MatrixXd unit = parameter_covariance(J, 1.0, rcond);
-  const VectorXd unit_std = unit.diagonal().cwiseMax(0.0).cwiseSqrt();
-  u.correlation = MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (unit_std[i] > 0 && unit_std[j] > 0)
-        u.correlation(i, j) = unit(i, j) / (unit_std[i] * unit_std[j]);
+  u.correlation = correlation_from(unit, std_from(unit));
   return u;
 }
 
@@ -117,15 +150,11 @@ ParameterUncertainty estimate_posterior_uncertainty(const MatrixXd& J, const Vec
     u.covariance = MatrixXd::Constant(n, n, kNaN);
     u.data_share = data_share(J, precision, 1.0, rcond);
   }
-  u.std = u.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  u.std = std_from(u.covariance);
   u.prior_std = VectorXd::Zero(n);
   for (int i = 0; i < n; ++i)
     if (precision[i] > 0) u.prior_std[i] = 1.0 / std::sqrt(precision[i]);
-  u.correlation = MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (u.std[i] > 0 && u.std[j] > 0)
-        u.correlation(i, j) = u.covariance(i, j) / (u.std[i] * u.std[j]);
+  u.correlation = correlation_from(u.covariance, u.std);
   return u;
 }
 

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -144,7 +145,41 @@ Validation validate_held_out(std::shared_ptr<const MeasurementModel> model,
       p.parameter_rms = std::sqrt(p.parameter_rms / p.count);
     }
   for (auto& [unit, sum] : v.rms_by_unit) sum = std::sqrt(sum / unit_count[unit]);
+
+  // No verdict on a statistic that is not a number: a reading such as 1e300 is finite, but
+  // its square is not, and chi-square - inf - inf is NaN, which no comparison rejects.
+  bool finite = std::isfinite(v.chi_square) && std::isfinite(v.standardized_rms) &&
+                std::isfinite(v.p_larger) && std::isfinite(v.p_smaller);
+  for (const auto& p : v.per_reading)
+    finite = finite && std::isfinite(p.rms) && std::isfinite(p.max) &&
+             std::isfinite(p.predicted_rms) && std::isfinite(p.parameter_rms) &&
+             std::isfinite(p.noise_std);
+  for (const auto& [unit, value] : v.rms_by_unit) finite = finite && std::isfinite(value);
+  for (const auto& [unit, value] : v.max_by_unit) finite = finite && std::isfinite(value);
+  if (!finite) {
+    int worst = rows[0];
+    for (int j : rows)
+      if (!(std::abs(r[j] * model->reading_std()[j % k]) <=
+            std::abs(r[worst] * model->reading_std()[worst % k])))
+        worst = j;
+    throw NonFiniteValidation(worst / k, worst % k, v.residuals(worst / k, worst % k),
+                              names[worst % k]);
+  }
   return v;
 }
+
+NonFiniteValidation::NonFiniteValidation(int configuration_index, int reading_index,
+                                         double residual_value, const std::string& reading_name)
+    : std::domain_error([&] {
+        char text[40];
+        std::snprintf(text, sizeof text, "%.3g", residual_value);
+        return "the held-out statistics are not finite (no verdict): the largest residual, "
+               "reading '" +
+               reading_name + "' of configuration " + std::to_string(configuration_index + 1) +
+               ", is " + text + "; expected readings on the scale of the machine";
+      }()),
+      configuration(configuration_index),
+      reading(reading_index),
+      residual(residual_value) {}
 
 }  // namespace kincal

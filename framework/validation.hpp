@@ -9,6 +9,7 @@
 // errors are common to every configuration, so C is not diagonal: the test uses all of it.
 
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -57,9 +58,20 @@ struct Validation {
   std::string verdict;
 };
 
+/// Thrown by validate_held_out when a statistic is not finite, so that no verdict is ever
+/// given on NaN or infinity (a reading of 1e300 is a number, but its square overflows).
+/// Locates the largest residual (the usual culprit).
+struct NonFiniteValidation : std::domain_error {
+  NonFiniteValidation(int configuration, int reading, double residual, const std::string& name);
+  int configuration;  ///< row of the data (0-based)
+  int reading;        ///< index in the model's readings
+  double residual;    ///< predicted - measured there, the reading's unit
+};
+
 /// Residuals of `data` for the model with full parameter vector `values`, and the check.
 /// Throws std::runtime_error naming the configuration when forward kinematics fails there
-/// (the caller screens the rows first) and std::invalid_argument for inconsistent input.
+/// (the caller screens the rows first), std::invalid_argument for inconsistent input and
+/// NonFiniteValidation when a statistic is not finite.
 Validation validate_held_out(std::shared_ptr<const MeasurementModel> model,
                              const Measurements& data, const VectorXd& values,
                              const ValidationInput& input);

@@ -137,6 +137,46 @@ TEST(Uncertainty, SigmaHatUsesTheDegreesOfFreedom) {
   EXPECT_TRUE(std::isnan(estimate_uncertainty(J.topRows(1), r.head(1)).sigma));
 }
 
+// Issue 19, item 3: calibrate --allow-rank-deficient fixing every free parameter crashed in
+// Eigen's SVD of a Jacobian without columns (exit 139). No parameter, no reading, or nothing
+// any reading depends on: no crash, and never a std of 0 for what nothing determines.
+TEST(Uncertainty, NoParameterOrNoInformationIsNaNNotACrashOrAStdOfZero) {
+  const VectorXd r = VectorXd::Constant(5, 0.1);
+  const ParameterUncertainty none = estimate_uncertainty(MatrixXd(5, 0), r);
+  EXPECT_EQ(none.covariance.rows(), 0);
+  EXPECT_EQ(none.std.size(), 0);
+  EXPECT_EQ(none.correlation.size(), 0);
+  EXPECT_EQ(estimate_posterior_uncertainty(MatrixXd(5, 0), r, VectorXd(0)).std.size(), 0);
+  EXPECT_EQ(parameter_covariance(MatrixXd(5, 0), 1.0).size(), 0);
+  EXPECT_TRUE(identifiable_subset(MatrixXd(5, 0)).empty());
+  Identifiability a = analyze_identifiability(MatrixXd(5, 0), {});
+  add_prior(a, MatrixXd(5, 0), VectorXd(0), VectorXd(0));
+  EXPECT_EQ(a.numerical_rank_with_prior, 0);
+
+  const ParameterUncertainty zero = estimate_uncertainty(MatrixXd::Zero(5, 2), r);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_TRUE(std::isnan(zero.std[i])) << i;
+    EXPECT_TRUE(std::isnan(zero.correlation(i, 1 - i))) << i;
+  }
+  const Identifiability blind = analyze_identifiability(MatrixXd::Zero(5, 2), {"a", "b"});
+  EXPECT_EQ(blind.numerical_rank, 0);
+  EXPECT_EQ(blind.unseen.size(), 2u);
+  const Identifiability no_rows = analyze_identifiability(MatrixXd(0, 2), {"a", "b"});
+  EXPECT_EQ(no_rows.numerical_rank, 0);
+  EXPECT_EQ(no_rows.unseen.size(), 2u);
+  EXPECT_TRUE(std::isnan(parameter_covariance(MatrixXd(0, 2), 1.0)(0, 0)));
+
+  // One parameter seen, one not: the first is determined, the second is not (NaN, not 0).
+  MatrixXd J = MatrixXd::Zero(5, 2);
+  J.col(0).setOnes();
+  const ParameterUncertainty half = estimate_uncertainty(J, r + VectorXd::LinSpaced(5, 0, 1));
+  EXPECT_GT(half.std[0], 0);
+  EXPECT_TRUE(std::isfinite(half.std[0]));
+  EXPECT_TRUE(std::isnan(half.std[1]));
+  EXPECT_NEAR(half.correlation(0, 0), 1.0, 1e-12);
+  EXPECT_TRUE(std::isnan(half.correlation(0, 1)));
+}
+
 // The reported standard deviations must describe the real scatter of the estimates: same
 // truth and configurations, fresh gauge noise per seed, many solves.
 TEST(Uncertainty, ReportedStdMatchesTheSpreadOverSeeds) {

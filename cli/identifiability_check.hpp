@@ -1,0 +1,38 @@
+#pragma once
+// The check calibrate and simulate make before solving: do the data (with the prior, when
+// there is one) determine every free parameter at the starting values? A solver started on a
+// problem they do not determine still stops, often with "converged", at one point of a
+// valley of equally good ones: that is no estimate, and neither command presents it as one.
+
+#include <string>
+#include <vector>
+
+#include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/identifiability.hpp"
+
+namespace kincal::cli {
+
+/// One line naming what the data cannot determine: the parameters no reading depends on,
+/// the numerical rank against the number of free parameters, and up to three combinations
+/// the data cannot separate.
+std::string describe_deficiency(const Identifiability& a);
+
+struct IdentifiabilityCheck {
+  Identifiability analysis;        ///< at the start; with the prior's rank when there is one
+  std::vector<int> free;           ///< the parameters to solve for (indices in the model)
+  std::vector<std::string> fixed;  ///< free parameters fixed because the data cannot see them
+};
+
+/// Checks `problem` (its free parameters at their initial values; J its Jacobian there),
+/// with the prior the model states on them (model_prior), if any.
+/// When data and prior do not determine every free parameter: without
+/// `allow_rank_deficient`, throws CliError "<where>: <describe_deficiency>; <remedy>"; with it,
+/// keeps the identifiable subset (identifiable_subset), says on stderr which parameters it fixes at
+/// their model values, and throws when no free parameter is left to solve for.
+IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
+                                           const CalibrationProblem& problem, const MatrixXd& J,
+                                           bool allow_rank_deficient,
+                                           const IdentifiabilityOptions& options,
+                                           const std::string& remedy);
+
+}  // namespace kincal::cli
