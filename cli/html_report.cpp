@@ -381,12 +381,18 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                    : std::string()) +
               ".";
     const bool better = after < before && (!std::isfinite(held_out) || held_out < before);
-    out.push_back({better ? L::kGood : L::kProblem, text,
-                   better ? (std::isfinite(held_out)
-                                 ? ""
-                                 : "Check it on held-out data: kincal validate, or --folds K.")
-                          : "The calibration does not reduce the error: check the data, the "
-                            "free parameters and the model."});
+    if (!std::isfinite(before) || !std::isfinite(after))
+      out.push_back(
+          {L::kNote,
+           "The 3-D position error before and after could not both be computed (" + text + ")",
+           ""});
+    else
+      out.push_back({better ? L::kGood : L::kProblem, text,
+                     better ? (std::isfinite(held_out)
+                                   ? ""
+                                   : "Check it on held-out data: kincal validate, or --folds K.")
+                            : "The calibration does not reduce the error: check the data, the "
+                              "free parameters and the model."});
   }
   // The predicted pose error of the estimate against the nominal model (experiment design).
   const Json& predicted = member(r, "predicted_pose_error");
@@ -457,7 +463,11 @@ std::vector<ResidualGroup> residual_groups(const Json& r) {
                         {},
                         sigma_unit == unit ? sigma * du.scale : NAN,
                         NAN,
-                        threshold * du.scale});
+                        // Each unit has its own threshold (outlier_threshold_by_unit).
+                        (member(member(r, "outlier_threshold_by_unit"), unit.c_str()).is_number()
+                             ? num(r["outlier_threshold_by_unit"][unit])
+                             : threshold) *
+                            du.scale});
     }
     groups[index[unit]].readings.push_back(name);
     groups[index[unit]].scale.push_back(1.0 / display_unit(unit).scale);
