@@ -12,7 +12,9 @@
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/cross_validation.hpp"
 #include "kincal/framework/data_checks.hpp"
+#include "kincal/framework/position_error.hpp"
 #include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
@@ -102,6 +104,66 @@ std::string calibrated_model_text(const std::string& path, MeasurementModel& mod
   return model_to_json(model, values).dump(2) + "\n";
 }
 
+// The registration-only baseline and, with --folds, K-fold cross-validation of both fits
+// (framework/cross_validation.hpp), into the report.
+void add_baselines(CalibrationReport& report, const std::shared_ptr<const MeasurementModel>& model,
+                   const Measurements& data, const VectorXd& start, const std::vector<int>& free,
+                   const SolverChoice& choice, bool with_prior, int folds,
+                   const IdentifiabilityOptions& id_options) {
+  SolverOptions options = choice.options;
+  options.verbosity = 0;  // the iterations shown are the calibration's
+  std::vector<int> registration = registration_indices(*model, free);
+  auto& baseline = report.registration;
+  if (registration.empty()) {
+    baseline.why_not = "no free parameter is a frame of the sensor, the base or the tool";
+  } else if (registration.size() == free.size()) {
+    baseline.why_not = "every free parameter is a frame: the calibration is a registration";
+  } else {
+    // Only the frame parameters the data determine (a point's orientation is unseen).
+    const CalibrationProblem probe(model, data, start, registration);
+    MatrixXd J;
+    if (probe.evaluate(probe.initial_free_parameters(), nullptr, &J)) {
+      std::vector<int> kept;
+      for (int i : identifiable_subset(J, id_options)) kept.push_back(registration[i]);
+      registration = kept;
+    }
+    const Fit fit =
+        fit_parameters(model, data, start, registration, *choice.solver, options, with_prior);
+    baseline.termination = to_string(fit.summary.termination);
+    if (!fit.ok()) {
+      baseline.why_not = "the registration-only fit did not converge (" + fit.summary.message + ")";
+    } else {
+      try {
+        const MatrixXd r = residual_matrix(model, data, fit.values);
+        baseline.residual_rms = residual_rms_by_unit(*model, r);
+        baseline.position = summarize_position_errors(position_errors(*model, r));
+        baseline.computed = true;
+        for (int i : registration) baseline.names.push_back(model->parameters()[i].name);
+      } catch (const std::runtime_error& e) {
+        baseline.why_not =
+            std::string("the registration-only fit cannot predict the data (") + e.what() + ")";
+      }
+    }
+  }
+  if (folds == 0) return;
+  auto& cv = report.cross_validation;
+  const CrossValidation full =
+      cross_validate(model, data, start, free, folds, *choice.solver, options, with_prior);
+  cv.folds = folds;
+  cv.failed = full.failed_folds;
+  cv.failure = full.failure;
+  cv.residual_rms = residual_rms_by_unit(*model, full.residuals);
+  cv.position = summarize_position_errors(position_errors(*model, full.residuals));
+  if (baseline.computed) {
+    const CrossValidation reg = cross_validate(model, data, start, registration, folds,
+                                               *choice.solver, options, with_prior);
+    if (reg.failed_folds && !cv.failed) cv.failure = "registration only: " + reg.failure;
+    cv.failed += reg.failed_folds;
+    cv.registration_residual_rms = residual_rms_by_unit(*model, reg.residuals);
+    cv.registration_position = summarize_position_errors(position_errors(*model, reg.residuals));
+  }
+}
+
 }  // namespace
 
 int run_calibrate(const Args& args) {
@@ -118,6 +180,10 @@ int run_calibrate(const Args& args) {
       "when the data cannot determine every free parameter, fix the dependent ones at their "
       "model values and solve for the rest instead of stopping")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
+      "folds", po::value<int>(),
+      "K-fold cross-validation (K >= 2): configuration i is held out in fold i mod K, the "
+      "calibration and the registration-only fit are repeated on the other folds, and the "
+      "held-out errors are reported")(
       "rcond",
       po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
                                          default_text(IdentifiabilityOptions{}.rcond)),
@@ -133,6 +199,10 @@ int run_calibrate(const Args& args) {
   IdentifiabilityOptions id_options;
   id_options.rcond = vm["rcond"].as<double>();
   if (!(id_options.rcond > 0 && id_options.rcond < 1)) throw CliError("--rcond must be in (0, 1)");
+
+  const int folds = vm.count("folds") ? vm["folds"].as<int>() : 0;
+  if (vm.count("folds") && folds < 2)
+    throw CliError("--folds must be at least 2 (the number of cross-validation folds)");
 
   // Every check that does not need the data comes first, so a typo costs nothing.
   reject_loss_as_solver_option(vm);
@@ -162,6 +232,9 @@ int run_calibrate(const Args& args) {
   // A wrong home_pose gives other valid poses: say so when the data lands far from it.
   const HomePoseCheck home_check = check_poses_near_home(*model, nominal, loaded.data);
   if (home_check.far) note("calibrate", home_check.warning);
+  if (folds > loaded.data.size())
+    throw CliError("--folds " + std::to_string(folds) + ": more folds than the " +
+                   std::to_string(loaded.data.size()) + " configurations of " + data_file);
   const int readings = loaded.data.size() * model->num_readings();
   if (readings < static_cast<int>(free.size()))
     throw CliError(data_file + ": " + std::to_string(loaded.data.size()) +
@@ -210,6 +283,8 @@ int run_calibrate(const Args& args) {
 
   const bool solved = summary.termination == TerminationType::kConverged ||
                       summary.termination == TerminationType::kMaxIterations;
+  if (solved)
+    add_baselines(report, model, loaded.data, nominal, free, choice, with_prior, folds, id_options);
   const std::string report_file = json_output(vm, "report");
   const bool report_to_stdout = (!report_file.empty() && plan.to_stdout(report_label(vm))) ||
                                 (vm.count("html") && plan.to_stdout("--html"));

@@ -30,8 +30,7 @@ int run_export(const Args& args) {
   const std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   ExportSource source;
   source.model_file = vm["model"].as<std::string>();
-  source.sha256 =
-      sha256_hex(read_file_text(source.model_file, "model file", JsonLimits{}.max_bytes));
+  source.sha256 = model_file_sha256(source.model_file);
   std::string text;
   try {
     text = format == "urdf"  ? export_urdf(*model, source)

@@ -72,6 +72,10 @@ int run_ik(const Args& args) {
   const auto reading_names = model->reading_names();
   for (int k = 0; k < row.readings.size(); ++k)
     std::printf("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
+  // The unit of each actuator value above, last so that the lines above stay name-value.
+  std::string units;
+  for (const auto& a : actuators) units += (units.empty() ? "" : ", ") + a.name + " " + a.unit;
+  std::printf("(actuator units: %s)\n", units.c_str());
   return 0;
 }
 

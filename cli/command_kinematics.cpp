@@ -4,6 +4,7 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/framework/data_checks.hpp"
 #include "kincal/framework/measurement_file.hpp"
 
 namespace kincal::cli {
@@ -30,6 +31,14 @@ int run_table(const std::string& command, const po::variables_map& vm, OutputPla
   MeasurementTable table;
   try {
     table = read_measurements(input_file, columns, {}, data_limits(vm));
+    // fk reads actuator columns, ik pose columns (whose names say mm and deg already).
+    if (columns == model.mechanism().actuator_names()) {
+      std::vector<std::string> units;
+      for (const auto& a : model.mechanism().actuators()) units.push_back(a.unit);
+      convert_column_units(table, units, {}, input_file);
+      const std::string hint = check_data_units(model, model.parameters().nominal_values(), table);
+      if (!hint.empty()) throw CliError(input_file + ": " + hint);
+    }
   } catch (const std::invalid_argument& e) {
     throw measurement_file_error(e);
   }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_pages.hpp"
@@ -15,7 +16,9 @@
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/json_input.hpp"
 #include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/position_error.hpp"
 #include "kincal/framework/validation.hpp"
+#include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
 
@@ -34,6 +37,7 @@ struct ReportPrediction {
   VectorXd std;
   MatrixXd correlation;
   std::string calibrated_sha256;
+  VectorXd nominal;  ///< each parameter's value before the calibration (NaN: not given)
 };
 
 double report_number(const Json& value, const std::string& where) {
@@ -75,6 +79,7 @@ ReportPrediction read_report(const std::string& path) {
   if (!parameters.is_array()) throw CliError(path + ": parameters: expected an array");
   const int n = static_cast<int>(parameters.size());
   p.std.resize(n);
+  p.nominal = VectorXd::Constant(n, NAN);
   for (int i = 0; i < n; ++i) {
     const Json& entry = parameters[i];
     const std::string where = path + ": parameters[" + std::to_string(i) + "]";
@@ -82,6 +87,8 @@ ReportPrediction read_report(const std::string& path) {
         !entry.contains("std"))
       throw CliError(where + ": expected {\"name\": ..., \"std\": ...}");
     p.names.push_back(entry["name"].get<std::string>());
+    if (entry.contains("nominal") && entry["nominal"].is_number())
+      p.nominal[i] = entry["nominal"].get<double>();
     if (entry["std"].is_null())
       throw CliError(where +
                      ": std is null (the calibration could not estimate it); "
@@ -126,16 +133,7 @@ void check_report_is_for_model(const std::string& report_file, const std::string
                          model_file);
     return;
   }
-  // The model file has been read with the JSON limits already; read at most as much again.
-  std::ifstream in(model_file, std::ios::binary);
-  std::string bytes;
-  char chunk[65536];
-  while (in && bytes.size() <= JsonLimits{}.max_bytes) {
-    in.read(chunk, sizeof chunk);
-    bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
-  }
-  if (!in.eof()) throw CliError(model_file + ": cannot read model file");
-  const std::string actual = sha256_hex(bytes);
+  const std::string actual = model_file_sha256(model_file);
   if (actual != expected)
     throw CliError(model_file + " is not the calibrated model " + report_file +
                    " describes: its SHA-256 is " + actual + ", the report's " + expected +
@@ -146,6 +144,38 @@ std::string format(const char* fmt, double a) {
   char buf[64];
   std::snprintf(buf, sizeof buf, fmt, a);
   return buf;
+}
+
+// The 3-D position error of the measured point before and after (framework/
+// position_error.hpp): after = the model validated; before = the model the calibration
+// started from, --before's values or the report's "nominal" values of the parameters it
+// fitted. Empty figures when the model measures no point.
+struct PositionComparison {
+  bool computed = false;
+  std::string before_is;  ///< where "before" comes from; empty: no before
+  std::vector<double> before_errors, after_errors;
+  PositionErrorStats before, after;
+};
+
+PositionComparison compare_positions(const std::shared_ptr<MeasurementModel>& model,
+                                     const Measurements& data, const MatrixXd& after_residuals,
+                                     const std::optional<VectorXd>& before_values,
+                                     const std::string& before_is, const std::string& data_file) {
+  PositionComparison c;
+  if (!measures_position(*model)) return c;
+  c.computed = true;
+  c.after_errors = position_errors(*model, after_residuals);
+  c.after = summarize_position_errors(c.after_errors);
+  if (!before_values) return c;
+  try {
+    c.before_errors = position_errors(*model, residual_matrix(model, data, *before_values));
+  } catch (const std::runtime_error& e) {
+    throw CliError(data_file + ": the model before calibration (" + before_is +
+                   ") cannot predict the data: " + e.what());
+  }
+  c.before = summarize_position_errors(c.before_errors);
+  c.before_is = before_is;
+  return c;
 }
 
 }  // namespace
@@ -159,6 +189,10 @@ int run_validate(const Args& args) {
       "the calibration's report (JSON) written with --model (its calibrated_model.sha256 "
       "must be the model file's): its sigma_hat is the noise, and its parameters' std "
       "and correlation are propagated to the readings")(
+      "before", po::value<std::string>(),
+      "the model the calibration started from (JSON, the same parameters as --model): the "
+      "3-D position error \"before\" is computed with its values (default with --report: the "
+      "report's nominal values of the parameters it fitted)")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "html", po::value<std::string>(),
       "write the result for people to FILE: one self-contained HTML page");
@@ -169,7 +203,7 @@ int run_validate(const Args& args) {
   if (!vm.count("model")) throw CliError("--model FILE is required (the calibrated model)");
   if (!vm.count("data")) throw CliError("--data FILE is required (held-out measurements)");
   OutputPlan plan;
-  for (const char* option : {"model", "data", "report"})
+  for (const char* option : {"model", "data", "report", "before"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
   if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
@@ -213,13 +247,38 @@ int run_validate(const Args& args) {
       input.parameters.push_back(index);
     }
     input.covariance = report.std.asDiagonal() * report.correlation * report.std.asDiagonal();
-  } else {
-    if (!model->weighted())
-      throw CliError(model_file +
-                     ": states no reading_std, so nothing predicts the residuals; expected "
-                     "--report (its sigma_hat) or \"reading_std\" in the model file");
+  } else if (model->weighted()) {
     input.noise_std = model->reading_std();
     noise_source = "reading_std";
+  } else {
+    // Nothing predicts the residuals (a nominal model): the errors are reported, the
+    // chi-square test is not made.
+    noise_source = "none";
+  }
+  const bool tested = noise_source != "none";
+  if (!tested) input.noise_std = VectorXd::Ones(k);
+
+  // "Before": --before's values, or the report's starting values of what it fitted.
+  std::optional<VectorXd> before_values;
+  std::string before_is;
+  if (vm.count("before")) {
+    const std::string before_file = vm["before"].as<std::string>();
+    const auto before = load_model(before_file);
+    const auto& a = model->parameters();
+    const auto& b = before->parameters();
+    bool same = a.size() == b.size() && model->reading_names() == before->reading_names();
+    for (int i = 0; same && i < a.size(); ++i) same = a[i].name == b[i].name;
+    if (!same)
+      throw CliError(before_file + ": not the same parameters and readings as " + model_file +
+                     "; expected the model the calibration started from");
+    before_values = before->parameters().nominal_values();
+    before_is = before_file;
+  } else if (vm.count("report") && report.nominal.allFinite()) {
+    VectorXd v = values;
+    for (std::size_t i = 0; i < report.names.size(); ++i)
+      v[input.parameters[i]] = report.nominal[static_cast<int>(i)];
+    before_values = v;
+    before_is = vm["report"].as<std::string>() + " (its parameters' nominal values)";
   }
 
   const LoadedData loaded =
@@ -240,6 +299,9 @@ int run_validate(const Args& args) {
   } catch (const std::exception& e) {
     throw CliError(data_file + ": " + e.what());
   }
+  if (!tested) v.verdict = "not_tested";
+  const PositionComparison position =
+      compare_positions(model, loaded.data, v.residuals, before_values, before_is, data_file);
 
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
@@ -247,24 +309,46 @@ int run_validate(const Args& args) {
     std::cout << "held-out validation of " << printable(model_file) << " on "
               << printable(data_file) << ": " << v.configurations << " configurations, "
               << v.readings << " readings\n";
-    std::cout << "predicted: noise = " << noise_source
-              << (v.parameter_uncertainty
-                      ? " + the parameters' uncertainty from the report (J Sigma J^T)"
-                      : " alone (no --report: the parameters are taken as exact)")
-              << "\n";
+    if (tested)
+      std::cout << "predicted: noise = " << noise_source
+                << (v.parameter_uncertainty
+                        ? " + the parameters' uncertainty from the report (J Sigma J^T)"
+                        : " alone (no --report: the parameters are taken as exact)")
+                << "\n";
+    else
+      std::cout << "predicted: nothing (no --report and no reading_std in the model): the errors "
+                   "are reported, the consistency test is not made\n";
     for (const auto& p : v.per_reading) {
       if (!p.count) continue;
-      std::printf(
-          "  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g predicted RMS %-10.4g "
-          "(noise %.4g, parameters %.4g)\n",
-          p.name.c_str(), p.unit.c_str(), p.count, p.rms, p.max, p.predicted_rms, p.noise_std,
-          p.parameter_rms);
+      if (tested)
+        std::printf(
+            "  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g predicted RMS %-10.4g "
+            "(noise %.4g, parameters %.4g)\n",
+            p.name.c_str(), p.unit.c_str(), p.count, p.rms, p.max, p.predicted_rms, p.noise_std,
+            p.parameter_rms);
+      else
+        std::printf("  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g\n", p.name.c_str(),
+                    p.unit.c_str(), p.count, p.rms, p.max);
     }
-    std::cout << "standardized RMS " << format("%.3f", v.standardized_rms)
-              << " (1 = as predicted), chi-square " << format("%.4g", v.chi_square) << " on "
-              << v.readings << " degrees of freedom: P(larger) " << format("%.3g", v.p_larger)
-              << ", P(smaller) " << format("%.3g", v.p_smaller) << "\n";
-    if (v.verdict == "consistent")
+    if (position.computed) {
+      std::cout << "3-D position error of the measured point, mm (" << position.after.points
+                << " points):\n";
+      if (!position.before_is.empty())
+        std::printf("  before  mean %9.4g  RMS %9.4g  max %9.4g   (%s)\n", position.before.mean,
+                    position.before.rms, position.before.max, position.before_is.c_str());
+      std::printf("  %-7s mean %9.4g  RMS %9.4g  max %9.4g   (%s)\n",
+                  position.before_is.empty() ? "error" : "after", position.after.mean,
+                  position.after.rms, position.after.max, model_file.c_str());
+    }
+    if (tested)
+      std::cout << "standardized RMS " << format("%.3f", v.standardized_rms)
+                << " (1 = as predicted), chi-square " << format("%.4g", v.chi_square) << " on "
+                << v.readings << " degrees of freedom: P(larger) " << format("%.3g", v.p_larger)
+                << ", P(smaller) " << format("%.3g", v.p_smaller) << "\n";
+    if (v.verdict == "not_tested")
+      std::cout << "not tested: give --report (the calibration's) or state reading_std in the "
+                   "model to test the residuals against a prediction\n";
+    else if (v.verdict == "consistent")
       std::cout << "consistent: the held-out residuals are what the calibration predicts\n";
     else if (v.verdict == "larger_than_predicted")
       std::cout << "NOT consistent: the held-out residuals are larger than predicted (the "
@@ -287,7 +371,7 @@ int run_validate(const Args& args) {
     out["residual_max"] = one_unit ? Json(v.max_by_unit.begin()->second) : Json();
     out["residual_rms_by_unit"] = v.rms_by_unit;
     out["residual_max_by_unit"] = v.max_by_unit;
-    out["noise"] = noise_source;
+    out["noise"] = tested ? Json(noise_source) : Json();
     out["parameter_uncertainty"] = v.parameter_uncertainty;
     Json readings = Json::array();
     for (const auto& p : v.per_reading)
@@ -296,15 +380,22 @@ int run_validate(const Args& args) {
                           {"readings", p.count},
                           {"rms", p.count ? Json(p.rms) : Json()},
                           {"max", p.count ? Json(p.max) : Json()},
-                          {"noise_std", p.noise_std},
+                          {"noise_std", tested ? Json(p.noise_std) : Json()},
                           {"parameter_rms", p.count ? Json(p.parameter_rms) : Json()},
-                          {"predicted_rms", p.count ? Json(p.predicted_rms) : Json()}});
+                          {"predicted_rms", p.count && tested ? Json(p.predicted_rms) : Json()}});
     out["per_reading"] = readings;
-    out["chi_square"] = number(v.chi_square);
+    if (position.computed) {
+      Json errors = {{"before", position.before_is.empty() ? Json() : to_json(position.before)},
+                     {"after", to_json(position.after)}};
+      errors["before_model"] = position.before_is.empty() ? Json() : Json(position.before_is);
+      errors["after_model"] = model_file;
+      out["position_error_mm"] = errors;
+    }
+    out["chi_square"] = tested ? number(v.chi_square) : Json();
     out["degrees_of_freedom"] = v.readings;
-    out["standardized_rms"] = number(v.standardized_rms);
-    out["p_larger"] = number(v.p_larger);
-    out["p_smaller"] = number(v.p_smaller);
+    out["standardized_rms"] = tested ? number(v.standardized_rms) : Json();
+    out["p_larger"] = tested ? number(v.p_larger) : Json();
+    out["p_smaller"] = tested ? number(v.p_smaller) : Json();
     out["significance"] = input.significance;
     out["verdict"] = v.verdict;
     Json residuals = Json::array();
@@ -313,6 +404,12 @@ int run_validate(const Args& args) {
       Json row;
       row["line"] = loaded.lines[c];
       for (int i = 0; i < k; ++i) row[names[i]] = number(v.residuals(c, i));
+      if (position.computed &&
+          position.after_errors.size() == static_cast<std::size_t>(v.residuals.rows())) {
+        row["position_error_mm"] = number(position.after_errors[c]);
+        if (position.before_errors.size() == position.after_errors.size())
+          row["position_error_before_mm"] = number(position.before_errors[c]);
+      }
       residuals.push_back(row);
     }
     out["residuals"] = residuals;

@@ -14,20 +14,6 @@
 
 namespace kincal::cli {
 
-namespace {
-
-// A model file is at most the reader's limit (JsonLimits): a larger file (or /dev/zero) is
-// not one, and reading it whole would only use up memory.
-std::string file_bytes(const std::string& path) {
-  try {
-    return read_file_text(path, "model file", JsonLimits{}.max_bytes);
-  } catch (const std::invalid_argument& e) {
-    throw CliError(e.what());
-  }
-}
-
-}  // namespace
-
 int run_verify(const Args& args) {
   po::options_description options("kincal verify");
   options.add_options()("report", po::value<std::string>(), "calibration report (JSON)")(
@@ -63,7 +49,7 @@ int run_verify(const Args& args) {
   const std::string model_file =
       vm.count("model") ? vm["model"].as<std::string>() : (*entry)["file"].get<std::string>();
   const std::string expected = (*entry)["sha256"].get<std::string>();
-  const std::string actual = sha256_hex(file_bytes(model_file));
+  const std::string actual = model_file_sha256(model_file);
   if (!json_file.empty()) {
     const nlohmann::ordered_json verdict = {{"format", "kincal-verify"},   {"version", 1},
                                             {"report", report_file},       {"model", model_file},

@@ -30,7 +30,12 @@ std::string render_validation_html(const Json& v) {
   const std::string verdict = text_at(v, "verdict");
   const std::string stats = "standardized RMS " + fmt(number_at(v, "standardized_rms"), 3) +
                             " (1 = as predicted), P(larger) " + fmt(number_at(v, "p_larger"), 3);
-  if (verdict == "consistent")
+  if (verdict == "not_tested")
+    verdicts.push_back({L::kNote,
+                        "Nothing predicts the residuals (no report, no reading_std): the errors "
+                        "are shown, the consistency test is not made.",
+                        "Give the calibration's report (--report) or state reading_std."});
+  else if (verdict == "consistent")
     verdicts.push_back(
         {L::kGood, "The held-out residuals are what the calibration predicts: " + stats + ".", ""});
   else if (verdict == "larger_than_predicted")
@@ -44,7 +49,26 @@ std::string render_validation_html(const Json& v) {
                         "The held-out residuals are smaller than predicted: " + stats +
                             ". The stated noise or uncertainty is pessimistic.",
                         ""});
-  if (!(v.contains("parameter_uncertainty") && v["parameter_uncertainty"] == true))
+  if (v.contains("position_error_mm") && v["position_error_mm"].is_object()) {
+    const Json& p = v["position_error_mm"];
+    const double after = p.contains("after") ? number_at(p["after"], "mean") : NAN;
+    const double before =
+        p.contains("before") && p["before"].is_object() ? number_at(p["before"], "mean") : NAN;
+    if (std::isfinite(after) && std::isfinite(before))
+      verdicts.push_back({after < before ? L::kGood : L::kProblem,
+                          "Mean 3-D position error of the measured point: " + fmt(after, 4) +
+                              " mm, against " + fmt(before, 4) + " mm before calibration.",
+                          after < before ? ""
+                                         : "The calibration made the machine less accurate "
+                                           "on these data: check the data and the free "
+                                           "parameters."});
+    else if (std::isfinite(after))
+      verdicts.push_back(
+          {L::kNote, "Mean 3-D position error of the measured point: " + fmt(after, 4) + " mm.",
+           "Give --report or --before to compare with the model before calibration."});
+  }
+  if (verdict != "not_tested" &&
+      !(v.contains("parameter_uncertainty") && v["parameter_uncertainty"] == true))
     verdicts.push_back({L::kNote,
                         "The prediction is the noise alone: the parameters are taken as exact.",
                         "Give the calibration's report (--report) to include their uncertainty."});
@@ -57,6 +81,18 @@ std::string render_validation_html(const Json& v) {
         "chi_square", "degrees_of_freedom", "p_larger", "p_smaller", "significance", "verdict"})
     if (v.contains(key)) summary[key] = v[key];
   page.add_section("summary", "Summary", json_table_html(summary));
+  if (v.contains("position_error_mm") && v["position_error_mm"].is_object()) {
+    Json table = Json::array();
+    for (const char* which : {"before", "after"}) {
+      const Json& p = v["position_error_mm"];
+      if (!p.contains(which) || !p[which].is_object()) continue;
+      Json row = {{"model", which}};
+      row.update(p[which]);
+      table.push_back(row);
+    }
+    page.add_section("position", "3-D position error of the measured point (mm)",
+                     json_table_html(table));
+  }
   if (v.contains("per_reading"))
     page.add_section("readings", "Residuals per reading against the prediction",
                      json_table_html(v["per_reading"]));

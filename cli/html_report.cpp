@@ -338,10 +338,8 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                                   : "";
     out.push_back(
         {L::kWarning,
-         std::to_string(lines.size()) +
-             " configuration(s) flagged as outliers (residual beyond a robust 3 sigma): "
-             "line(s) " +
-             list + ".",
+         std::to_string(lines.size()) + " configuration(s) flagged as outliers: line(s) " + list +
+             ". " + text_of(r, "outlier_meaning") + ".",
          loss == "none" || loss.empty()
              ? "Check those rows; if they are gross errors, re-run with --loss huber:" +
                    std::string(std::isfinite(sigma) && sigma_unit != "reading_std" &&
@@ -357,9 +355,48 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                        " row(s) were dropped because the starting model cannot reach them "
                        "(--skip-bad-rows).",
                    ""});
+  // Accuracy in the field's terms, measured: for a point-measuring sensor it replaces the
+  // workspace prediction, whose "nominal" figure comes from assumed tolerances.
+  const Json& position = member(r, "position_error_mm");
+  if (position.is_object()) {
+    const double before = num(member(member(position, "before"), "mean"));
+    const double after = num(member(member(position, "after"), "mean"));
+    const double registration = num(member(member(position, "registration_only"), "mean"));
+    const Json& cv = member(r, "cross_validation");
+    const double held_out = num(member(member(cv, "position_error_mm"), "mean"));
+    const double held_out_registration =
+        num(member(member(cv, "registration_only_position_error_mm"), "mean"));
+    std::string text =
+        "Mean 3-D position error of the measured point on the calibration data: " + fmt(before, 4) +
+        " mm before, " +
+        (std::isfinite(registration)
+             ? fmt(registration, 4) + " mm with registration only (frames fitted), "
+             : std::string()) +
+        fmt(after, 4) + " mm calibrated.";
+    if (std::isfinite(held_out))
+      text += " Held out (" + text_of(cv, "folds") +
+              "-fold cross-validation): " + fmt(held_out, 4) + " mm calibrated" +
+              (std::isfinite(held_out_registration)
+                   ? ", " + fmt(held_out_registration, 4) + " mm registration only"
+                   : std::string()) +
+              ".";
+    const bool better = after < before && (!std::isfinite(held_out) || held_out < before);
+    if (!std::isfinite(before) || !std::isfinite(after))
+      out.push_back(
+          {L::kNote,
+           "The 3-D position error before and after could not both be computed (" + text + ")",
+           ""});
+    else
+      out.push_back({better ? L::kGood : L::kProblem, text,
+                     better ? (std::isfinite(held_out)
+                                   ? ""
+                                   : "Check it on held-out data: kincal validate, or --folds K.")
+                            : "The calibration does not reduce the error: check the data, the "
+                              "free parameters and the model."});
+  }
   // The predicted pose error of the estimate against the nominal model (experiment design).
   const Json& predicted = member(r, "predicted_pose_error");
-  if (predicted.is_object() && member(predicted, "computed") == true) {
+  if (!position.is_object() && predicted.is_object() && member(predicted, "computed") == true) {
     const double calibrated = num(member(member(predicted, "calibrated"), "position_rms_mm"));
     const double nominal = num(member(member(predicted, "nominal"), "position_rms_mm"));
     if (member(predicted, "expected_to_beat_nominal") == true)
@@ -426,7 +463,11 @@ std::vector<ResidualGroup> residual_groups(const Json& r) {
                         {},
                         sigma_unit == unit ? sigma * du.scale : NAN,
                         NAN,
-                        threshold * du.scale});
+                        // Each unit has its own threshold (outlier_threshold_by_unit).
+                        (member(member(r, "outlier_threshold_by_unit"), unit.c_str()).is_number()
+                             ? num(r["outlier_threshold_by_unit"][unit])
+                             : threshold) *
+                            du.scale});
     }
     groups[index[unit]].readings.push_back(name);
     groups[index[unit]].scale.push_back(1.0 / display_unit(unit).scale);
@@ -772,12 +813,12 @@ std::string outliers_html(const Json& r) {
     table += "</tr>";
   }
   if (!count)
-    return "<p>No configuration is flagged: every residual is within the robust 3 sigma "
-           "threshold (" +
-           esc(fmt(num(member(r, "outlier_threshold")), 3)) + ").</p>";
+    return "<p>No configuration is flagged: every residual is within the threshold (" +
+           esc(fmt(num(member(r, "outlier_threshold")), 3)) + "). " +
+           esc(text_of(r, "outlier_meaning")) + ".</p>";
   std::string out =
-      "<p>" + std::to_string(count) +
-      " configuration(s) have a residual beyond the robust 3 sigma threshold (" +
+      "<p>" + esc(text_of(r, "outlier_meaning")) + ".</p><p>" + std::to_string(count) +
+      " configuration(s) have a residual beyond the threshold (" +
       esc(fmt(num(member(r, "outlier_threshold")), 3)) +
       (member(r, "weighted").is_boolean() && r["weighted"].get<bool>() ? " x reading_std" : "") +
       "):</p><table><tr><th>line</th>";
@@ -830,6 +871,31 @@ std::string render_calibration_html(const Json& r) {
   page.add_section("correlation", "Correlations", correlation_html(r));
   page.add_section("identifiability", "Identifiability", identifiability_html(r));
   page.add_section("outliers", "Outliers", outliers_html(r));
+  if (r.contains("position_error_mm") && r["position_error_mm"].is_object()) {
+    Json table = Json::array();
+    const Json& p = r["position_error_mm"];
+    for (const char* which : {"before", "registration_only", "after"})
+      if (p.contains(which) && p[which].is_object()) {
+        Json row = {{"model", which}, {"data", "calibration (in-sample)"}};
+        row.update(p[which]);
+        table.push_back(row);
+      }
+    const Json& cv = member(r, "cross_validation");
+    for (const char* which : {"registration_only_position_error_mm", "position_error_mm"})
+      if (member(cv, which).is_object()) {
+        Json row = {
+            {"model", std::string(which) == "position_error_mm" ? "after" : "registration_only"},
+            {"data", "held out, " + text_of(cv, "folds") + "-fold"}};
+        row.update(cv[which]);
+        table.push_back(row);
+      }
+    page.add_section(
+        "position-error", "3-D position error of the measured point (mm)",
+        json_table_html(table) + (r.contains("predicted_point_error_mm")
+                                      ? "<h3>Predicted from the parameters' uncertainty</h3>" +
+                                            json_table_html(r["predicted_point_error_mm"])
+                                      : std::string()));
+  }
   if (r.contains("predicted_pose_error") && r["predicted_pose_error"].is_object())
     page.add_section("pose-accuracy", "Predicted pose accuracy",
                      json_table_html(r["predicted_pose_error"]));

@@ -195,6 +195,9 @@ LoadedData load_measurements(const std::string& command, const std::string& path
     throw measurement_file_error(e);
   }
   for (const auto& n : table.notices) note(command, n);
+  // Degrees given as radians, metres as millimetres: an error before anything is solved.
+  const std::string units = check_data_units(model, params, table);
+  if (!units.empty()) throw CliError(path + ": " + units);
   LoadedData loaded;
   const auto bad = find_unreachable_rows(model, params, table.data);
   // Strokes instead of lengths fail at most rows: say what to do about it.

@@ -61,7 +61,8 @@ struct LoadedData {
   std::vector<int> lines;          ///< file line of each kept row
   std::vector<int> skipped_lines;  ///< lines dropped as unreachable
 };
-/// Reads `path` for `model`, then checks that forward kinematics works at `params` for
+/// Reads `path` for `model` (unit suffixes converted), refuses data that look like the wrong
+/// unit (check_data_units), then checks that forward kinematics works at `params` for
 /// every row: unreachable rows are an error naming their lines, or, with `skip_bad_rows`,
 /// dropped with a note. When no row at all is reachable the message names the model file
 /// `model_file` too: then its values are as likely to be wrong as the data.

@@ -3,6 +3,10 @@
 #include <array>
 #include <cstdint>
 #include <cstdio>
+#include <stdexcept>
+
+#include "kincal/cli/cli_util.hpp"
+#include "kincal/framework/json_input.hpp"
 
 namespace kincal::cli {
 
@@ -68,6 +72,14 @@ std::string sha256_hex(const std::string& data) {
     hex += part;
   }
   return hex;
+}
+
+std::string model_file_sha256(const std::string& path) {
+  try {
+    return sha256_hex(read_file_text(path, "model file", JsonLimits{}.max_bytes));
+  } catch (const std::invalid_argument& e) {
+    throw CliError(e.what());
+  }
 }
 
 }  // namespace kincal::cli

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "kincal/framework/message_excerpt.hpp"
@@ -36,6 +37,19 @@ std::string sigma_unit(const CalibrationReport& r) {
   return "mixed";
 }
 
+// What a flag means, in words, for the report.
+std::string outlier_meaning(const CalibrationReport& r) {
+  return "a configuration is flagged when one of its residuals" +
+         std::string(r.weighted ? " (divided by its reading_std)" : "") + " exceeds " +
+         format("%.3g", r.outlier_z) +
+         " robust standard deviations (1.4826 x the median |residual| of its unit): the level "
+         "that clean Gaussian noise on all " +
+         std::to_string(r.num_readings) + " readings exceeds anywhere with probability " +
+         format("%.2g", kOutlierFamilyProbability) +
+         " (Bonferroni), so a flag on clean data is rare and a flagged configuration is "
+         "worth checking";
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0;
   const auto mid = values.begin() + values.size() / 2;
@@ -44,6 +58,17 @@ double median(std::vector<double> values) {
 }
 
 }  // namespace
+
+double normal_two_sided_quantile(double p) {
+  if (!(p > 0 && p < 1)) return std::numeric_limits<double>::quiet_NaN();
+  // erfc(z / sqrt 2) = P(|Z| > z) falls monotonically: bisection to the last bit.
+  double lo = 0, hi = 40;
+  for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
 
 CalibrationReport make_calibration_report(const CalibrationProblem& problem, const VectorXd& x,
                                           const Summary& summary, const std::vector<int>& lines,
@@ -97,7 +122,7 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
 
   r.residuals.resize(r.num_configurations, k);
   std::map<std::string, int> count;
-  std::vector<double> magnitudes;
+  std::map<std::string, std::vector<double>> magnitudes;  // |whitened residual| per unit
   for (int c = 0; c < r.num_configurations; ++c)
     for (int i = 0; i < k; ++i) {
       if (std::isnan(data.readings(c, i))) {
@@ -110,16 +135,31 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
       r.residual_rms[unit] += value * value;
       r.residual_max[unit] = std::max(r.residual_max[unit], std::abs(value));
       ++count[unit];
-      magnitudes.push_back(std::abs(whitened(c, i)));
+      magnitudes[unit].push_back(std::abs(whitened(c, i)));
     }
   for (auto& [unit, sum] : r.residual_rms) sum = std::sqrt(sum / count[unit]);
-  r.outlier_threshold = std::max(3 * 1.4826 * median(magnitudes), 1e-9);
+  // Outliers: beyond the Bonferroni quantile of a robust noise std, per unit (see the header).
+  r.outlier_z = normal_two_sided_quantile(kOutlierFamilyProbability /
+                                          std::max(1.0, static_cast<double>(r.num_readings)));
+  for (const auto& [unit, values] : magnitudes) {
+    r.outlier_threshold_by_unit[unit] = std::max(r.outlier_z * 1.4826 * median(values), 1e-9);
+  }
+  if (!r.reading_units.empty() && r.outlier_threshold_by_unit.count(r.reading_units[0]))
+    r.outlier_threshold = r.outlier_threshold_by_unit[r.reading_units[0]];
+  double inlier_sum = 0;
   for (int c = 0; c < r.num_configurations; ++c) {
     bool outlier = false;
     for (int i = 0; i < k; ++i)
-      outlier = outlier || (!std::isnan(data.readings(c, i)) &&
-                            std::abs(whitened(c, i)) > r.outlier_threshold);
+      outlier =
+          outlier || (!std::isnan(data.readings(c, i)) &&
+                      std::abs(whitened(c, i)) > r.outlier_threshold_by_unit[r.reading_units[i]]);
     r.outlier.push_back(outlier);
+    if (outlier) continue;
+    for (int i = 0; i < k; ++i)
+      if (!std::isnan(data.readings(c, i))) {
+        inlier_sum += whitened(c, i) * whitened(c, i);
+        ++r.inlier_readings;
+      }
   }
 
   r.identifiability = analyze_identifiability(measured_J, r.names, options);
@@ -133,9 +173,26 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
             model.parameters()[problem.free_indices()[i]].prior_std;
   } else {
     r.uncertainty = estimate_uncertainty(measured_J, measured_r, loss);
+    if (loss.kind != RobustLoss::Kind::kNone) {
+      // The noise a held-out reading shows is that of the unweighted residuals of the
+      // inliers; the down-weighted ones (psi) would understate it.
+      r.psi_sigma = r.uncertainty.sigma;
+      const int dof = r.inlier_readings - static_cast<int>(r.names.size());
+      r.uncertainty.sigma = dof > 0 ? std::sqrt(inlier_sum / dof) : NAN;
+    }
   }
   r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
                                               problem.free_indices(), r.uncertainty.covariance);
+  if (measures_position(model)) {
+    try {
+      r.position_before = summarize_position_errors(
+          position_errors(model, residual_matrix(problem, problem.initial_free_parameters())));
+    } catch (const std::runtime_error&) {
+      // The starting values cannot reach some configuration: no "before" figure.
+    }
+    r.position_after = summarize_position_errors(position_errors(model, r.residuals));
+    r.predicted_point = predict_point_errors(problem, x, r.uncertainty.covariance);
+  }
   return r;
 }
 
@@ -216,6 +273,11 @@ Json to_json(const CalibrationReport& r) {
   out["reading_std"] = reading_std;  // null: not stated by the model
   out["sigma_hat"] = number(r.uncertainty.sigma);
   out["sigma_hat_unit"] = sigma_unit(r);
+  out["sigma_hat_from"] = r.loss == "none" || r.prior
+                              ? "residuals"
+                              : "unweighted residuals of the configurations not flagged as "
+                                "outliers";
+  if (r.loss != "none") out["sigma_psi"] = number(r.psi_sigma);
   out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
   out["effective_degrees_of_freedom"] = number(r.uncertainty.effective_degrees_of_freedom);
   out["robust_std_factor"] = number(r.uncertainty.robust_factor);
@@ -240,6 +302,10 @@ Json to_json(const CalibrationReport& r) {
     correlation.push_back(numbers(r.uncertainty.correlation.row(i).transpose()));
   out["correlation"] = correlation;
   out["outlier_threshold"] = r.outlier_threshold;
+  out["outlier_threshold_by_unit"] = r.outlier_threshold_by_unit;
+  out["outlier_z"] = number(r.outlier_z);
+  out["outlier_family_probability"] = kOutlierFamilyProbability;
+  out["outlier_meaning"] = outlier_meaning(r);
   out["residuals"] = Json::array();
   for (int c = 0; c < r.residuals.rows(); ++c) {
     Json row;
@@ -252,6 +318,46 @@ Json to_json(const CalibrationReport& r) {
   out["identifiability"] = to_json(r.identifiability);
   out["warnings"] = r.warnings;
   out["predicted_pose_error"] = to_json(r.predicted_accuracy);
+  if (r.position_after.points > 0) {
+    Json position = {{"before", to_json(r.position_before)}, {"after", to_json(r.position_after)}};
+    position["before_is"] = "the model's starting values, on the calibration data";
+    position["after_is"] = "the estimate, on the calibration data (in-sample)";
+    if (r.registration.computed) {
+      position["registration_only"] = to_json(r.registration.position);
+    }
+    out["position_error_mm"] = position;
+    Json predicted = to_json(r.predicted_point);
+    predicted["where"] =
+        "the measured point at the measured configurations, from the covariance of all fitted "
+        "parameters";
+    predicted["before_measured"] = to_json(r.position_before);
+    out["predicted_point_error_mm"] = predicted;
+  }
+  Json registration = {{"computed", r.registration.computed}};
+  if (r.registration.computed) {
+    registration["parameters"] = r.registration.names;
+    registration["termination"] = r.registration.termination;
+    registration["residual_rms_by_unit"] = r.registration.residual_rms;
+    if (r.registration.position.points > 0)
+      registration["position_error_mm"] = to_json(r.registration.position);
+  } else {
+    registration["why_not"] = r.registration.why_not;
+  }
+  out["registration_only"] = registration;
+  if (r.cross_validation.folds > 0) {
+    const auto& cv = r.cross_validation;
+    Json folds = {{"folds", cv.folds},
+                  {"assignment", "configuration i (file order) in fold i mod K"},
+                  {"failed_folds", cv.failed},
+                  {"residual_rms_by_unit", cv.residual_rms},
+                  {"registration_only_residual_rms_by_unit", cv.registration_residual_rms}};
+    if (cv.failed) folds["failure"] = cv.failure;
+    if (cv.position.points > 0) {
+      folds["position_error_mm"] = to_json(cv.position);
+      folds["registration_only_position_error_mm"] = to_json(cv.registration_position);
+    }
+    out["cross_validation"] = folds;
+  }
   return out;
 }
 
@@ -319,9 +425,10 @@ std::string to_text(const CalibrationReport& r) {
   else
     out << r.uncertainty.degrees_of_freedom << " degrees of freedom";
   if (r.loss != "none")
-    out << "; from the residuals as the " << r.loss
-        << " loss sees them, std scaled by Huber's factor "
-        << format("%.3g", r.uncertainty.robust_factor);
+    out << "; from the unweighted residuals of the " << r.inlier_readings
+        << " readings not flagged as outliers; the standard deviations use the residuals as the "
+        << r.loss << " loss sees them (" << format("%.4g", r.psi_sigma)
+        << ") scaled by Huber's factor " << format("%.3g", r.uncertainty.robust_factor);
   out << ")\n";
   if (r.loss != "none" && std::isnan(r.uncertainty.robust_factor))
     out << "no standard deviations: the " << r.loss
@@ -330,11 +437,13 @@ std::string to_text(const CalibrationReport& r) {
   for (bool o : r.outlier) outliers += o;
   if (outliers) {
     out << outliers << " outlier configuration(s) (|residual|" << (r.weighted ? " / std" : "")
-        << " > " << format("%.3g", r.outlier_threshold)
-        << (unit == "reading_std" || unit == "mixed" ? "" : " " + unit) << ") at line(s)";
+        << " >";
+    for (const auto& [u, threshold] : r.outlier_threshold_by_unit)
+      out << " " << format("%.3g", threshold) << (r.weighted ? "" : " " + u);
+    out << ", " << format("%.3g", r.outlier_z) << " robust std) at line(s)";
     for (std::size_t c = 0; c < r.outlier.size(); ++c)
       if (r.outlier[c]) out << " " << r.lines[c];
-    out << "\n";
+    out << "\n  (" << outlier_meaning(r) << ")\n";
   }
   if (r.prior)
     out << "MAP estimate with a Gaussian prior around the model's values: std is the "
@@ -380,7 +489,54 @@ std::string to_text(const CalibrationReport& r) {
     out << "largest correlation " << format("%+.3f", r.uncertainty.correlation(wi, wj))
         << " between " << r.names[wi] << " and " << r.names[wj] << "\n";
   out << to_text(r.identifiability);
-  out << to_text(r.predicted_accuracy);
+  if (r.position_after.points > 0) {
+    const auto line = [&](const std::string& label, const PositionErrorStats& p) {
+      std::snprintf(buf, sizeof buf, "  %-44s mean %9.4g  RMS %9.4g  max %9.4g\n", label.c_str(),
+                    p.mean, p.rms, p.max);
+      out << buf;
+    };
+    out << "3-D position error of the measured point, mm (" << r.position_after.points
+        << " points):\n";
+    line("before (the starting values)", r.position_before);
+    if (r.registration.computed && r.registration.position.points > 0)
+      line("registration only (" + std::to_string(r.registration.names.size()) +
+               " frame parameters)",
+           r.registration.position);
+    line("calibrated (" + std::to_string(r.names.size()) + " parameters)", r.position_after);
+    if (r.cross_validation.folds > 0 && r.cross_validation.position.points > 0) {
+      line("held out, " + std::to_string(r.cross_validation.folds) + "-fold: registration only",
+           r.cross_validation.registration_position);
+      line("held out, " + std::to_string(r.cross_validation.folds) + "-fold: calibrated",
+           r.cross_validation.position);
+    }
+    if (r.cross_validation.failed)
+      out << "  (" << r.cross_validation.failed
+          << " fold fit(s) failed: " << r.cross_validation.failure << ")\n";
+    if (r.predicted_point.points > 0)
+      out << "predicted error of the measured point at the measured configurations from the "
+             "parameters' uncertainty: 1 sigma mean "
+          << format("%.4g", r.predicted_point.mean_1sigma) << " / max "
+          << format("%.4g", r.predicted_point.max_1sigma) << " mm (95 %: mean "
+          << format("%.4g", r.predicted_point.mean_95) << " / max "
+          << format("%.4g", r.predicted_point.max_95) << " mm); before calibration measured "
+          << format("%.4g", r.position_before.mean) << " mm mean\n";
+  } else {
+    if (r.registration.computed)
+      for (const auto& [u, rms] : r.registration.residual_rms)
+        out << "registration only (" << r.registration.names.size()
+            << " frame parameters): residual RMS " << format("%.4g", rms) << " " << u << "\n";
+    if (r.cross_validation.folds > 0)
+      for (const auto& [u, rms] : r.cross_validation.residual_rms)
+        out << "held out, " << r.cross_validation.folds << "-fold: residual RMS "
+            << format("%.4g", rms) << " " << u << " (registration only "
+            << format("%.4g", r.cross_validation.registration_residual_rms.count(u)
+                                  ? r.cross_validation.registration_residual_rms.at(u)
+                                  : NAN)
+            << ")\n";
+  }
+  // For a point-measuring sensor the measured figures above replace the box prediction (the
+  // flange, from assumed tolerances); it stays in the JSON.
+  if (r.position_after.points == 0) out << to_text(r.predicted_accuracy);
   for (const auto& warning : r.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }

@@ -2,6 +2,7 @@
 // What a calibration from measured data reports: the fit, the estimated parameters with
 // their uncertainty, per-configuration residuals with outlier flags, and identifiability.
 
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -10,11 +11,19 @@
 #include "kincal/framework/calibration_problem.hpp"
 #include "kincal/framework/identifiability.hpp"
 #include "kincal/framework/pose_accuracy.hpp"
+#include "kincal/framework/position_error.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/framework/solver.hpp"
 #include "kincal/framework/uncertainty.hpp"
 
 namespace kincal {
+
+/// The probability that clean Gaussian data of any size has one or more configurations
+/// flagged as outliers (the family-wise false-alarm rate of the flags).
+constexpr double kOutlierFamilyProbability = 0.05;
+
+/// z with P(|Z| > z) = p for Z standard normal (0 < p < 1).
+double normal_two_sided_quantile(double p);
 
 struct CalibrationReport {
   std::string model_file, data_file;
@@ -38,10 +47,23 @@ struct CalibrationReport {
   /// reading is missing.
   MatrixXd residuals;
   /// A configuration is an outlier when one of its residuals, divided by its reading's std
-  /// (1 when the model states none), exceeds this: 3 * 1.4826 * median, a robust 3-sigma,
-  /// at least 1e-9.
+  /// (1 when the model states none), exceeds the threshold of its reading's unit:
+  ///   outlier_z * s_unit,  s_unit = 1.4826 * median |residual| over that unit's readings
+  /// (a robust estimate of the noise std), at least 1e-9, with outlier_z the two-sided
+  /// normal quantile at which clean Gaussian data of num_readings residuals flags any
+  /// configuration with probability kOutlierFamilyProbability (Bonferroni):
+  ///   P(|z| > outlier_z) = kOutlierFamilyProbability / num_readings.
+  /// outlier_threshold is the threshold of the first unit (the only one in most models).
   double outlier_threshold = 0;
+  std::map<std::string, double> outlier_threshold_by_unit;
+  double outlier_z = 0;
   std::vector<bool> outlier;
+  /// Under a robust loss: the noise estimate from the residuals as the loss sees them (psi),
+  /// which Huber's covariance uses; uncertainty.sigma is then the std of the unweighted
+  /// residuals of the configurations not flagged (inliers), on m_inliers - n degrees of
+  /// freedom, the figure held-out data are compared with. NaN without a loss.
+  double psi_sigma = NAN;
+  int inlier_readings = 0;
   /// RMS and max |residual| over the measured readings of each unit.
   std::map<std::string, double> residual_rms, residual_max;
   Identifiability identifiability;  ///< at the estimate
@@ -56,6 +78,33 @@ struct CalibrationReport {
   /// Predicted pose error over the workspace from the estimate's covariance, next to the
   /// nominal model's (compare_with_nominal at the estimate).
   AccuracyComparison predicted_accuracy;
+
+  /// Accuracy in the field's terms, for models with a point-measuring sensor
+  /// (position_error.hpp; points = 0 otherwise): the measured 3-D position error on the
+  /// calibration data with the starting values and with the estimate, and the error the
+  /// estimate's covariance predicts for the measured point at the measured configurations.
+  PositionErrorStats position_before, position_after;
+  PointErrorPrediction predicted_point;
+  /// A registration-only baseline: only the frames that place the mechanism in the sensor's
+  /// frame and the point on the end effector fitted (registration_indices), the joints and
+  /// links at their starting values. Filled by the caller (it needs the solver).
+  struct Baseline {
+    bool computed = false;
+    std::string why_not;
+    std::vector<std::string> names;  ///< the parameters it fitted
+    std::string termination;
+    std::map<std::string, double> residual_rms;  ///< per unit, on the calibration data
+    PositionErrorStats position;
+  } registration;
+  /// K-fold cross-validation (calibrate --folds K), filled by the caller: held-out errors of
+  /// the full calibration and of the registration-only fit.
+  struct Folds {
+    int folds = 0;  ///< 0: not run
+    int failed = 0;
+    std::string failure;
+    std::map<std::string, double> residual_rms, registration_residual_rms;
+    PositionErrorStats position, registration_position;
+  } cross_validation;
 };
 
 /// Fills everything but the file names and the two lists above from the problem solved at x

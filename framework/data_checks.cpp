@@ -29,6 +29,8 @@ HomePoseCheck check_poses_near_home(const MeasurementModel& model, const VectorX
                                     const Measurements& data) {
   HomePoseCheck check;
   const Mechanism& mechanism = model.mechanism();
+  // Closed form forward kinematics (a serial arm) has one answer whatever the start.
+  if (!mechanism.forward_kinematics_has_assemblies()) return check;
   const Pose& home = mechanism.home_pose();
   const auto mechanism_params = params.head(static_cast<int>(mechanism.parameters().size()));
   std::vector<Pose> poses;
@@ -112,6 +114,145 @@ std::string encoder_stroke_hint(const MeasurementModel& model, const VectorXd& p
          "once, or compute it with kincal ik at a known pose), then free the offsets to refine "
          "them (e.g. --free '" +
          example + ".offset')";
+}
+
+namespace {
+
+// "a, b and c" (at most `max` names, then "and N more").
+std::string name_list(const std::vector<std::string>& names, std::size_t max = 6) {
+  std::string out;
+  const std::size_t shown = std::min(names.size(), max);
+  for (std::size_t i = 0; i < shown; ++i)
+    out += (i == 0 ? "" : i + 1 == shown && shown == names.size() ? " and " : ", ") + names[i];
+  if (shown < names.size()) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
+}
+
+std::vector<std::string> with_suffix(const std::vector<std::string>& names,
+                                     const std::string& suffix) {
+  std::vector<std::string> out;
+  for (const auto& n : names) out.push_back(n + "_" + suffix);
+  return out;
+}
+
+// Angle columns without a suffix whose values go beyond one turn.
+std::string angle_hint(const std::vector<std::string>& names, double lo, double hi,
+                       const char* what) {
+  return std::string(what) + " " + name_list(names) + " span " + format("%.4g", lo) + " .. " +
+         format("%.4g", hi) +
+         ", beyond one turn (+-6.283 rad), which looks like degrees where the model takes "
+         "radians; name the columns " +
+         name_list(with_suffix(names, "deg")) + " (or convert them to radians)";
+}
+
+}  // namespace
+
+std::string check_data_units(const MeasurementModel& model, const VectorXd& params,
+                             const MeasurementTable& table) {
+  const Mechanism& mechanism = model.mechanism();
+  const int na = mechanism.num_actuators();
+  const Measurements& data = table.data;
+  if (data.actuators.cols() != na || data.size() == 0) return "";
+  const auto suffixed = [&](int column) {
+    return column < static_cast<int>(table.column_units.size()) &&
+           !table.column_units[column].empty();
+  };
+  constexpr double kTurn = 2 * M_PI * (1 + 1e-9);
+
+  // Revolute joints: beyond one turn is degrees.
+  std::vector<std::string> angles;
+  double lo = 0, hi = 0;
+  bool beyond = false;
+  for (int a = 0; a < na; ++a) {
+    if (mechanism.actuators()[a].unit != kRadian || suffixed(a)) continue;
+    angles.push_back(mechanism.actuators()[a].name);
+    lo = std::min(lo, data.actuators.col(a).minCoeff());
+    hi = std::max(hi, data.actuators.col(a).maxCoeff());
+    beyond = beyond || data.actuators.col(a).cwiseAbs().maxCoeff() > kTurn;
+  }
+  if (beyond) return angle_hint(angles, lo, hi, "the joint (actuator) columns");
+
+  // Length actuators about a thousandth of their length at home: metres.
+  const auto mechanism_params = params.head(mechanism.num_parameters());
+  VectorXd home(na);
+  if (mechanism.home_actuators(mechanism_params, home).ok()) {
+    std::vector<std::string> lengths;
+    int metres = 0;
+    double first_home = 0;
+    for (int a = 0; a < na; ++a) {
+      if (mechanism.actuators()[a].unit != kMillimetre || suffixed(a) || !(std::abs(home[a]) > 0))
+        continue;
+      std::vector<double> ratio;
+      for (int r = 0; r < data.size(); ++r)
+        ratio.push_back(std::abs(data.actuators(r, a)) / std::abs(home[a]));
+      std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+      const double median = ratio[ratio.size() / 2];
+      if (lengths.empty()) first_home = std::abs(home[a]);
+      lengths.push_back(mechanism.actuators()[a].name);
+      metres += median > 1.0 / 3000 && median < 1.0 / 300;
+    }
+    if (!lengths.empty() && 2 * metres > static_cast<int>(lengths.size()))
+      return "the length actuator columns " + name_list(lengths) +
+             " are about a thousandth of the model's lengths at home (" +
+             format("%.4g", first_home) +
+             " mm for the first), which looks like metres where the model takes millimetres; "
+             "name the columns " +
+             name_list(with_suffix(lengths, "m")) + " (or convert them to millimetres)";
+  }
+
+  // Readings: angles beyond a turn are degrees; lengths that fit 1000 times better scaled
+  // by 1000 are metres.
+  const int k = model.num_readings();
+  if (data.readings.cols() != k || k == 0) return "";
+  const auto units = model.reading_units();
+  const auto names = model.reading_names();
+  std::vector<std::string> angle_readings;
+  lo = hi = 0;
+  beyond = false;
+  for (int i = 0; i < k; ++i) {
+    if (units[i] != kRadian || suffixed(na + i)) continue;
+    angle_readings.push_back(names[i]);
+    for (int r = 0; r < data.size(); ++r) {
+      const double v = data.readings(r, i);
+      if (std::isnan(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      beyond = beyond || std::abs(v) > kTurn;
+    }
+  }
+  if (beyond) return angle_hint(angle_readings, lo, hi, "the angle reading columns");
+
+  std::vector<int> mm_readings;
+  for (int i = 0; i < k; ++i)
+    if (units[i] == kMillimetre && !suffixed(na + i)) mm_readings.push_back(i);
+  if (mm_readings.empty()) return "";
+  auto ws = model.make_workspace();
+  VectorXd predicted(k);
+  double as_given = 0, scaled = 0;
+  int count = 0;
+  for (int r = 0; r < data.size(); ++r) {
+    if (!model.predict(params, data.actuators.row(r).transpose(), predicted, nullptr, ws).ok() ||
+        !predicted.allFinite())
+      continue;
+    for (int i : mm_readings) {
+      const double v = data.readings(r, i);
+      if (std::isnan(v)) continue;
+      as_given += (predicted[i] - v) * (predicted[i] - v);
+      scaled += (predicted[i] - 1000 * v) * (predicted[i] - 1000 * v);
+      ++count;
+    }
+  }
+  if (count == 0) return "";
+  as_given = std::sqrt(as_given / count);
+  scaled = std::sqrt(scaled / count);
+  if (!(scaled < 0.1 * as_given)) return "";
+  std::vector<std::string> columns;
+  for (int i : mm_readings) columns.push_back(names[i]);
+  return "the length reading columns " + name_list(columns) +
+         " look like metres where the model takes millimetres: multiplied by 1000 they are " +
+         format("%.4g", scaled) + " mm RMS from the model's predictions, as given " +
+         format("%.4g", as_given) + " mm; name the columns " +
+         name_list(with_suffix(columns, "m")) + " (or convert them to millimetres)";
 }
 
 }  // namespace kincal

@@ -6,11 +6,15 @@
 //     data's poses all lie far from home_pose, it is probably wrong.
 //   - encoder strokes: actuator values given as strokes (zero at a reference mark) instead of
 //     leg lengths fail forward kinematics at most rows; the leg offsets are the fix.
+//   - units: values of a column that look like the wrong unit (joint angles in degrees where
+//     the model takes radians, lengths in metres where it takes millimetres), for any
+//     mechanism; a column named with a unit suffix (joint1_deg) says its unit and is trusted.
 // Each check returns one plain sentence, empty when nothing looks wrong.
 
 #include <string>
 
 #include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/measurement_file.hpp"
 
 namespace kincal {
 
@@ -30,6 +34,8 @@ struct HomePoseCheck {
 constexpr double kHomeFarMm = 10.0;
 constexpr double kHomeFarRad = 0.2;
 
+/// Only for mechanisms whose forward kinematics has several assemblies
+/// (Mechanism::forward_kinematics_has_assemblies); for a serial arm it is never far.
 HomePoseCheck check_poses_near_home(const MeasurementModel& model, const VectorXd& params,
                                     const Measurements& data);
 
@@ -39,5 +45,16 @@ HomePoseCheck check_poses_near_home(const MeasurementModel& model, const VectorX
 /// otherwise.
 std::string encoder_stroke_hint(const MeasurementModel& model, const VectorXd& params,
                                 const Measurements& data, int failed_rows);
+
+/// Values beyond one turn (|value| > 2 pi) in an angle column (a revolute joint, an angle
+/// reading) read without a unit suffix are degrees. Length actuators whose values are about
+/// a thousandth of their length at home (median ratio within [1/3000, 1/300]) are metres.
+/// Length readings (mm) that the model at `params` predicts ten times better when multiplied
+/// by 1000 are metres (checked only when `table` holds the model's readings and forward
+/// kinematics reaches the rows). Returns one sentence saying what was seen and how to fix it
+/// (name the columns <name>_deg / <name>_m, or convert), or "" when nothing looks wrong.
+/// Columns read with a unit suffix are not checked: the suffix states the unit.
+std::string check_data_units(const MeasurementModel& model, const VectorXd& params,
+                             const MeasurementTable& table);
 
 }  // namespace kincal

@@ -179,6 +179,7 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
 
   // Column of each wanted name; every other column is ignored.
   const std::string at_header = source + ":" + std::to_string(header_line);
+  table.header_line = header_line;
   if (separator != ',')
     table.notices.push_back(at_header + ": fields separated by " + separator_name(separator) +
                             " (the header has no comma)");
@@ -191,8 +192,21 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                   " and " + std::to_string(c + 1) + ")");
   }
   std::vector<int> columns;
+  std::vector<bool> used(header.size(), false);
   for (const auto& name : wanted) {
-    const auto it = column_of.find(name);
+    // The bare name, or the name with a unit suffix (joint1_deg); never both.
+    auto it = column_of.find(name);
+    std::string unit;
+    for (const auto& suffix : column_unit_suffixes()) {
+      const auto with_unit = column_of.find(name + "_" + suffix);
+      if (with_unit == column_of.end()) continue;
+      if (it != column_of.end())
+        throw std::invalid_argument(at_header + ": columns '" + it->first + "' and '" +
+                                    with_unit->first + "' both give " + name +
+                                    "; expected one of them");
+      it = with_unit;
+      unit = suffix;
+    }
     if (it == column_of.end()) {
       // A header such as "leg1;leg2,..." mixes separators: name what was found.
       std::string found;
@@ -206,14 +220,14 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                ": expected one separator, commas, throughout the file)"));
     }
     columns.push_back(it->second);
+    used[it->second] = true;
+    table.column_units.push_back(unit);
+    table.column_headers.push_back(it->first);
   }
-  for (const auto& field : header) {
-    bool used = false;
-    for (const auto& name : wanted) used = used || name == field;
-    if (!used)
-      table.notices.push_back(at_header + ": ignoring column '" + message_excerpt(field) +
+  for (std::size_t c = 0; c < header.size(); ++c)
+    if (!used[c])
+      table.notices.push_back(at_header + ": ignoring column '" + message_excerpt(header[c]) +
                               "' (not an actuator or reading of the model)");
-  }
 
   const int num_actuators = static_cast<int>(actuator_names.size());
   std::vector<std::vector<double>> rows;
@@ -298,8 +312,47 @@ MeasurementTable read_measurements(const std::string& path, const MeasurementMod
                                    const CsvLimits& limits) {
   MeasurementTable table =
       read_measurements(path, model.mechanism().actuator_names(), model.reading_names(), limits);
+  std::vector<std::string> actuator_units;
+  for (const auto& a : model.mechanism().actuators()) actuator_units.push_back(a.unit);
+  convert_column_units(table, actuator_units, model.reading_units(), path);
   check_sensor_readings(model, table, path);
   return table;
+}
+
+const std::vector<std::string>& column_unit_suffixes() {
+  static const std::vector<std::string> suffixes = {"deg", "rad", "mm", "m"};
+  return suffixes;
+}
+
+void convert_column_units(MeasurementTable& table, const std::vector<std::string>& actuator_units,
+                          const std::vector<std::string>& reading_units,
+                          const std::string& source) {
+  const int na = static_cast<int>(actuator_units.size());
+  if (table.data.actuators.cols() != na ||
+      table.data.readings.cols() != static_cast<int>(reading_units.size()) ||
+      table.column_units.size() != actuator_units.size() + reading_units.size())
+    throw std::invalid_argument(source + ": the units do not match the columns read");
+  for (std::size_t w = 0; w < table.column_units.size(); ++w) {
+    const std::string& suffix = table.column_units[w];
+    if (suffix.empty()) continue;
+    const bool actuator = static_cast<int>(w) < na;
+    const std::string& unit = actuator ? actuator_units[w] : reading_units[w - na];
+    double factor = 0;
+    if (unit == "rad") factor = suffix == "deg" ? M_PI / 180 : suffix == "rad" ? 1 : 0;
+    if (unit == "mm") factor = suffix == "m" ? 1000 : suffix == "mm" ? 1 : 0;
+    if (factor == 0)
+      throw std::invalid_argument(
+          source + ":" + std::to_string(table.header_line) + ": column '" +
+          table.column_headers[w] + "': " + (actuator ? "actuator" : "reading") + " " +
+          table.column_headers[w].substr(0, table.column_headers[w].size() - suffix.size() - 1) +
+          " is " + (unit == "rad" ? "an angle (rad)" : "a length (mm)") + ", but the suffix says " +
+          suffix + "; expected " + (unit == "rad" ? "_deg or _rad" : "_mm or _m") +
+          " (or no suffix for " + unit + ")");
+    if (factor == 1) continue;
+    auto column = actuator ? table.data.actuators.col(static_cast<int>(w))
+                           : table.data.readings.col(static_cast<int>(w) - na);
+    column *= factor;  // NaN (not measured) stays NaN
+  }
 }
 
 void check_sensor_readings(const MeasurementModel& model, MeasurementTable& table,

@@ -9,6 +9,9 @@
 // reading field is a reading the sensor did not take (NaN in Measurements): it contributes
 // no residual. A sensor's readings in one row are all given or all empty. A UTF-8 byte
 // order mark at the start is skipped. Lines and files have size limits (CsvLimits).
+// A column may carry a unit suffix after its name: <name>_deg, <name>_rad, <name>_mm or
+// <name>_m (shoulder_pan_joint_deg); convert_column_units converts such a column into the
+// actuator's or reading's own unit. Without a suffix the values are in that unit already.
 
 #include <cstddef>
 #include <istream>
@@ -41,7 +44,23 @@ struct MeasurementTable {
   std::vector<int> line_numbers;
   /// Non-fatal remarks, e.g. "D.csv:1: ignoring column 'temperature'".
   std::vector<std::string> notices;
+  /// Per wanted column (actuators, then readings): the unit suffix its header carried
+  /// ("deg", "rad", "mm", "m"), or "" when the header gave the bare name.
+  std::vector<std::string> column_units;
+  int header_line = 0;  ///< 1-based line of the header row
+  /// Per wanted column: the header as written (e.g. "joint1_deg"), for messages.
+  std::vector<std::string> column_headers;
 };
+
+/// The unit suffixes a column name may carry, in the order they are tried.
+const std::vector<std::string>& column_unit_suffixes();
+
+/// Converts every column read with a unit suffix into the unit of its actuator or reading
+/// (`actuator_units` then `reading_units`, "mm" or "rad"): deg -> rad, m -> mm. Throws
+/// std::invalid_argument "<source>:<line>: ..." when a suffix is not a unit of that quantity
+/// (an angle in mm). Values are replaced in place; NaN (missing) stays NaN.
+void convert_column_units(MeasurementTable& table, const std::vector<std::string>& actuator_units,
+                          const std::vector<std::string>& reading_units, const std::string& source);
 
 /// Reads `path`. Throws std::invalid_argument with "<path>:<line>: <what was expected>" for a
 /// missing file or a directory, a missing or duplicated column, a row with the wrong number of
@@ -53,7 +72,8 @@ MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& reading_names,
                                    const CsvLimits& limits = {});
 
-/// read_measurements for `model`'s actuators and readings, then check_sensor_readings.
+/// read_measurements for `model`'s actuators and readings, convert_column_units, then
+/// check_sensor_readings.
 MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
                                    const CsvLimits& limits = {});
 

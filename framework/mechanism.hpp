@@ -89,6 +89,10 @@ class Mechanism {
   int num_parameters() const { return static_cast<int>(parameters().size()); }
   /// Pose from which forward kinematics starts by default.
   virtual const Pose& home_pose() const = 0;
+  /// Whether forward kinematics has several solutions (assemblies) and converges to the one
+  /// nearest its start, so that a wrong home_pose gives other valid poses (closed chains:
+  /// true). False where it is closed form and unique (a serial arm).
+  virtual bool forward_kinematics_has_assemblies() const { return true; }
   /// Actuator values at home, around which configurations are drawn. Default: inverse
   /// kinematics of home_pose(); a serial arm returns its home joint values.
   virtual InverseKinematicsResult home_actuators(const ParamsRef& params,

@@ -23,6 +23,10 @@ class Sensor {
   virtual std::vector<std::string> reading_names() const { return {name()}; }
   /// Unit of each reading ("mm" or "rad"), in reading_names() order.
   virtual std::vector<std::string> reading_units() const = 0;
+  /// Index of the first of three readings that are the measured point's position (x, y, z in
+  /// mm, in the sensor's own Cartesian frame), or -1 when the sensor measures no point (a
+  /// length gauge). Accuracy in the field's terms (3-D position error) is computed from them.
+  virtual int position_reading_index() const { return -1; }
   /// Parameter layout with nominal values and units; all fixed (a model's mask frees them).
   virtual const std::vector<Parameter>& parameters() const = 0;
   int num_parameters() const { return static_cast<int>(parameters().size()); }

@@ -24,6 +24,8 @@ class PointTracker final : public Sensor {
   std::vector<std::string> reading_names() const override;
   std::vector<std::string> reading_units() const override { return {"mm", "mm", "mm"}; }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
+  /// x, y, z: the measured point in the tracker's frame.
+  int position_reading_index() const override { return 0; }
 
   void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,

@@ -33,6 +33,8 @@ class PoseTracker final : public Sensor {
     return {"mm", "mm", "mm", "rad", "rad", "rad"};
   }
   const std::vector<Parameter>& parameters() const override { return parameters_; }
+  /// x, y, z: the measured point in the tracker's frame.
+  int position_reading_index() const override { return 0; }
 
   void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,

@@ -193,6 +193,42 @@ TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   EXPECT_EQ(plain.find("expected to beat"), std::string::npos);
 }
 
+// A point-measuring sensor: the measured 3-D position error (before, registration only,
+// after, held out) is the verdict, instead of the workspace prediction's assumed "nominal".
+TEST(HtmlReport, PositionErrorIsTheVerdictForAPointMeasuringSensor) {
+  Json r = hostile_report();
+  const auto stats = [](double mean) {
+    return Json{{"points", 20}, {"mean", mean}, {"rms", mean * 1.1}, {"max", mean * 2}};
+  };
+  r["position_error_mm"] = {
+      {"before", stats(2.5)}, {"registration_only", stats(0.6)}, {"after", stats(0.1)}};
+  r["cross_validation"] = {{"folds", 5},
+                           {"position_error_mm", stats(0.11)},
+                           {"registration_only_position_error_mm", stats(0.62)}};
+  r["predicted_point_error_mm"] = {{"points", 20}, {"mean_1sigma", 0.01}};
+  r["predicted_pose_error"] = {
+      {"computed", true},
+      {"calibrated", {{"position_rms_mm", 8.5}, {"orientation_rms_rad", 1e-3}}},
+      {"nominal", {{"position_rms_mm", 7.2}, {"orientation_rms_rad", 2e-3}}},
+      {"expected_to_beat_nominal", false}};
+  r["outlier_meaning"] = "a configuration is flagged when <z> ...";
+  const std::string html = render_calibration_html(r);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("id=\"position-error\""), std::string::npos);
+  EXPECT_NE(html.find("2.5 mm before, 0.6 mm with registration only"), std::string::npos);
+  EXPECT_NE(html.find("Held out (5-fold cross-validation): 0.11 mm"), std::string::npos);
+  EXPECT_EQ(html.find("NOT expected to beat the nominal model"), std::string::npos);
+  EXPECT_EQ(html.find("<z>"), std::string::npos);
+  // Worse after than before: a problem.
+  r["position_error_mm"]["after"] = stats(3.0);
+  EXPECT_NE(render_calibration_html(r).find("does not reduce the error"), std::string::npos);
+  // No figure before (null): no verdict either way.
+  r["position_error_mm"]["before"]["mean"] = nullptr;
+  const std::string unknown = render_calibration_html(r);
+  EXPECT_NE(unknown.find("could not both be computed"), std::string::npos);
+  EXPECT_EQ(unknown.find("does not reduce the error"), std::string::npos);
+}
+
 // Degenerate reports (a failed solve: no residuals, no std, a zero Jacobian, nulls where
 // numbers were expected) still give a well-formed page that says so.
 TEST(HtmlReport, DegenerateReportsGiveAWellFormedPage) {
@@ -262,6 +298,15 @@ TEST(HtmlPages, ValidationPageSaysWhetherTheResidualsAreAsPredicted) {
   EXPECT_EQ(markup_problem(html), "");
   EXPECT_NE(html.find("what the calibration predicts"), std::string::npos);
   EXPECT_NE(html.find("taken as exact"), std::string::npos);
+  // Untested, with the position error before and after.
+  v["verdict"] = "not_tested";
+  v["position_error_mm"] = {{"before", {{"points", 3}, {"mean", 2.5}, {"rms", 2.6}, {"max", 3.0}}},
+                            {"after", {{"points", 3}, {"mean", 0.1}, {"rms", 0.11}, {"max", 0.2}}}};
+  html = cli::render_validation_html(v);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("consistency test is not made"), std::string::npos);
+  EXPECT_NE(html.find("0.1 mm, against 2.5 mm before calibration"), std::string::npos);
+  EXPECT_EQ(html.find("taken as exact"), std::string::npos);
 }
 
 TEST(HtmlPages, DesignPageComparesWithRandomAndNominal) {

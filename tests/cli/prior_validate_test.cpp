@@ -199,7 +199,6 @@ TEST_F(CliPrior, ValidateBadInput) {
   const std::vector<std::string> bad = {
       "validate --model " + path("M.json"),
       "validate --data " + path("H.csv"),
-      "validate --model " + path("plain.json") + " --data " + path("H.csv"),
       "validate --model " + path("M.json") + " --data " + path("H.csv") + " --report " +
           path("M.json"),
       "validate --model " + path("M.json") + " --data " + path("H.csv") + " --json " +
@@ -210,6 +209,20 @@ TEST_F(CliPrior, ValidateBadInput) {
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
   }
+}
+
+// Without reading_std and without a report nothing predicts the residuals: they are
+// reported all the same (issue 20: a nominal model validates), the test is not made.
+TEST_F(CliPrior, ValidateWithoutAPredictionReportsTheResidualsUntested) {
+  const auto r =
+      run_cli("validate --model " + path("plain.json") + " --data " + path("H.csv") + " --json -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json j = Json::parse(r.out);
+  EXPECT_EQ(j["verdict"], "not_tested");
+  EXPECT_TRUE(j["chi_square"].is_null());
+  EXPECT_TRUE(j["noise"].is_null());
+  EXPECT_GT(j["residual_rms"].get<double>(), 0);
+  EXPECT_FALSE(j.contains("position_error_mm"));  // a length gauge measures no point
 }
 
 }  // namespace
