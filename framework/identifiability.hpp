@@ -97,4 +97,23 @@ void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
 /// current values solves the problem in an identifiable subspace.
 std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options = {});
 
+/// A free parameter the data cannot tell from the others: its column of J is (up to the
+/// numerical rank) a combination of the kept columns, so moving it by 1 changes the readings
+/// as moving the kept parameters by `equivalent` does. That difference is a null-space
+/// direction: +1 on `name`, -coefficient on each equivalent term.
+struct DependentParameter {
+  std::string name;
+  bool unseen = false;  ///< no reading depends on it at all (its column is zero)
+  /// (name, coefficient) in parameter units, significant terms only (options.term_cutoff of
+  /// the largest), largest first.
+  std::vector<std::pair<std::string, double>> equivalent;
+};
+
+/// For each column of J not in `keep` (identifiable_subset), what it duplicates among the
+/// kept columns (least squares on the scaled columns).
+std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
+                                                     const std::vector<std::string>& names,
+                                                     const std::vector<int>& keep,
+                                                     const IdentifiabilityOptions& options = {});
+
 }  // namespace kincal
