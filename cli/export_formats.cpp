@@ -228,6 +228,10 @@ std::string export_csv(const MeasurementModel& model, const ExportSource& source
       file.begin(), file.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   std::string out = "# kincal export: calibrated " + model.mechanism().type() + " from " + file +
                     " (sha256 " + source.sha256 + ")\n";
+  if (dynamic_cast<const UrdfArm*>(&model.mechanism()))
+    throw ExportError(
+        "--format csv: an arm imported from a URDF has no DH table; use --format "
+        "urdf (its own URDF, corrected) or json (origins, errors and offsets)");
   if (const SerialArm* arm = as_serial_arm(model)) {
     const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
     out +=
@@ -283,6 +287,40 @@ std::string export_json(const MeasurementModel& model, const ExportSource& sourc
   out["source"] = {{"model", source.model_file}, {"sha256", source.sha256}};
   out["mechanism"] = model.mechanism().type();
   out["units"] = {{"length", "mm"}, {"angle", "rad"}};
+  if (const auto* urdf_arm = dynamic_cast<const UrdfArm*>(&model.mechanism())) {
+    const UrdfArmGeometry g = urdf_arm->geometry_from(mechanism_values(model));
+    out["convention"] =
+        "T(q) = base * prod_i [origin_i * origin_error_i * motion_i(q_i + offset_i)] * tip * "
+        "tool; motion: rotation about axis (revolute, continuous) or translation along it "
+        "(prismatic); frames: R = Rz(rz) Ry(ry) Rx(rx); world = the tracker's frame, tcp = "
+        "tool * target or marker";
+    out["urdf_file"] = g.urdf_file;
+    out["base_link"] = g.base_link;
+    out["tip_link"] = g.tip_link;
+    out["base"] = pose_json(frame_from_parameters(g.base));
+    out["joints"] = Json::array();
+    for (const UrdfArmJoint& j : g.joints) {
+      Json joint = {{"name", j.name},
+                    {"type", to_string(j.type)},
+                    {"origin", pose_json(frame_from_parameters(j.origin))},
+                    {"axis", {j.axis.x(), j.axis.y(), j.axis.z()}},
+                    {"origin_error", pose_json(frame_from_parameters(j.origin_error))},
+                    {"offset", j.offset}};
+      if (j.type != UrdfJointType::kContinuous) {
+        joint["lower"] = j.lower;
+        joint["upper"] = j.upper;
+      }
+      out["joints"].push_back(joint);
+    }
+    out["tip"] = pose_json(frame_from_parameters(g.tip));
+    out["tool"] = pose_json(frame_from_parameters(g.tool));
+    MeasuredFrames frames;
+    if (tracker_frames(model, frames)) {
+      out["world_from_base_frame"] = pose_json(frames.world_from_mechanism);
+      out["tcp_in_tool"] = pose_json(frames.tcp_in_tool);
+    }
+    return out.dump(2) + "\n";
+  }
   if (const SerialArm* arm = as_serial_arm(model)) {
     const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
     out["convention"] =

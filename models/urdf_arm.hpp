@@ -28,6 +28,9 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "kincal/framework/measurement_model.hpp"
 #include "kincal/framework/mechanism.hpp"
 
 namespace kincal {
@@ -127,7 +130,12 @@ VectorXd urdf_arm_parameters(const UrdfArmGeometry& geometry);
 /// The rigid motion of a joint by `value` (rad about the axis, or mm along it).
 Pose urdf_joint_motion(const UrdfArmJoint& joint, double value);
 
-/// Registers the urdf-arm type (model-file reader/writer).
+/// The preset `ur5-urdf` (models/urdf_arm_presets.cpp): its URDF text, description, model.
+std::string ur5_urdf_text();
+std::string ur5_urdf_description();
+std::shared_ptr<MeasurementModel> make_ur5_urdf();
+
+/// Registers the urdf-arm type (model-file reader/writer) and the preset ur5-urdf.
 void register_urdf_arm(ModelRegistry& registry);
 
 }  // namespace kincal

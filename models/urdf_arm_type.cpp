@@ -179,6 +179,7 @@ void register_urdf_arm(ModelRegistry& registry) {
                           "moving joint, base and tool frames; exported back into the user's "
                           "own URDF",
                           read_urdf_arm, write_urdf_arm});
+  registry.add_preset({"ur5-urdf", ur5_urdf_description(), make_ur5_urdf});
 }
 
 }  // namespace kincal

@@ -17,6 +17,7 @@
 #include "cli_runner.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/models/model_io.hpp"
+#include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {
 namespace {
@@ -202,6 +203,38 @@ TEST(Urdf, ImportCalibrateExportRoundTrip) {
                                       " --format urdf --out " + (dir / "nominal.urdf"));
   ASSERT_EQ(nominal_export.exit_code, 0) << nominal_export.err;
   EXPECT_NE(read_text(dir / "nominal.urdf"), urdf_text);
+}
+
+// The preset ur5-urdf carries the example's URDF text, and its geometry is that text's: the
+// export (which re-reads the text with urdfdom and compares) accepts it.
+TEST(Urdf, PresetHoldsTheExampleUrdfAndExportsIntoIt) {
+  const char* source = std::getenv("KINCAL_SOURCE_DIR");
+  ASSERT_NE(source, nullptr) << "KINCAL_SOURCE_DIR is set by ctest";
+  EXPECT_EQ(read_text(std::string(source) + "/examples/ur5-laser-tracker/ur5.urdf"),
+            ur5_urdf_text());
+  TempDir dir("urdf-preset");
+  ASSERT_EQ(run_cli("model --preset ur5-urdf --out " + (dir / "m.json")).exit_code, 0);
+  const auto exported =
+      run_cli("export --model " + (dir / "m.json") + " --format urdf --out " + (dir / "m.urdf"));
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_NE(read_text(dir / "m.urdf").find("<link name=\"tcp\""), std::string::npos);
+  const auto json =
+      run_cli("export --model " + (dir / "m.json") + " --format json --out " + (dir / "m.j"));
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "m.j"))["joints"].size(), 6u);
+  const auto csv =
+      run_cli("export --model " + (dir / "m.json") + " --format csv --out " + (dir / "m.csv"));
+  EXPECT_EQ(csv.exit_code, 2);
+  EXPECT_NE(csv.err.find("no DH table"), std::string::npos) << csv.err;
+  // A model whose joints were edited after import no longer matches its URDF: refused.
+  auto edited = nlohmann::json::parse(read_text(dir / "m.json"));
+  edited["mechanism"]["joints"][2]["origin"]["position"][0] = -430.0;
+  std::ofstream(dir / "edited.json") << edited.dump(2);
+  const auto refused = run_cli("export --model " + (dir / "edited.json") + " --format urdf --out " +
+                               (dir / "e.urdf"));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("differs from its URDF text (joint 'elbow_joint')"), std::string::npos)
+      << refused.err;
 }
 
 TEST(Urdf, BadImportsAreOneLineAndExitTwo) {
