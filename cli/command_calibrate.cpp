@@ -261,6 +261,7 @@ int run_calibrate(const Args& args) {
 
   // Identifiability at the starting point decides whether solving makes sense at all.
   std::vector<std::string> fixed_by_identifiability;
+  std::vector<std::string> null_directions;  // why each of them was fixed, in words
   {
     const CalibrationProblem probe(model, loaded.data, nominal, free);
     VectorXd r;
@@ -307,8 +308,10 @@ int run_calibrate(const Args& args) {
                             std::to_string(free.size()) +
                             " free parameters; fixing the others at their model values "
                             "(each named with what it duplicates, a null direction of the data):");
-      for (const DependentParameter& d : dependent)
-        note("calibrate", "  " + describe_dependent(d, *model));
+      for (const DependentParameter& d : dependent) {
+        null_directions.push_back(describe_dependent(d, *model));
+        note("calibrate", "  " + null_directions.back());
+      }
       std::vector<int> kept;
       std::size_t next = 0;
       for (std::size_t i = 0; i < free.size(); ++i) {
@@ -354,6 +357,7 @@ int run_calibrate(const Args& args) {
   // crash between the two renames the report, renamed first, is new and the model old: the
   // report records the SHA-256 of the model written with it, and `kincal verify` tells.
   nlohmann::ordered_json report_json = to_json(report);
+  if (!null_directions.empty()) report_json["null_directions"] = null_directions;
   std::vector<std::pair<std::string, std::string>> outputs;
   std::string model_text;
   if (solved && vm.count("out")) {

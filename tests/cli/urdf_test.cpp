@@ -156,6 +156,8 @@ TEST(Urdf, ImportCalibrateExportRoundTrip) {
       << calibrated.err;
   const auto report = nlohmann::json::parse(read_text(dir / "report.json"));
   EXPECT_LT(report["final_cost"].get<double>(), 1e-12);
+  ASSERT_TRUE(report.contains("null_directions"));
+  EXPECT_EQ(report["null_directions"].size(), report["fixed_by_identifiability"].size());
 
   // An explicit mask is the user's: rank deficient, it stops and names null directions.
   const auto explicit_mask = run_cli("calibrate --model " + (dir / "model.json") + " --data " +
