@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
@@ -248,12 +249,18 @@ std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& value
                     "): the model file was edited after import; re-import the URDF");
 
   const urdf::ModelInterfaceSharedPtr urdf_model = parse(g.urdf_text);
-  for (const char* reserved : {"world", "tcp"})
-    if (urdf_model->getLink(reserved))
-      throw UrdfError(std::string("the URDF already has a link '") + reserved +
-                      "', which the export adds (world: the measurement frame, tcp: the measured "
-                      "point); rename it in the URDF and re-import");
   const std::string root = urdf_model->getRoot()->name;
+  // A URDF whose root is already `world` keeps it, as the measurement frame; anywhere else
+  // the name is taken.
+  const bool root_is_world = root == "world";
+  if (urdf_model->getLink("world") && !root_is_world)
+    throw UrdfError(
+        "the URDF has a link 'world' that is not its root; the export adds `world` as the "
+        "measurement frame at the root: rename that link in the URDF and re-import");
+  if (urdf_model->getLink("tcp"))
+    throw UrdfError(
+        "the URDF already has a link 'tcp', which the export adds (the measured point); "
+        "rename it in the URDF and re-import");
   const Pose root_from_base = root_to(*urdf_model, g.base_link);
   const MeasuredFrames frames = measured_frames(model, values);
   const Pose world_from_root = compose(
@@ -280,17 +287,29 @@ std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& value
                                     full(f[2] / kMillimetresPerMetre));
     origin->SetAttribute("rpy", full(f[3]) + " " + full(f[4]) + " " + full(f[5]));
   };
+  // The origins to write, by joint name: the chain's corrected, and with a root `world`,
+  // every joint from it moved by where the root is in the measurement frame.
+  std::map<std::string, Pose> origins;
   for (const UrdfArmJoint& joint : g.joints) {
-    TiXmlElement* element = robot->FirstChildElement("joint");
-    while (element && (element->Attribute("name") == nullptr ||
-                       std::string(element->Attribute("name")) != joint.name))
-      element = element->NextSiblingElement("joint");
-    if (!element) throw UrdfError("joint '" + joint.name + "' not found in the URDF text");
     const Pose urdf_origin =
         from_urdf(urdf_model->getJoint(joint.name)->parent_to_joint_origin_transform);
-    const Pose corrected = compose(compose(urdf_origin, frame_from_parameters(joint.origin_error)),
-                                   urdf_joint_motion(joint, joint.offset));
-    set_origin(element, corrected);
+    origins[joint.name] = compose(compose(urdf_origin, frame_from_parameters(joint.origin_error)),
+                                  urdf_joint_motion(joint, joint.offset));
+  }
+  if (root_is_world)
+    for (const auto& [name, joint] : urdf_model->joints_)
+      if (joint->parent_link_name == "world")
+        origins[name] =
+            compose(world_from_root, origins.count(name)
+                                         ? origins[name]
+                                         : from_urdf(joint->parent_to_joint_origin_transform));
+  for (const auto& [name, pose] : origins) {
+    TiXmlElement* element = robot->FirstChildElement("joint");
+    while (element && (element->Attribute("name") == nullptr ||
+                       std::string(element->Attribute("name")) != name))
+      element = element->NextSiblingElement("joint");
+    if (!element) throw UrdfError("joint '" + name + "' not found in the URDF text");
+    set_origin(element, pose);
   }
   auto unique_joint_name = [&](std::string name) {
     while (urdf_model->getJoint(name)) name += "_";
@@ -318,10 +337,18 @@ std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& value
   add_link_refs(tcp_joint, g.tip_link, "tcp");
   set_origin(&world_joint, world_from_root);
   set_origin(&tcp_joint, tcp);
-  robot->InsertEndChild(TiXmlComment(
-      (" kincal: the measurement frame (" + frames.sensor + ") and the calibrated base ").c_str()));
-  robot->InsertEndChild(world);
-  robot->InsertEndChild(world_joint);
+  if (root_is_world) {
+    robot->InsertEndChild(
+        TiXmlComment((" kincal: the root link world is the measurement frame (" + frames.sensor +
+                      "): the joints from it carry the calibrated base ")
+                         .c_str()));
+  } else {
+    robot->InsertEndChild(TiXmlComment(
+        (" kincal: the measurement frame (" + frames.sensor + ") and the calibrated base ")
+            .c_str()));
+    robot->InsertEndChild(world);
+    robot->InsertEndChild(world_joint);
+  }
   robot->InsertEndChild(
       TiXmlComment(" kincal: the measured point or frame (tool frame and tracker target) "));
   robot->InsertEndChild(tcp_link);

@@ -120,12 +120,13 @@ Eigen::Isometry3d urdf_world_to_tcp(const urdf::ModelInterface& robot,
   return T;
 }
 
-TEST(Urdf, ImportCalibrateExportRoundTrip) {
-  TempDir dir("urdf-round-trip");
-  write_text(dir / "robot.urdf", kRobot);
-  const auto imported =
-      run_cli("model --urdf " + (dir / "robot.urdf") +
-              " --base base_link --tip tool_mount --point 10,20,30 --out " + (dir / "model.json"));
+void round_trip(const std::string& robot_text, const std::string& base_option,
+                const std::string& name) {
+  SCOPED_TRACE(name);
+  TempDir dir("urdf-round-trip-" + name);
+  write_text(dir / "robot.urdf", robot_text);
+  const auto imported = run_cli("model --urdf " + (dir / "robot.urdf") + base_option +
+                                " --tip tool_mount --point 10,20,30 --out " + (dir / "model.json"));
   ASSERT_EQ(imported.exit_code, 0) << imported.err;
   const auto model = load_model(dir / "model.json");
   EXPECT_EQ(model->mechanism().actuator_names(),
@@ -205,6 +206,17 @@ TEST(Urdf, ImportCalibrateExportRoundTrip) {
                                       " --format urdf --out " + (dir / "nominal.urdf"));
   ASSERT_EQ(nominal_export.exit_code, 0) << nominal_export.err;
   EXPECT_NE(read_text(dir / "nominal.urdf"), urdf_text);
+}
+
+TEST(Urdf, ImportCalibrateExportRoundTrip) {
+  // The arm's base below the URDF's root: the export adds `world` above the root.
+  round_trip(kRobot, " --base base_link", "base-below-root");
+  // A URDF whose root is already `world` (the chain starting there): it stays the root and
+  // becomes the measurement frame; the joints from it carry the calibrated base.
+  std::string rooted = kRobot;
+  for (std::size_t at; (at = rooted.find("\"stand\"")) != std::string::npos;)
+    rooted.replace(at, 7, "\"world\"");
+  round_trip(rooted, "", "root-is-world");
 }
 
 // The preset ur5-urdf carries the example's URDF text, and its geometry is that text's: the
