@@ -16,6 +16,7 @@
 
 #include "cli_runner.hpp"
 #include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/pose.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
@@ -120,13 +121,13 @@ Eigen::Isometry3d urdf_world_to_tcp(const urdf::ModelInterface& robot,
   return T;
 }
 
-void round_trip(const std::string& robot_text, const std::string& base_option,
+void round_trip(const std::string& robot_text, const std::string& options,
                 const std::string& name) {
   SCOPED_TRACE(name);
   TempDir dir("urdf-round-trip-" + name);
   write_text(dir / "robot.urdf", robot_text);
-  const auto imported = run_cli("model --urdf " + (dir / "robot.urdf") + base_option +
-                                " --tip tool_mount --point 10,20,30 --out " + (dir / "model.json"));
+  const auto imported = run_cli("model --urdf " + (dir / "robot.urdf") + options +
+                                " --tip tool_mount --out " + (dir / "model.json"));
   ASSERT_EQ(imported.exit_code, 0) << imported.err;
   const auto model = load_model(dir / "model.json");
   EXPECT_EQ(model->mechanism().actuator_names(),
@@ -198,7 +199,9 @@ void round_trip(const std::string& robot_text, const std::string& base_option,
     for (int i = 0; i < q.size(); ++i)
       by_name[calibrated_model->mechanism().actuator_names()[i]] = q[i];
     const Eigen::Isometry3d T = urdf_world_to_tcp(*robot, by_name);
-    worst = std::max(worst, (T.translation() * 1e3 - predicted).norm());
+    worst = std::max(worst, (T.translation() * 1e3 - predicted.head<3>()).norm());
+    if (predicted.size() == 6)  // a pose tracker: the frame's orientation too (rad x 1 m)
+      worst = std::max(worst, 1e3 * (log_so3(T.linear()) - predicted.tail<3>()).norm());
   }
   EXPECT_LT(worst, 1e-6) << "mm, over " << table.data.size() << " configurations";
   // And the calibration did move tcp: the nominal model's export is elsewhere.
@@ -210,13 +213,15 @@ void round_trip(const std::string& robot_text, const std::string& base_option,
 
 TEST(Urdf, ImportCalibrateExportRoundTrip) {
   // The arm's base below the URDF's root: the export adds `world` above the root.
-  round_trip(kRobot, " --base base_link", "base-below-root");
+  round_trip(kRobot, " --base base_link --point 10,20,30", "base-below-root");
   // A URDF whose root is already `world` (the chain starting there): it stays the root and
   // becomes the measurement frame; the joints from it carry the calibrated base.
   std::string rooted = kRobot;
   for (std::size_t at; (at = rooted.find("\"stand\"")) != std::string::npos;)
     rooted.replace(at, 7, "\"world\"");
-  round_trip(rooted, "", "root-is-world");
+  round_trip(rooted, " --point 10,20,30", "root-is-world");
+  // A pose tracker: tcp is the marker's frame, orientation included.
+  round_trip(kRobot, " --base base_link --sensor pose-tracker", "pose-tracker");
 }
 
 // The preset ur5-urdf carries the example's URDF text, and its geometry is that text's: the
