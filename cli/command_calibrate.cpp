@@ -15,6 +15,7 @@
 #include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
+#include "kincal/models/urdf_arm.hpp"
 
 namespace kincal::cli {
 
@@ -285,7 +286,14 @@ int run_calibrate(const Args& args) {
                               " free parameters; the prior determines the rest");
     }
     if (a.undetermined()) {
-      const std::vector<int> keep = identifiable_subset(determining, id_options);
+      // An imported arm keeps, of parameters that duplicate each other, the one whose
+      // correction leaves its URDF's link frames where they are (urdf_arm.hpp).
+      std::vector<int> priority;
+      if (model->mechanism().type() == "urdf-arm") {
+        const std::vector<int> all = urdf_arm_parameter_priority(*model);
+        for (int index : free) priority.push_back(all[static_cast<std::size_t>(index)]);
+      }
+      const std::vector<int> keep = identifiable_subset(determining, priority, id_options);
       const std::vector<DependentParameter> dependent =
           dependent_parameters(determining, probe.parameter_names(), keep, id_options);
       // An imported robot's model frees everything and lets the data choose (a redundant

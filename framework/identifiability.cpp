@@ -171,6 +171,41 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOpt
   return keep;
 }
 
+std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
+                                     const IdentifiabilityOptions& options) {
+  const int n = static_cast<int>(J.cols());
+  if (priority.empty()) return identifiable_subset(J, options);
+  std::vector<std::string> names(n);
+  const int rank = analyze_identifiability(J, names, options).numerical_rank;
+  VectorXd norms;
+  MatrixXd residual = scale_columns(J, norms);
+  std::vector<bool> chosen(n, false);
+  std::vector<int> keep;
+  while (static_cast<int>(keep.size()) < rank) {
+    const VectorXd part = residual.colwise().norm().transpose();
+    int best = -1;
+    // The lowest class with a clearly independent column, then any column.
+    int best_class = 0;
+    for (int i = 0; i < n; ++i)
+      if (!chosen[i] && part[i] > kPreferredPart &&
+          (best < 0 || priority[i] < best_class ||
+           (priority[i] == best_class && part[i] > part[best]))) {
+        best = i;
+        best_class = priority[i];
+      }
+    if (best < 0)
+      for (int i = 0; i < n; ++i)
+        if (!chosen[i] && (best < 0 || part[i] > part[best])) best = i;
+    if (best < 0 || !(part[best] > 0)) break;
+    chosen[best] = true;
+    keep.push_back(best);
+    const VectorXd q = residual.col(best) / part[best];
+    residual -= q * (q.transpose() * residual);
+  }
+  std::sort(keep.begin(), keep.end());
+  return keep;
+}
+
 std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
                                                      const std::vector<std::string>& names,
                                                      const std::vector<int>& keep,

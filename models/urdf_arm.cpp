@@ -333,4 +333,15 @@ InverseKinematicsResult UrdfArm::inverse_kinematics(const ParamsRef& params, con
   return result;
 }
 
+std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {
+  const auto* arm = dynamic_cast<const UrdfArm*>(&model.mechanism());
+  std::vector<int> priority(static_cast<std::size_t>(model.num_parameters()), 0);
+  if (!arm) return priority;
+  for (int j = 0; j < arm->num_joints(); ++j) {
+    for (int k = 0; k < 6; ++k) priority[UrdfArm::joint_index(j) + k] = 2;
+    priority[UrdfArm::joint_index(j) + UrdfArm::kOffset] = 1;
+  }
+  return priority;
+}
+
 }  // namespace kincal

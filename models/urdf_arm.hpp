@@ -130,6 +130,14 @@ VectorXd urdf_arm_parameters(const UrdfArmGeometry& geometry);
 /// The rigid motion of a joint by `value` (rad about the axis, or mm along it).
 Pose urdf_joint_motion(const UrdfArmJoint& joint, double value);
 
+/// For each parameter of a model with an urdf-arm mechanism, which to keep when the data
+/// cannot tell parameters apart (lower first; identifiable_subset with priorities): 0 the
+/// frames whose correction the URDF's link frames do not feel (base, tool, the sensors' own
+/// parameters: tracker frame, target, marker), 1 the joints' zero offsets, 2 their origin
+/// errors. So a reflector's offset stays in the tool and tcp rather than moving the last
+/// link's frame along its axis.
+std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model);
+
 /// The preset `ur5-urdf` (models/urdf_arm_presets.cpp): its URDF text, description, model.
 std::string ur5_urdf_text();
 std::string ur5_urdf_description();

@@ -211,7 +211,7 @@ std::shared_ptr<MeasurementModel> make_ur5_urdf() {
     model->predict(nominal, q, readings, &ref, ws);
     J.middleRows(c * model->num_readings(), model->num_readings()) = block;
   }
-  for (int i : identifiable_subset(J))
+  for (int i : identifiable_subset(J, urdf_arm_parameter_priority(*model)))
     model->parameters().set_free(model->parameters()[i].name, true);
   return model;
 }

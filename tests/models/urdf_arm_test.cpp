@@ -187,11 +187,31 @@ TEST(UrdfArm, OriginErrorsStayRegularAcrossParallelAxes) {
   // (+ the offsets, which the 6-DOF errors absorb): the rank of a minimal model (Everett's
   // count 4R + 2P + 6), whatever the axes' arrangement.
   EXPECT_EQ(a.numerical_rank, 4 * 4 + 2 * 1 + 6);
-  const std::vector<int> keep = identifiable_subset(J, {});
+  const std::vector<int> keep = identifiable_subset(J);
   EXPECT_EQ(static_cast<int>(keep.size()), a.numerical_rank);
   const auto dependent = dependent_parameters(J, names, keep);
   EXPECT_EQ(static_cast<int>(dependent.size()), arm.num_parameters() - a.numerical_rank);
   for (const auto& d : dependent) EXPECT_FALSE(d.equivalent.empty()) << d.name;
+}
+
+// The preset's free set is chosen with urdf_arm_parameter_priority: the reflector's position
+// is the tool's or the target's, never the last joint's frame slid along its axis (which would
+// move the URDF's flange).
+TEST(UrdfArm, PreferredParametersKeepTheLinkFramesInPlace) {
+  const auto model = make_ur5_urdf();
+  const ParameterSet& p = model->parameters();
+  EXPECT_EQ(p.num_free(), 27);
+  EXPECT_FALSE(p[p.index_of("wrist_3_joint.origin.z")].free);
+  int point = 0;
+  for (const char* name : {"tool.x", "tool.y", "tool.z", "tool.rx", "tool.ry", "tool.rz",
+                           "tracker.target.x", "tracker.target.y", "tracker.target.z"})
+    point += p[p.index_of(name)].free;
+  EXPECT_EQ(point, 3);  // the point's three coordinates on the flange, in the tool or target
+  const auto priority = urdf_arm_parameter_priority(*model);
+  EXPECT_EQ(priority[static_cast<std::size_t>(p.index_of("base.x"))], 0);
+  EXPECT_EQ(priority[static_cast<std::size_t>(p.index_of("elbow_joint.offset"))], 1);
+  EXPECT_EQ(priority[static_cast<std::size_t>(p.index_of("elbow_joint.origin.rz"))], 2);
+  EXPECT_EQ(priority[static_cast<std::size_t>(p.index_of("tracker.frame.rz"))], 0);
 }
 
 TEST(UrdfArm, ModelFileRoundTripsAndNamesBadInput) {
