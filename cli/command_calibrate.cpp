@@ -208,7 +208,8 @@ int run_calibrate(const Args& args) {
       "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)")(
       "allow-rank-deficient", po::bool_switch(),
       "when the data cannot determine every free parameter, fix the dependent ones at their "
-      "model values and solve for the rest instead of stopping")(
+      "model values and solve for the rest instead of stopping (what an arm imported from a "
+      "URDF does by default, without --free/--fix)")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "rcond",
       po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
