@@ -26,8 +26,8 @@ const char* kUr5Urdf = R"urdf(<?xml version="1.0"?>
            (0, -25.61, 1.93), (212.5, 0, 113.36), (150, 0, 26.5), (0, -1.8, 16.34),
            (0, 1.8, 16.34), (0, 0, -1.159) mm
      Link frames: joint i turns about the z axis of its link's frame; joint i's origin is the
-     constant part Tz(d) Tx(a) Rx(alpha) of DH link i-1, so that with all joints at 0 every
-     frame is the DH frame of the published table. The `flange` link is DH frame 6 (z along
+     constant part Tz(d) Tx(a) Rx(alpha) of DH link i-1, so that with all joints at 0 the
+     frame of the link after joint i is DH frame i-1 of the published table. The `flange` link is DH frame 6 (z along
      joint 6's axis, on the tool flange's face). The centres of mass are those of the table
      moved into these link frames. UR publishes no inertia tensors: the ones below are a
      solid sphere of 5 cm radius with the link's mass (2/5 m r^2), a placeholder for
