@@ -16,6 +16,7 @@
 
 #include "cli_runner.hpp"
 #include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/model_registry.hpp"
 #include "kincal/framework/pose.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/urdf_arm.hpp"
@@ -254,6 +255,31 @@ TEST(Urdf, PresetHoldsTheExampleUrdfAndExportsIntoIt) {
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("differs from its URDF text (joint 'elbow_joint')"), std::string::npos)
       << refused.err;
+}
+
+// The example's UR5 URDF, imported, is Universal Robots' DH table: its flange is where the
+// DH preset `ur5` (models/serial_arm_presets.cpp, another code path) puts the end, at any
+// joint values.
+TEST(Urdf, TheExampleUr5IsUniversalRobotsDhTable) {
+  const char* source = std::getenv("KINCAL_SOURCE_DIR");
+  ASSERT_NE(source, nullptr);
+  TempDir dir("urdf-ur5-dh");
+  const auto imported =
+      run_cli("model --urdf " + std::string(source) +
+              "/examples/ur5-laser-tracker/ur5.urdf --tip flange --out " + (dir / "ur5.json"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const auto urdf = load_model(dir / "ur5.json");
+  const auto dh = ModelRegistry::global().make_preset("ur5");
+  const VectorXd pu = urdf->parameters().nominal_values().head(urdf->mechanism().num_parameters());
+  const VectorXd pd = dh->parameters().nominal_values().head(dh->mechanism().num_parameters());
+  for (int trial = 0; trial < 10; ++trial) {
+    VectorXd q(6);
+    for (int i = 0; i < 6; ++i) q[i] = 2.5 * std::sin(1.3 * trial + 0.7 * i + 0.2);
+    const Pose a = urdf->mechanism().forward_kinematics(pu, q, Pose{}).pose;
+    const Pose b = dh->mechanism().forward_kinematics(pd, q, Pose{}).pose;
+    EXPECT_LT((a.translation - b.translation).norm(), 1e-9) << "trial " << trial;
+    EXPECT_LT((a.rotation - b.rotation).norm(), 1e-12) << "trial " << trial;
+  }
 }
 
 TEST(Urdf, BadImportsAreOneLineAndExitTwo) {
