@@ -162,6 +162,15 @@ void round_trip(const std::string& robot_text, const std::string& options,
   ASSERT_TRUE(report.contains("null_directions"));
   EXPECT_EQ(report["null_directions"].size(), report["fixed_by_identifiability"].size());
 
+  // observability says beforehand what calibrate keeps.
+  const auto observed = run_cli("observability --model " + (dir / "model.json") + " --data " +
+                                (dir / "data.csv") + " --json " + (dir / "obs.json"));
+  ASSERT_EQ(observed.exit_code, 0) << observed.err;
+  const auto obs = nlohmann::json::parse(read_text(dir / "obs.json"));
+  const auto calibrated_json = nlohmann::json::parse(read_text(dir / "calibrated.json"));
+  EXPECT_EQ(obs["calibrate_keeps"], calibrated_json["free"]);
+  EXPECT_EQ(obs["null_directions"], report["null_directions"]);
+
   // An explicit mask is the user's: rank deficient, it stops and names null directions.
   const auto explicit_mask = run_cli("calibrate --model " + (dir / "model.json") + " --data " +
                                      (dir / "data.csv") + " --free '*'");
