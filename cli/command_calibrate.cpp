@@ -8,6 +8,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_report.hpp"
 #include "kincal/cli/identifiability_check.hpp"
+#include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
@@ -178,7 +179,8 @@ int run_calibrate(const Args& args) {
       "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)")(
       "allow-rank-deficient", po::bool_switch(),
       "when the data cannot determine every free parameter, fix the dependent ones at their "
-      "model values and solve for the rest instead of stopping")(
+      "model values and solve for the rest instead of stopping (what an arm imported from a "
+      "URDF does by default, without --free/--fix)")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "folds", po::value<int>(),
       "K-fold cross-validation (K >= 2): configuration i is held out in fold i mod K, the "
@@ -245,6 +247,7 @@ int run_calibrate(const Args& args) {
 
   // Identifiability at the starting point decides whether solving makes sense at all.
   std::vector<std::string> fixed_by_identifiability;
+  std::vector<std::string> null_directions;  // why each of them was fixed, in words
   {
     const CalibrationProblem probe(model, loaded.data, nominal, free);
     VectorXd r;
@@ -254,10 +257,13 @@ int run_calibrate(const Args& args) {
       throw CliError(data_file + ": " + why);
     check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
     const IdentifiabilityCheck check = check_identifiability(
-        "calibrate", data_file, probe, J, vm["allow-rank-deficient"].as<bool>(), id_options,
-        "fix parameters with --fix, or pass --allow-rank-deficient");
+        "calibrate", data_file, probe, J,
+        when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(),
+                            vm.count("free") || vm.count("fix")),
+        id_options, "fix parameters with --fix, or pass --allow-rank-deficient");
     free = check.free;
     fixed_by_identifiability = check.fixed;
+    null_directions = check.null_directions;
   }
   if (readings == static_cast<int>(free.size()))
     note("calibrate",
@@ -293,6 +299,7 @@ int run_calibrate(const Args& args) {
   // crash between the two renames the report, renamed first, is new and the model old: the
   // report records the SHA-256 of the model written with it, and `kincal verify` tells.
   nlohmann::ordered_json report_json = to_json(report);
+  if (!null_directions.empty()) report_json["null_directions"] = null_directions;
   std::vector<std::pair<std::string, std::string>> outputs;
   std::string model_text;
   if (solved && vm.count("out")) {

@@ -1,29 +1,108 @@
-// kincal model: writes a built-in model as a model file for users to edit.
+// kincal model: writes a built-in model, or a robot imported from its URDF, as a model file
+// for users to edit.
+
+#include <fstream>
+#include <sstream>
 
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/urdf_io.hpp"
 #include "kincal/models/model_io.hpp"
+#include "kincal/models/point_tracker.hpp"
+#include "kincal/models/pose_tracker.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal::cli {
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CliError("--urdf " + path + ": cannot be read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw CliError("--urdf " + path + ": read error");
+  return text.str();
+}
+
+// A model of the arm in a URDF with one tracker: every parameter free (calibrate keeps the
+// ones the data determine; docs/calibrating-a-serial-arm.md).
+std::shared_ptr<MeasurementModel> import_model(const po::variables_map& vm) {
+  if (!vm.count("tip")) throw CliError("--urdf needs --tip LINK (the link the tool is on)");
+  const std::string path = vm["urdf"].as<std::string>();
+  const std::string sensor = vm["sensor"].as<std::string>();
+  if (sensor != "point-tracker" && sensor != "pose-tracker")
+    throw CliError("--sensor '" + sensor + "': expected point-tracker or pose-tracker");
+  if (vm.count("point") && sensor != "point-tracker")
+    throw CliError(
+        "--point is the target of a point tracker; a pose tracker's marker starts at "
+        "the tip frame");
+  Vector3d point = Vector3d::Zero();
+  if (vm.count("point")) {
+    const auto v = parse_numbers(vm["point"].as<std::string>(), 3, "--point", "x,y,z in mm");
+    point = Vector3d(v[0], v[1], v[2]);
+  }
+  UrdfArmGeometry g;
+  try {
+    g = import_urdf(read_text(path), path, vm.count("base") ? vm["base"].as<std::string>() : "",
+                    vm["tip"].as<std::string>());
+  } catch (const UrdfError& e) {
+    throw CliError(path + ": " + e.what());
+  }
+  std::shared_ptr<const Mechanism> arm;
+  try {
+    arm = std::make_shared<UrdfArm>(std::move(g));
+  } catch (const std::invalid_argument& e) {
+    throw CliError(path + ": " + e.what());
+  }
+  std::shared_ptr<const Sensor> tracker;
+  if (sensor == "point-tracker")
+    tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), point);
+  else
+    tracker = std::make_shared<PoseTracker>("tracker", Vector6d::Zero(), Vector6d::Zero());
+  auto model =
+      std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
+  model->parameters().set_free("*", true);
+  return model;
+}
+
+}  // namespace
 
 int run_model(const Args& args) {
   po::options_description options("kincal model");
   options.add_options()("preset", po::value<std::string>()->default_value("cube-hexapod"),
                         "built-in model (kincal list models)")(
+      "urdf", po::value<std::string>(),
+      "import a serial arm from this URDF instead of a preset (with --tip)")(
+      "tip", po::value<std::string>(), "--urdf: the link the tool or target is on")(
+      "base", po::value<std::string>(), "--urdf: the base link (default: the URDF's root link)")(
+      "sensor", po::value<std::string>()->default_value("point-tracker"),
+      "--urdf: point-tracker (laser tracker: a point) or pose-tracker (a frame)")(
+      "point", po::value<std::string>(),
+      "--urdf: the point tracker's target x,y,z in the tip link's frame, mm (default 0,0,0)")(
       "out", po::value<std::string>()->default_value("-"), "model file to write, - for stdout");
   add_free_fix_options(options);
   po::variables_map vm;
   if (!parse_command_line("model", args, options, vm)) return 0;
+  OutputPlan plan;
+  if (vm.count("urdf")) plan.input("--urdf", vm["urdf"].as<std::string>());
+  plan.output("--out", vm["out"].as<std::string>());
   std::shared_ptr<MeasurementModel> model;
-  try {
-    model = make_preset(vm["preset"].as<std::string>());
-  } catch (const std::invalid_argument& e) {
-    throw CliError(std::string("--preset: ") + e.what());
+  if (vm.count("urdf")) {
+    if (!vm["preset"].defaulted()) throw CliError("--urdf and --preset: give one or the other");
+    plan.check();
+    model = import_model(vm);
+  } else {
+    for (const char* option : {"tip", "base", "point"})
+      if (vm.count(option)) throw CliError(std::string("--") + option + " needs --urdf");
+    if (!vm["sensor"].defaulted()) throw CliError("--sensor needs --urdf");
+    try {
+      model = make_preset(vm["preset"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw CliError(std::string("--preset: ") + e.what());
+    }
+    plan.check();
   }
   apply_free_fix(vm, *model);
-  OutputPlan plan;
-  plan.output("--out", vm["out"].as<std::string>());
-  plan.check();
   plan.write(
       {{"--out", model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n"}});
   return 0;

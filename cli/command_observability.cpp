@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/simulation_report.hpp"
@@ -153,6 +154,17 @@ int run_observability(const Args& args) {
     const VectorXd precision = model_prior(problem).precision();
     add_prior(a, J, precision, data_share(J, precision), id_options);
   }
+  // An imported arm's calibration chooses its free set from the data (calibrate): say here
+  // what it would keep and why it would fix the rest.
+  std::vector<std::string> kept_names, null_directions;
+  if (a.rank_deficient() && !with_prior && !vm.count("free") && !vm.count("fix") &&
+      model->mechanism().type() == "urdf-arm") {
+    const std::vector<int> keep = choose_identifiable(*model, free, J, id_options);
+    for (int k : keep) kept_names.push_back(problem.parameter_names()[static_cast<std::size_t>(k)]);
+    for (const DependentParameter& d :
+         dependent_parameters(J, problem.parameter_names(), keep, id_options))
+      null_directions.push_back(describe_dependent(d, *model));
+  }
   SensitivityResult sensitivity;
   const bool want_sensitivity = vm["sensitivity"].as<bool>();
   if (want_sensitivity) {
@@ -177,12 +189,22 @@ int run_observability(const Args& args) {
     if (a.num_residuals < a.num_parameters)
       std::cout << "fewer readings (" << a.num_residuals << ") than free parameters ("
                 << a.num_parameters << "): measure more configurations\n";
+    if (!kept_names.empty()) {
+      std::cout << "an arm imported from a URDF: calibrate (without --free/--fix) keeps "
+                << kept_names.size() << " of the " << free.size()
+                << " free parameters and fixes the others, each a duplicate of kept ones:\n";
+      for (const auto& line : null_directions) std::cout << "  " << line << "\n";
+    }
     if (want_sensitivity) std::cout << sensitivity_text(sensitivity);
   }
   if (vm.count("json")) {
     nlohmann::ordered_json out = json_document("kincal-observability");
     out.update(to_json(a));
     if (want_sensitivity) out["sensitivity"] = sensitivity_json(sensitivity);
+    if (!kept_names.empty()) {
+      out["calibrate_keeps"] = kept_names;
+      out["null_directions"] = null_directions;
+    }
     plan.write({{"--json", out.dump(2) + "\n"}});
   }
   return 0;

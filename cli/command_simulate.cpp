@@ -272,7 +272,8 @@ int run_simulate(const Args& args) {
           "simulate",
           "the simulated data (" + std::to_string(scenario.calibration.size()) +
               " configurations, seed " + std::to_string(scenario.options.seed) + ")",
-          *problem, J, vm["allow-rank-deficient"].as<bool>(), IdentifiabilityOptions{},
+          *problem, J, when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(), false),
+          IdentifiabilityOptions{},
           "widen --config-range, measure more --poses, fix parameters (the model file's "
           "\"free\" list), or pass --allow-rank-deficient");
       scenario.free_indices = check.free;

@@ -6,9 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include "kincal/cli/svg_plot.hpp"
+#include "kincal/cli/urdf_io.hpp"
 #include "kincal/framework/pose.hpp"
 #include "kincal/framework/units.hpp"
 #include "kincal/models/serial_arm.hpp"
+#include "kincal/models/urdf_arm.hpp"
 
 namespace kincal::cli {
 
@@ -128,15 +130,46 @@ std::string comment_text(const std::string& text) {
   return out;
 }
 
+// The measurement frame and the measured point, from the model's one tracker; none when it
+// has no tracker (nothing the export could drop moves a tcp then).
+bool tracker_frames(const MeasurementModel& model, MeasuredFrames& frames) {
+  int trackers = 0;
+  for (const auto& sensor : model.sensors())
+    trackers += sensor->type() == "point-tracker" || sensor->type() == "pose-tracker";
+  if (trackers == 0) return false;
+  try {
+    frames = measured_frames(model, model.parameters().nominal_values());
+  } catch (const UrdfError& e) {
+    throw ExportError(std::string("--format urdf: ") + e.what());
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string export_urdf(const MeasurementModel& model, const ExportSource& source) {
+  if (dynamic_cast<const UrdfArm*>(&model.mechanism())) {
+    const std::string header =
+        " kincal export: calibrated from " + comment_text(source.model_file) + " (sha256 " +
+        source.sha256 +
+        "). The robot's own URDF with the calibrated joint origins (origin * origin error * "
+        "offset) and two fixed joints added: from the root link `world` (the frame the "
+        "measurements were taken in) to the robot, and from the tip link to `tcp` (the "
+        "measured point or frame). ";
+    try {
+      return export_urdf_arm(model, model.parameters().nominal_values(), header);
+    } catch (const UrdfError& e) {
+      throw ExportError(std::string("--format urdf: ") + e.what());
+    }
+  }
   const SerialArm* arm = as_serial_arm(model);
   if (!arm)
     throw ExportError("--format urdf: mechanism '" + model.mechanism().type() +
                       "' is not a serial arm (URDF describes serial chains); use --format csv "
                       "or json for a parallel mechanism");
   const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
+  MeasuredFrames frames;
+  const bool with_tracker = tracker_frames(model, frames);
   const double m = metres_per(kMillimetre);
   std::string out = "<?xml version=\"1.0\"?>\n<!-- kincal export: calibrated serial arm from " +
                     comment_text(source.model_file) + " (sha256 " + source.sha256 +
@@ -146,8 +179,19 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
                     "for joint 1;\n     every joint moves about (or along) its own z axis, "
                     "q = 0 is kincal's q = 0. Limits are home +- the\n     actuator's "
                     "calibration range, not the machine's hard limits; effort and velocity are "
-                    "not known to kincal (0). -->\n<robot name=\"kincal_calibrated\">\n"
-                    "  <link name=\"base_link\"/>\n";
+                    "not known to kincal (0).";
+  out += with_tracker ? "\n     world: the frame the measurements were taken in (the " +
+                            comment_text(frames.sensor) +
+                            "'s frame); tcp: the\n     measured point or frame (tool frame and the "
+                            "tracker's target or marker). -->\n"
+                      : "\n     The model has no tracker: no world or tcp link. -->\n";
+  out += "<robot name=\"kincal_calibrated\">\n";
+  if (with_tracker)
+    out +=
+        "  <link name=\"world\"/>\n  <joint name=\"world_to_base_link\" type=\"fixed\">\n"
+        "    <parent link=\"world\"/>\n    <child link=\"base_link\"/>\n    " +
+        origin(frames.world_from_mechanism, m) + "\n  </joint>\n";
+  out += "  <link name=\"base_link\"/>\n";
   Pose previous = frame_from_parameters(g.base);
   std::string parent = "base_link";
   for (std::size_t i = 0; i < g.joints.size(); ++i) {
@@ -168,7 +212,13 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
   }
   out += "  <link name=\"tool0\"/>\n  <joint name=\"tool\" type=\"fixed\">\n    <parent link=\"" +
          xml_escape(parent) + "\"/>\n    <child link=\"tool0\"/>\n    " +
-         origin(compose(previous, frame_from_parameters(g.tool)), m) + "\n  </joint>\n</robot>\n";
+         origin(compose(previous, frame_from_parameters(g.tool)), m) + "\n  </joint>\n";
+  if (with_tracker)
+    out +=
+        "  <link name=\"tcp\"/>\n  <joint name=\"tool0_to_tcp\" type=\"fixed\">\n"
+        "    <parent link=\"tool0\"/>\n    <child link=\"tcp\"/>\n    " +
+        origin(frames.tcp_in_tool, m) + "\n  </joint>\n";
+  out += "</robot>\n";
   return out;
 }
 
@@ -178,6 +228,10 @@ std::string export_csv(const MeasurementModel& model, const ExportSource& source
       file.begin(), file.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   std::string out = "# kincal export: calibrated " + model.mechanism().type() + " from " + file +
                     " (sha256 " + source.sha256 + ")\n";
+  if (dynamic_cast<const UrdfArm*>(&model.mechanism()))
+    throw ExportError(
+        "--format csv: an arm imported from a URDF has no DH table; use --format "
+        "urdf (its own URDF, corrected) or json (origins, errors and offsets)");
   if (const SerialArm* arm = as_serial_arm(model)) {
     const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
     out +=
@@ -233,6 +287,40 @@ std::string export_json(const MeasurementModel& model, const ExportSource& sourc
   out["source"] = {{"model", source.model_file}, {"sha256", source.sha256}};
   out["mechanism"] = model.mechanism().type();
   out["units"] = {{"length", "mm"}, {"angle", "rad"}};
+  if (const auto* urdf_arm = dynamic_cast<const UrdfArm*>(&model.mechanism())) {
+    const UrdfArmGeometry g = urdf_arm->geometry_from(mechanism_values(model));
+    out["convention"] =
+        "T(q) = base * prod_i [origin_i * origin_error_i * motion_i(q_i + offset_i)] * tip * "
+        "tool; motion: rotation about axis (revolute, continuous) or translation along it "
+        "(prismatic); frames: R = Rz(rz) Ry(ry) Rx(rx); world = the tracker's frame, tcp = "
+        "tool * target or marker";
+    out["urdf_file"] = g.urdf_file;
+    out["base_link"] = g.base_link;
+    out["tip_link"] = g.tip_link;
+    out["base"] = pose_json(frame_from_parameters(g.base));
+    out["joints"] = Json::array();
+    for (const UrdfArmJoint& j : g.joints) {
+      Json joint = {{"name", j.name},
+                    {"type", to_string(j.type)},
+                    {"origin", pose_json(frame_from_parameters(j.origin))},
+                    {"axis", {j.axis.x(), j.axis.y(), j.axis.z()}},
+                    {"origin_error", pose_json(frame_from_parameters(j.origin_error))},
+                    {"offset", j.offset}};
+      if (j.type != UrdfJointType::kContinuous) {
+        joint["lower"] = j.lower;
+        joint["upper"] = j.upper;
+      }
+      out["joints"].push_back(joint);
+    }
+    out["tip"] = pose_json(frame_from_parameters(g.tip));
+    out["tool"] = pose_json(frame_from_parameters(g.tool));
+    MeasuredFrames frames;
+    if (tracker_frames(model, frames)) {
+      out["world_from_base_frame"] = pose_json(frames.world_from_mechanism);
+      out["tcp_in_tool"] = pose_json(frames.tcp_in_tool);
+    }
+    return out.dump(2) + "\n";
+  }
   if (const SerialArm* arm = as_serial_arm(model)) {
     const SerialArmGeometry g = arm->geometry_from(mechanism_values(model));
     out["convention"] =

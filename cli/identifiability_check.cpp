@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "kincal/cli/cli_util.hpp"
+#include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/uncertainty.hpp"
@@ -29,9 +30,16 @@ std::string describe_deficiency(const Identifiability& a) {
   return text;
 }
 
+WhenRankDeficient when_rank_deficient(const MeasurementModel& model, bool allow_rank_deficient,
+                                      bool explicit_mask) {
+  const bool imported = model.mechanism().type() == "urdf-arm" && !explicit_mask;
+  return allow_rank_deficient || imported ? WhenRankDeficient::kFixDependent
+                                          : WhenRankDeficient::kStop;
+}
+
 IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
                                            const CalibrationProblem& problem, const MatrixXd& J,
-                                           bool allow_rank_deficient,
+                                           WhenRankDeficient when,
                                            const IdentifiabilityOptions& options,
                                            const std::string& remedy) {
   IdentifiabilityCheck check;
@@ -54,16 +62,34 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
                         " free parameters; the prior determines the rest");
   }
   if (!a.undetermined()) return check;
-  const std::string deficiency = where + ": " + describe_deficiency(a) +
-                                 (with_prior ? " (the prior does not make up for it)" : "");
-  if (!allow_rank_deficient) throw CliError(deficiency + "; " + remedy);
-  const std::vector<int> keep = identifiable_subset(determining, options);
+  const MeasurementModel& model = problem.model();
+  const std::vector<std::string> names = problem.parameter_names();
+  const std::vector<int> keep = choose_identifiable(model, check.free, determining, options);
+  const std::vector<DependentParameter> dependent =
+      dependent_parameters(determining, names, keep, options);
+  std::string deficiency = where + ": " + describe_deficiency(a) +
+                           (with_prior ? " (the prior does not make up for it)" : "");
+  if (when == WhenRankDeficient::kStop) {
+    for (std::size_t k = 0; k < dependent.size() && k < 3; ++k)
+      deficiency +=
+          std::string(k ? "; " : "; null directions: ") + describe_dependent(dependent[k], model);
+    if (dependent.size() > 3)
+      deficiency += "; and " + std::to_string(dependent.size() - 3) + " more";
+    throw CliError(deficiency + "; " + remedy);
+  }
   if (keep.empty())
     throw CliError(deficiency +
                    "; no free parameter is identifiable from this data, so there is nothing to "
                    "solve for (--allow-rank-deficient needs at least one)");
+  note(command, "the data determine " + std::to_string(keep.size()) + " of the " +
+                    std::to_string(check.free.size()) +
+                    " free parameters; fixing the others at their model values (each named "
+                    "with what it duplicates, a null direction of the data):");
+  for (const DependentParameter& d : dependent) {
+    check.null_directions.push_back(describe_dependent(d, model));
+    note(command, "  " + check.null_directions.back());
+  }
   const std::vector<int> free = check.free;
-  const std::vector<std::string> names = problem.parameter_names();
   check.free.clear();
   std::size_t next = 0;
   for (std::size_t i = 0; i < free.size(); ++i) {
@@ -72,8 +98,6 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
       ++next;
     } else {
       check.fixed.push_back(names[i]);
-      note(command, "fixing " + check.fixed.back() +
-                        " at its model value (not identifiable from this data)");
     }
   }
   return check;

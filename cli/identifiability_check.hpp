@@ -21,18 +21,35 @@ struct IdentifiabilityCheck {
   Identifiability analysis;        ///< at the start; with the prior's rank when there is one
   std::vector<int> free;           ///< the parameters to solve for (indices in the model)
   std::vector<std::string> fixed;  ///< free parameters fixed because the data cannot see them
+  /// For each of `fixed`, in words, what it duplicates (a null direction of the data), or
+  /// that no reading depends on it (cli/identifiability_words.hpp).
+  std::vector<std::string> null_directions;
+};
+
+/// What to do when the data do not determine every free parameter.
+enum class WhenRankDeficient {
+  kStop,          ///< throw, naming the null directions (an explicit mask, the default)
+  kFixDependent,  ///< fix the dependent parameters and say so (--allow-rank-deficient, or an
+                  ///< arm imported from a URDF without --free/--fix, whose error model is
+                  ///< redundant on purpose: docs/theory.md)
 };
 
 /// Checks `problem` (its free parameters at their initial values; J its Jacobian there),
 /// with the prior the model states on them (model_prior), if any.
-/// When data and prior do not determine every free parameter: without
-/// `allow_rank_deficient`, throws CliError "<where>: <describe_deficiency>; <remedy>"; with it,
-/// keeps the identifiable subset (identifiable_subset), says on stderr which parameters it fixes at
-/// their model values, and throws when no free parameter is left to solve for.
+/// When data and prior do not determine every free parameter: with kStop, throws CliError
+/// "<where>: <describe_deficiency>; null directions: ...; <remedy>"; with kFixDependent,
+/// keeps the identifiable subset (choose_identifiable), says on stderr which parameters it
+/// fixes at their model values and what each duplicates, and throws when no free parameter
+/// is left to solve for.
 IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
                                            const CalibrationProblem& problem, const MatrixXd& J,
-                                           bool allow_rank_deficient,
+                                           WhenRankDeficient when,
                                            const IdentifiabilityOptions& options,
                                            const std::string& remedy);
+
+/// kFixDependent when `allow_rank_deficient`, or when the model is an arm imported from a
+/// URDF and the user gave no --free/--fix (`explicit_mask`); kStop otherwise.
+WhenRankDeficient when_rank_deficient(const MeasurementModel& model, bool allow_rank_deficient,
+                                      bool explicit_mask);
 
 }  // namespace kincal::cli

@@ -11,12 +11,24 @@ namespace kincal {
 
 namespace {
 
-// J D^-1 with unit-norm columns; zero columns stay zero.
+// A column this much shorter than the longest is rounding noise of a zero column (e.g. a
+// rotation about an axis through the measured point, 1e-17 mm against lever arms of metres):
+// scaled to unit norm it would look independent of everything, so it counts as zero.
+constexpr double kZeroColumn = 1e-12;
+
+// J D^-1 with unit-norm columns; zero columns (kZeroColumn) stay zero.
 MatrixXd scale_columns(const MatrixXd& J, VectorXd& norms) {
   norms = J.colwise().norm().transpose();
+  const double longest = norms.size() ? norms.maxCoeff() : 0.0;
+  for (int i = 0; i < norms.size(); ++i)
+    if (norms[i] <= kZeroColumn * longest) norms[i] = 0;
   MatrixXd scaled = J;
-  for (int i = 0; i < J.cols(); ++i)
-    if (norms[i] > 0) scaled.col(i) /= norms[i];
+  for (int i = 0; i < J.cols(); ++i) {
+    if (norms[i] > 0)
+      scaled.col(i) /= norms[i];
+    else
+      scaled.col(i).setZero();
+  }
   return scaled;
 }
 
@@ -165,6 +177,79 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOpt
   for (int k = 0; k < a.numerical_rank; ++k) keep.push_back(qr.colsPermutation().indices()[k]);
   std::sort(keep.begin(), keep.end());
   return keep;
+}
+
+std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
+                                     const IdentifiabilityOptions& options) {
+  const int n = static_cast<int>(J.cols());
+  if (priority.empty()) return identifiable_subset(J, options);
+  std::vector<std::string> names(n);
+  const int rank = analyze_identifiability(J, names, options).numerical_rank;
+  VectorXd norms;
+  MatrixXd residual = scale_columns(J, norms);
+  std::vector<bool> chosen(n, false);
+  std::vector<int> keep;
+  while (static_cast<int>(keep.size()) < rank) {
+    const VectorXd part = residual.colwise().norm().transpose();
+    int best = -1;
+    // The lowest class with a clearly independent column, then any column.
+    int best_class = 0;
+    for (int i = 0; i < n; ++i)
+      if (!chosen[i] && part[i] > kPreferredPart &&
+          (best < 0 || priority[i] < best_class ||
+           (priority[i] == best_class && part[i] > part[best]))) {
+        best = i;
+        best_class = priority[i];
+      }
+    if (best < 0)
+      for (int i = 0; i < n; ++i)
+        if (!chosen[i] && (best < 0 || part[i] > part[best])) best = i;
+    if (best < 0 || !(part[best] > 0)) break;
+    chosen[best] = true;
+    keep.push_back(best);
+    const VectorXd q = residual.col(best) / part[best];
+    residual -= q * (q.transpose() * residual);
+  }
+  std::sort(keep.begin(), keep.end());
+  return keep;
+}
+
+std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
+                                                     const std::vector<std::string>& names,
+                                                     const std::vector<int>& keep,
+                                                     const IdentifiabilityOptions& options) {
+  VectorXd norms;
+  const MatrixXd scaled = scale_columns(J, norms);
+  MatrixXd kept(J.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    kept.col(static_cast<Eigen::Index>(k)) = scaled.col(keep[k]);
+  const Eigen::ColPivHouseholderQR<MatrixXd> qr(kept);
+  std::vector<DependentParameter> out;
+  std::size_t next = 0;
+  for (int i = 0; i < J.cols(); ++i) {
+    if (next < keep.size() && keep[next] == i) {
+      ++next;
+      continue;
+    }
+    DependentParameter d;
+    d.name = names[i];
+    d.unseen = !(norms[i] > 0);
+    if (!d.unseen && !keep.empty()) {
+      // Scaled: column_i = sum_k c_k kept_k; in parameter units p_k = c_k D_i / D_k.
+      const VectorXd c = qr.solve(VectorXd(scaled.col(i)));
+      VectorXd coefficient(c.size());
+      for (int k = 0; k < c.size(); ++k) coefficient[k] = c[k] * norms[i] / norms[keep[k]];
+      const double largest = coefficient.cwiseAbs().maxCoeff();
+      for (int k = 0; k < c.size(); ++k)
+        if (std::abs(coefficient[k]) >= options.term_cutoff * largest && largest > 0)
+          d.equivalent.emplace_back(names[keep[k]], coefficient[k]);
+      std::stable_sort(d.equivalent.begin(), d.equivalent.end(), [](const auto& a, const auto& b) {
+        return std::abs(a.second) > std::abs(b.second);
+      });
+    }
+    out.push_back(d);
+  }
+  return out;
 }
 
 }  // namespace kincal

@@ -97,4 +97,35 @@ void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
 /// current values solves the problem in an identifiable subspace.
 std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options = {});
 
+/// The same number of columns (the numerical rank), chosen class by class: `priority[i]` is
+/// column i's class, lower first. Greedy Gram-Schmidt on the scaled columns: at each step the
+/// column with the largest part outside the span of those already chosen, taken from the
+/// lowest class that still has one with a part above `kPreferredPart` (so that of two columns
+/// that duplicate each other the preferred one is kept), else from all. Empty `priority` =
+/// one class. Returns the indices, ascending.
+std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
+                                     const IdentifiabilityOptions& options = {});
+/// A column whose part outside the chosen span is below this (unit-norm columns) counts as a
+/// duplicate when classes are compared.
+inline constexpr double kPreferredPart = 1e-3;
+
+/// A free parameter the data cannot tell from the others: its column of J is (up to the
+/// numerical rank) a combination of the kept columns, so moving it by 1 changes the readings
+/// as moving the kept parameters by `equivalent` does. That difference is a null-space
+/// direction: +1 on `name`, -coefficient on each equivalent term.
+struct DependentParameter {
+  std::string name;
+  bool unseen = false;  ///< no reading depends on it at all (its column is zero)
+  /// (name, coefficient) in parameter units, significant terms only (options.term_cutoff of
+  /// the largest), largest first.
+  std::vector<std::pair<std::string, double>> equivalent;
+};
+
+/// For each column of J not in `keep` (identifiable_subset), what it duplicates among the
+/// kept columns (least squares on the scaled columns).
+std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
+                                                     const std::vector<std::string>& names,
+                                                     const std::vector<int>& keep,
+                                                     const IdentifiabilityOptions& options = {});
+
 }  // namespace kincal

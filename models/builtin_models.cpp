@@ -8,6 +8,7 @@
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
 #include "kincal/models/serial_arm.hpp"
+#include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {
 
@@ -15,6 +16,7 @@ void register_builtin_models(ModelRegistry& registry) {
   register_hexapod(registry);
   register_planar_3rpr(registry);
   register_serial_arm(registry);
+  register_urdf_arm(registry);
   register_length_gauge(registry);
   register_point_tracker(registry);
   register_pose_tracker(registry);

@@ -9,6 +9,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libeigen3-dev libceres-dev libgoogle-glog-dev libnlopt-cxx-dev coinor-libipopt-dev
   libboost-program-options-dev nlohmann-json3-dev
+  liburdfdom-dev liburdfdom-tools  # URDF import/export; check_urdf in the tests
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib
   chromium  # tests: the HTML report rendered headless (ctest html_report_renders_in_chromium)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The URDF kincal export writes is XML that a standard parser reads: every preset arm, with
-# its joints chained from base_link to tool0, even from a model file whose name holds XML's
+# its joints chained from world (the tracker's frame) through base_link and tool0 to tcp (the
+# measured point), even from a model file whose name holds XML's
 # special characters. Skipped (77) only without python3.
 set -euo pipefail
 kincal=$1
@@ -17,7 +18,7 @@ import sys, xml.etree.ElementTree as ET
 robot = ET.parse(sys.argv[1]).getroot()
 assert robot.tag == "robot", robot.tag
 links = {l.get("name") for l in robot.findall("link")}
-parent = "base_link"
+parent = "world"
 for joint in robot.findall("joint"):
     assert joint.find("parent").get("link") == parent, (joint.get("name"), parent)
     child = joint.find("child").get("link")
@@ -26,7 +27,7 @@ for joint in robot.findall("joint"):
         lim = joint.find("limit")
         assert float(lim.get("lower")) < float(lim.get("upper")), joint.get("name")
     parent = child
-assert parent == "tool0", parent
+assert parent == "tcp", parent
 print(sys.argv[1].rsplit("/", 1)[-1], "parses:", len(robot.findall("joint")), "joints")
 PY
 done

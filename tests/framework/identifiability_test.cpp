@@ -124,6 +124,34 @@ TEST(Identifiability, FewerResidualsThanParametersIsRankDeficient) {
             2);
 }
 
+// Of two columns that duplicate each other (c1 = 2 c0, c3 = -c2 + 1e-12 noise) the one of the
+// lower class is kept, whatever the columns' order and scale; what is fixed is named with
+// what it duplicates, in parameter units; a rounding-noise column counts as unseen.
+TEST(Identifiability, PrioritiesChooseAmongDuplicatesAndTheDroppedAreExplained) {
+  MatrixXd J(6, 5);
+  J << 1, 2, 0, 0, 0,     //
+      0, 0, 1, -1, 0,     //
+      2, 4, 0, 0, 1e-18,  //
+      0, 0, 3, -3, 0,     //
+      1, 2, 1, -1, 0,     //
+      0, 0, 0, 0, 0;
+  J(5, 3) = 1e-12;  // c3 is -c2 up to a direction far below the rank threshold
+  const std::vector<std::string> names = {"a", "b", "c", "d", "noise"};
+  EXPECT_EQ(identifiable_subset(J, {1, 0, 0, 1, 0}), (std::vector<int>{1, 2}));
+  EXPECT_EQ(identifiable_subset(J, {0, 1, 1, 0, 0}), (std::vector<int>{0, 3}));
+  EXPECT_EQ(identifiable_subset(J, std::vector<int>{}).size(), 2u);
+  const auto dependent = dependent_parameters(J, names, {1, 2});
+  ASSERT_EQ(dependent.size(), 3u);
+  EXPECT_EQ(dependent[0].name, "a");
+  ASSERT_EQ(dependent[0].equivalent.size(), 1u);
+  EXPECT_EQ(dependent[0].equivalent[0].first, "b");
+  EXPECT_NEAR(dependent[0].equivalent[0].second, 0.5, 1e-12);  // a moves the readings as b/2
+  EXPECT_EQ(dependent[1].name, "d");
+  EXPECT_NEAR(dependent[1].equivalent[0].second, -1.0, 1e-9);
+  EXPECT_EQ(dependent[2].name, "noise");
+  EXPECT_TRUE(dependent[2].unseen);
+}
+
 TEST(Uncertainty, SigmaHatUsesTheDegreesOfFreedom) {
   MatrixXd J(4, 1);
   J << 1, 1, 1, 1;

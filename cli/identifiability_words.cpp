@@ -1,0 +1,74 @@
+#include "kincal/cli/identifiability_words.hpp"
+
+#include <cstdio>
+
+#include "kincal/models/urdf_arm.hpp"
+
+namespace kincal::cli {
+
+namespace {
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+std::string parameter_words(const std::string& name) {
+  const std::size_t dot = name.rfind('.');
+  if (dot == std::string::npos) return name;
+  const std::string prefix = name.substr(0, dot), component = name.substr(dot + 1);
+  if (component == "offset") return prefix + "'s zero offset";
+  std::string part = prefix + "'s";
+  if (prefix == "base")
+    part = "the base frame";
+  else if (prefix == "tool")
+    part = "the tool frame";
+  else if (ends_with(prefix, ".origin"))
+    part = prefix.substr(0, prefix.size() - 7) + "'s origin";
+  else if (ends_with(prefix, ".frame"))
+    part = prefix.substr(0, prefix.size() - 6) + "'s frame";
+  else if (ends_with(prefix, ".target"))
+    part = "the target point of " + prefix.substr(0, prefix.size() - 7);
+  else if (ends_with(prefix, ".marker"))
+    part = "the marker of " + prefix.substr(0, prefix.size() - 7);
+  if (component.size() == 1) return part + ", shift along " + component;
+  if (component.size() == 2 && component[0] == 'r')
+    return part + ", rotation about " + component.substr(1);
+  return part + ", " + component;
+}
+
+std::string describe_dependent(const DependentParameter& d, const MeasurementModel& model) {
+  std::string text = d.name + " (" + parameter_words(d.name) + ")";
+  if (d.unseen) {
+    text += ": no reading depends on it";
+    const int index = model.parameters().find(d.name);
+    if (ends_with(d.name, ".offset") && index >= 0 && model.parameters()[index].unit == "rad")
+      text += " (the measured point lies on " + d.name.substr(0, d.name.size() - 7) + "'s axis)";
+    else if (ends_with(d.name, ".rx") || ends_with(d.name, ".ry") || ends_with(d.name, ".rz"))
+      text += " (it turns the measured point about itself)";
+    return text;
+  }
+  if (d.equivalent.empty()) return text + ": not determined";
+  text += " moves the readings as";
+  char buf[32];
+  for (std::size_t k = 0; k < d.equivalent.size() && k < 4; ++k) {
+    std::snprintf(buf, sizeof buf, "%+.3g", d.equivalent[k].second);
+    text += std::string(k ? " and" : "") + " " + buf + " x " + d.equivalent[k].first;
+  }
+  if (d.equivalent.size() > 4) text += " and " + std::to_string(d.equivalent.size() - 4) + " more";
+  return text;
+}
+
+std::vector<int> choose_identifiable(const MeasurementModel& model, const std::vector<int>& free,
+                                     const MatrixXd& J, const IdentifiabilityOptions& options) {
+  std::vector<int> priority;
+  if (model.mechanism().type() == "urdf-arm") {
+    const std::vector<int> all = urdf_arm_parameter_priority(model);
+    for (int index : free) priority.push_back(all[static_cast<std::size_t>(index)]);
+  }
+  return identifiable_subset(J, priority, options);
+}
+
+}  // namespace kincal::cli

@@ -1,0 +1,28 @@
+#pragma once
+// What calibrate and observability say about parameters the data cannot tell apart: which
+// ones to keep (an imported arm's preferences, models/urdf_arm.hpp) and, in words, what each
+// of the others duplicates.
+
+#include <string>
+#include <vector>
+
+#include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/measurement_model.hpp"
+
+namespace kincal::cli {
+
+/// A parameter's name in words: "shoulder_pan_joint.origin.rx" -> "shoulder_pan_joint's
+/// origin, rotation about x".
+std::string parameter_words(const std::string& name);
+
+/// A parameter the data cannot tell from the others, in one sentence: what it duplicates, or
+/// that no reading depends on it (and why, where the name says: a joint's offset whose axis
+/// passes through the measured point, a rotation of the measured point about itself).
+std::string describe_dependent(const DependentParameter& d, const MeasurementModel& model);
+
+/// The columns of J (the free parameters `free` of `model`) to keep: identifiable_subset, with
+/// urdf_arm_parameter_priority for an arm imported from a URDF.
+std::vector<int> choose_identifiable(const MeasurementModel& model, const std::vector<int>& free,
+                                     const MatrixXd& J, const IdentifiabilityOptions& options);
+
+}  // namespace kincal::cli

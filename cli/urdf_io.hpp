@@ -1,0 +1,49 @@
+#pragma once
+// URDF in and out, through Debian's urdfdom (parsing) and TinyXML (the library urdfdom itself
+// reads with; editing the user's document in place):
+//   import_urdf    a robot description's chain from a base link to a tip link as a urdf-arm
+//                  geometry (models/urdf_arm.hpp)
+//   export_urdf_arm  the user's own URDF with the calibrated joint origins and offsets, a
+//                  root link `world` (the measurement frame) and a link `tcp` (the measured
+//                  point or frame) on the tip
+// Each throws UrdfError with one sentence on input it cannot take.
+
+#include <stdexcept>
+#include <string>
+
+#include "kincal/framework/measurement_model.hpp"
+#include "kincal/models/urdf_arm.hpp"
+
+namespace kincal::cli {
+
+class UrdfError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The moving joints (revolute, continuous, prismatic) from `base_link` (empty: the URDF's
+/// root link) down to `tip_link`, fixed joints folded into the next origin; limits kept; home
+/// 0 where the limits allow it, else mid-range. Lengths converted to mm. `file` is recorded.
+UrdfArmGeometry import_urdf(const std::string& text, const std::string& file,
+                            const std::string& base_link, const std::string& tip_link);
+
+/// The measured point or frame on the tool and the measurement frame, as the model's sensor
+/// sees them: tcp = the tool frame composed with the sensor's target (point tracker) or
+/// marker (pose tracker); world = the sensor's frame. Throws UrdfError when the model's
+/// sensors do not define one tcp (none, several, or a type whose correction the export could
+/// not place).
+struct MeasuredFrames {
+  Pose world_from_mechanism;  ///< the mechanism's base coordinates in the measurement frame
+  Pose tcp_in_tool;           ///< the measured point or frame in the mechanism's end frame
+  std::string sensor;         ///< e.g. "point-tracker 'tracker'"
+};
+MeasuredFrames measured_frames(const MeasurementModel& model, const VectorXd& values);
+
+/// The URDF of an urdf-arm model with parameter values `values`: its own URDF text with every
+/// moving joint's origin replaced by origin * origin_error * motion(offset), a fixed joint
+/// from a new root link `world` to the URDF's root and one from the tip link to a new link
+/// `tcp`. `header` goes into a comment at the top.
+std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& values,
+                            const std::string& header);
+
+}  // namespace kincal::cli

@@ -1,0 +1,149 @@
+#pragma once
+// A serial arm imported from a URDF: the chain of joints from a base link to a tip link, with
+// the URDF's joint origins and axes as nominal geometry and an error model that has no
+// singular parameter set whatever the axes' arrangement:
+//
+//   T(q) = B  prod_i [ C_i  E_i  M_i(q_i + o_i) ]  C_tip  T_tool
+//
+//   B       the base frame (6 parameters base.*): the robot's base link in the frame the
+//           measurements are taken in
+//   C_i     joint i's URDF origin, composed with the origins of the fixed joints between the
+//           previous moving joint and joint i (constant, not a parameter)
+//   E_i     joint i's origin error (6 parameters <joint>.origin.{x,y,z,rx,ry,rz}, nominally 0):
+//           a small rigid motion of joint i's frame, in that frame's axes
+//   M_i     the joint's motion about (revolute, continuous) or along (prismatic) its unit
+//           axis a_i (joint frame) by q_i plus the joint offset o_i (<joint>.offset, rad or mm)
+//   C_tip   the fixed joints from the last moving joint's child link to the tip link
+//   T_tool  the tool frame (6 parameters tool.*) on the tip link: the measured point or frame
+//
+// Each E_i is a full 6-DOF frame about the nominal origin, so every geometric error of the
+// chain is representable and the parametrisation is regular at the nominal for any axes
+// (no DH-style jump when axes are parallel). It is redundant: a revolute joint's rotation
+// about its own axis duplicates its offset, a translation along it the next origin error,
+// and so on. The redundancy is resolved for the data at hand (QR with column pivoting on the
+// scaled identification Jacobian; kincal calibrate); docs/theory.md derives it.
+// Lengths mm, angles rad. Forward kinematics closed form, J_pose_params analytic, inverse
+// kinematics damped least squares from the home joints.
+
+#include <string>
+#include <vector>
+
+#include <memory>
+
+#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/mechanism.hpp"
+
+namespace kincal {
+
+class ModelRegistry;
+
+enum class UrdfJointType { kRevolute, kContinuous, kPrismatic };
+
+const char* to_string(UrdfJointType type);
+
+/// One moving joint of the chain. Lengths mm, angles rad.
+struct UrdfArmJoint {
+  std::string name;  ///< the URDF joint's name: actuator column and parameter prefix
+  UrdfJointType type = UrdfJointType::kRevolute;
+  /// C_i (fixed joints before it folded in) as [x, y, z, rx, ry, rz] (frame_from_parameters:
+  /// URDF's xyz and rpy, in mm), kept as given so that model files round-trip digit for digit.
+  Vector6d origin = Vector6d::Zero();
+  Vector3d axis = Vector3d::UnitZ();         ///< unit, in the joint frame
+  Vector6d origin_error = Vector6d::Zero();  ///< E_i as [x, y, z, rx, ry, rz]
+  double offset = 0;                         ///< o_i (rad or mm)
+  /// URDF limits in the joint's unit; NaN for a continuous joint.
+  double lower = 0, upper = 0;
+  double home = 0;   ///< actuator value at home
+  double range = 0;  ///< half-width of the default configuration box; <= 0: the default
+};
+
+struct UrdfArmGeometry {
+  std::string base_link, tip_link;
+  Vector6d base = Vector6d::Zero();
+  std::vector<UrdfArmJoint> joints;
+  Vector6d tip = Vector6d::Zero();  ///< C_tip, as origin
+  Vector6d tool = Vector6d::Zero();
+  /// The URDF the geometry was read from, kept so that an export can re-emit the user's own
+  /// robot description (names, limits, inertials, meshes) with the corrections.
+  std::string urdf_file, urdf_text;
+};
+
+class UrdfArm final : public Mechanism {
+ public:
+  static constexpr double kDefaultRevoluteRange = 0.5;
+  static constexpr double kDefaultPrismaticRange = 50.0;
+  static constexpr int kFrameParameters = 6;
+  static constexpr int kJointParameters = 7;  ///< origin error (6) + offset
+
+  /// Throws std::invalid_argument on a geometry it cannot represent (no joint, duplicate or
+  /// reserved names, a zero axis, non-finite values). All parameters fixed.
+  explicit UrdfArm(UrdfArmGeometry geometry);
+
+  std::string type() const override { return "urdf-arm"; }
+  const std::vector<Actuator>& actuators() const override { return actuators_; }
+  const std::vector<Parameter>& parameters() const override { return parameters_; }
+  const Pose& home_pose() const override { return home_pose_; }
+  const UrdfArmGeometry& nominal_geometry() const { return geometry_; }
+  int num_joints() const { return static_cast<int>(geometry_.joints.size()); }
+
+  InverseKinematicsResult home_actuators(const ParamsRef& params,
+                                         Eigen::Ref<VectorXd> q) const override;
+  InverseKinematicsResult inverse_kinematics(const ParamsRef& params, const Pose& pose,
+                                             Eigen::Ref<VectorXd> q) const override;
+  ForwardKinematicsResult forward_kinematics(
+      const ParamsRef& params, const ActuatorsRef& q, const Pose& start,
+      const ForwardKinematicsOptions& options = {}) const override;
+  void pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
+                            Eigen::Ref<Matrix6Xd> J_pose_params) const override;
+
+  /// J_pose_q (6 x joints) and the pose at q.
+  Pose joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
+                      Eigen::Ref<Matrix6Xd> J_pose_q) const;
+
+  /// The geometry with the parameter values `params` (errors, offsets, base, tool).
+  UrdfArmGeometry geometry_from(const ParamsRef& params) const;
+
+  /// The pose of the tip link (before the tool frame) at q.
+  Pose tip_pose(const ParamsRef& params, const ActuatorsRef& q) const;
+
+  static int base_index() { return 0; }
+  static int joint_index(int joint) { return kFrameParameters + kJointParameters * joint; }
+  static constexpr int kOffset = 6;  ///< within a joint's block, after the origin error
+  int tool_index() const { return joint_index(num_joints()); }
+
+ private:
+  template <class Visit>
+  Pose walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit&& visit) const;
+
+  UrdfArmGeometry geometry_;
+  std::vector<Actuator> actuators_;
+  std::vector<Parameter> parameters_;
+  std::vector<Pose> origins_;  ///< C_i
+  Pose tip_;                   ///< C_tip
+  Pose home_pose_;
+  VectorXd home_q_;
+};
+
+/// The parameter vector of a geometry, in UrdfArm's layout.
+VectorXd urdf_arm_parameters(const UrdfArmGeometry& geometry);
+
+/// The rigid motion of a joint by `value` (rad about the axis, or mm along it).
+Pose urdf_joint_motion(const UrdfArmJoint& joint, double value);
+
+/// For each parameter of a model with an urdf-arm mechanism, which to keep when the data
+/// cannot tell parameters apart (lower first; identifiable_subset with priorities): 0 the
+/// frames whose correction the URDF's link frames do not feel (base, tool, the sensors' own
+/// parameters: tracker frame, target, marker), 1 the joints' zero offsets, 2 their origin
+/// errors. So a reflector's offset stays in the tool and tcp rather than moving the last
+/// link's frame along its axis.
+std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model);
+
+/// The preset `ur5-urdf` (models/urdf_arm_presets.cpp): its URDF text, description, model.
+std::string ur5_urdf_text();
+std::string ur5_urdf_description();
+std::shared_ptr<MeasurementModel> make_ur5_urdf();
+
+/// Registers the urdf-arm type (model-file reader/writer) and the preset ur5-urdf.
+void register_urdf_arm(ModelRegistry& registry);
+
+}  // namespace kincal
