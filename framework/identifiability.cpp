@@ -223,7 +223,10 @@ std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
   MatrixXd kept(J.rows(), static_cast<Eigen::Index>(keep.size()));
   for (std::size_t k = 0; k < keep.size(); ++k)
     kept.col(static_cast<Eigen::Index>(k)) = scaled.col(keep[k]);
-  const Eigen::ColPivHouseholderQR<MatrixXd> qr(kept);
+  // Eigen's decompositions do not take a matrix without columns: nothing kept, nothing to
+  // express the others by (each is then described as it is).
+  Eigen::ColPivHouseholderQR<MatrixXd> qr;
+  if (!keep.empty()) qr.compute(kept);
   std::vector<DependentParameter> out;
   std::size_t next = 0;
   for (int i = 0; i < J.cols(); ++i) {
