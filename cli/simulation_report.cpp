@@ -1,6 +1,7 @@
 #include "kincal/cli/simulation_report.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "kincal/framework/units.hpp"
@@ -17,7 +18,8 @@ void add_scenario_options(po::options_description& options, bool with_case_and_p
         "gets U[-a, a] (default 0; a bare number is mm)");
   options.add_options()("param-error", po::value<std::string>()->default_value("5mm,0.01rad"),
                         "true parameters = nominal + U[-e, e] on each free parameter, e per "
-                        "unit (a parameter's own param_error in the model file wins)")(
+                        "unit (a parameter's own param_error in the model file wins); 0 is "
+                        "zero in every unit: the model is the truth")(
       "config-range", po::value<std::string>(),
       "configurations = home actuator values + U[-r, r], r per unit, e.g. 20mm,0.5rad "
       "(default: each actuator's range in the model; cube-hexapod legs 20 mm)")(
@@ -61,8 +63,14 @@ ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id)
     s.noise_half_width_rad = noise.get(kRadian, 0);
   }
   const UnitValues error = unit_values_option(vm, "param-error");
-  s.param_error_half_width = error.get(kMillimetre, s.param_error_half_width);
-  s.param_error_half_width_rad = error.get(kRadian, s.param_error_half_width_rad);
+  // "--param-error 0" is the truth itself: zero in every unit, not only in the bare number's
+  // (mm), which left the angles drawn at ±0.01 rad.
+  const std::string error_text = vm["param-error"].as<std::string>();
+  char* end = nullptr;
+  const bool bare_zero =
+      std::strtod(error_text.c_str(), &end) == 0 && end != error_text.c_str() && *end == '\0';
+  s.param_error_half_width = bare_zero ? 0 : error.get(kMillimetre, s.param_error_half_width);
+  s.param_error_half_width_rad = bare_zero ? 0 : error.get(kRadian, s.param_error_half_width_rad);
   if (vm.count("config-range")) {
     const UnitValues range = unit_values_option(vm, "config-range");
     s.config_range = range.get(kMillimetre, s.config_range);

@@ -74,6 +74,23 @@ TEST(CliSimulate, SameSeedSameOutputAndFilesWritten) {
   EXPECT_EQ(a.dump(), b.dump());
 }
 
+// "--param-error 0 zeroes the mm errors and leaves +-0.01 rad" (issue 21): a bare 0 is the
+// truth itself, in every unit; "0mm" still leaves the angles' default.
+TEST(CliSimulate, ParamErrorZeroIsZeroInEveryUnit) {
+  TempDir dir("param-error-zero");
+  ASSERT_EQ(run_cli("model --preset puma560 --out " + dir / "M.json").exit_code, 0);
+  const auto truth_of = [&](const std::string& error) {
+    const auto r = run_cli("simulate --model " + dir / "M.json" + " --param-error " + error +
+                           " --poses 40 --validation 1 --write-data " + dir / "D.csv");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(read_text(dir / "D.truth.json"));
+  };
+  const auto model = nlohmann::json::parse(read_text(dir / "M.json"));
+  EXPECT_EQ(truth_of("0")["mechanism"], model["mechanism"]);
+  EXPECT_EQ(truth_of("0.0")["mechanism"], model["mechanism"]);
+  EXPECT_NE(truth_of("0mm")["mechanism"], model["mechanism"]);  // angles still drawn
+}
+
 TEST(CliSimulate, BadOptionsGiveOneLineAndExitCode2) {
   for (const char* args :
        {"simulate --case 7",
