@@ -28,6 +28,10 @@ class ClosedChainMechanism : public Mechanism {
   using ParamsJacobian = Eigen::Matrix<double, Dof, Eigen::Dynamic>;
   using MotionBasis = Eigen::Matrix<double, 6, Dof>;
 
+  /// Newton from home_pose finds the assembly nearest it (data_checks.hpp warns when the data
+  /// lie far from home_pose).
+  bool forward_kinematics_has_assemblies() const override { return true; }
+
   /// Constraint residuals g and, when asked for, J_g_pose (Dof x Dof, local coordinates).
   virtual void constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                            ConstraintVector& g, ConstraintJacobian* J_g_pose) const = 0;

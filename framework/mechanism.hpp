@@ -90,9 +90,10 @@ class Mechanism {
   /// Pose from which forward kinematics starts by default.
   virtual const Pose& home_pose() const = 0;
   /// Whether forward kinematics has several solutions (assemblies) and converges to the one
-  /// nearest its start, so that a wrong home_pose gives other valid poses (closed chains:
-  /// true). False where it is closed form and unique (a serial arm).
-  virtual bool forward_kinematics_has_assemblies() const { return true; }
+  /// nearest its start, so that a wrong home_pose gives other valid poses: true for closed
+  /// chains (ClosedChainMechanism says so), false where forward kinematics is closed form and
+  /// unique (serial arms, imported or not), the default.
+  virtual bool forward_kinematics_has_assemblies() const { return false; }
   /// Actuator values at home, around which configurations are drawn. Default: inverse
   /// kinematics of home_pose(); a serial arm returns its home joint values.
   virtual InverseKinematicsResult home_actuators(const ParamsRef& params,

@@ -95,7 +95,6 @@ class SerialArm final : public Mechanism {
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   const Pose& home_pose() const override { return home_pose_; }
   /// Closed form: one pose per joint vector, whatever the start.
-  bool forward_kinematics_has_assemblies() const override { return false; }
   const SerialArmGeometry& nominal_geometry() const { return geometry_; }
   int num_joints() const { return static_cast<int>(geometry_.joints.size()); }
 

@@ -161,6 +161,9 @@ void round_trip(const std::string& robot_text, const std::string& options,
   EXPECT_LT(report["final_cost"].get<double>(), 1e-12);
   ASSERT_TRUE(report.contains("null_directions"));
   EXPECT_EQ(report["null_directions"].size(), report["fixed_by_identifiability"].size());
+  // An imported arm's forward kinematics is closed form: no home_pose "nearest assembly" warning.
+  EXPECT_EQ(calibrated.err.find("home_pose"), std::string::npos) << calibrated.err;
+  EXPECT_TRUE(report["warnings"].empty()) << report["warnings"];
 
   // observability says beforehand what calibrate keeps.
   const auto observed = run_cli("observability --model " + (dir / "model.json") + " --data " +
