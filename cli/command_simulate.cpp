@@ -316,8 +316,11 @@ int run_simulate(const Args& args) {
       static_cast<long long>(scenario.calibration.size()) * scenario.model->num_readings();
   const int unknowns = static_cast<int>(scenario.free_indices.size());
   if (readings < unknowns)
-    throw CliError("--poses " + std::to_string(scenario.calibration.size()) + ": " +
-                   std::to_string(readings) + " readings cannot determine " +
+    throw CliError((vm.count("configs")
+                        ? "--configs " + printable(vm["configs"].as<std::string>()) + " (" +
+                              std::to_string(scenario.calibration.size()) + " configurations)"
+                        : "--poses " + std::to_string(scenario.calibration.size())) +
+                   ": " + std::to_string(readings) + " readings cannot determine " +
                    std::to_string(unknowns) + " free parameters (need at least " +
                    std::to_string((unknowns + scenario.model->num_readings() - 1) /
                                   scenario.model->num_readings()) +
@@ -358,6 +361,11 @@ int run_simulate(const Args& args) {
     json["version"] = 1;
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
     json["fixed_by_identifiability"] = fixed_by_identifiability;
+    // Where the configurations and the truth came from (null: drawn from the seed).
+    json["configs"] =
+        vm.count("configs") ? nlohmann::json(vm["configs"].as<std::string>()) : nlohmann::json();
+    json["truth_model"] =
+        vm.count("truth") ? nlohmann::json(vm["truth"].as<std::string>()) : nlohmann::json();
     outputs.push_back({"--json", json.dump(2) + "\n"});
   }
   if (vm.count("trace")) outputs.push_back({"--trace", trace_csv(run)});

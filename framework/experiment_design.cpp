@@ -596,6 +596,7 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
   for (int pass = 0; pass < options.max_passes && !result.stopped; ++pass) {
     ++result.passes;
     state.reset(result.chosen);  // rounding errors of the updates do not accumulate
+    const std::vector<int> pass_start = result.chosen;
     int changed = 0;
     for (int j = 0; j < options.count; ++j) {
       // Stopped between exchanges, the design holds count distinct candidates, each
@@ -630,6 +631,9 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
     }
     result.exchanges += changed;
     const double after = value(result.chosen);
+    // A pass cut short that did not improve on its start gives its start back: the best
+    // design found so far.
+    if (result.stopped && !(after >= current)) result.chosen = pass_start;
     if (changed == 0 || !(after > current) || result.stopped) {
       current = std::max(current, after);
       break;

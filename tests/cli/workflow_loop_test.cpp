@@ -117,8 +117,13 @@ TEST(CliWorkflowLoop, SimulateConfigsUsesTheTemplatesRowsAndTheGivenTruth) {
   // Noise-free readings from a given truth: the truth model itself (nominal) reproduces them
   // exactly, so calibrating from the nominal model recovers it.
   const auto sim = run_cli("simulate --model " + m + " --configs " + t + " --truth " + m +
-                           " --seed 4 --validation 5 --write-data " + dir / "D.csv");
+                           " --seed 4 --validation 5 --write-data " + dir / "D.csv" + " --json " +
+                           dir / "S.json");
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const Json s = Json::parse(read_text(dir / "S.json"));
+  EXPECT_EQ(s["configs"], t);
+  EXPECT_EQ(s["truth_model"], m);
+  EXPECT_EQ(s["scenario"]["poses"], 30) << s["scenario"].dump();
   ASSERT_EQ(
       run_cli("calibrate --model " + m + " --data " + dir / "D.csv" + " --out " + dir / "C.json")
           .exit_code,
