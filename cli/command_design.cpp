@@ -3,6 +3,7 @@
 // reads once the readings are filled in.
 
 #include <Eigen/Eigenvalues>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -12,8 +13,10 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/identifiability_check.hpp"
+#include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/progress.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
@@ -87,13 +90,17 @@ void check_information(const MatrixXd& M, const std::vector<std::string>& names,
   if (a.rank_deficient()) throw CliError(what + ": " + describe_deficiency(a) + "; " + remedy);
 }
 
-// The reading noise std per reading: --noise-std per unit, else the model's reading_std.
+// The reading noise std per reading: --noise-std per unit, else the model's reading_std;
+// neither is an error (a design weighs the readings against each other and against the
+// prior by it, and its predictions scale with it: no value is a safe guess).
 VectorXd noise_std_option(const po::variables_map& vm, const MeasurementModel& model,
-                          bool* assumed) {
-  *assumed = false;
+                          const std::string& model_file) {
   const std::vector<std::string> units = model.reading_units();
   if (!vm.count("noise-std")) {
-    *assumed = !model.weighted();
+    if (!model.weighted())
+      throw CliError((model_file.empty() ? std::string("the model") : printable(model_file)) +
+                     " states no reading_std: give the readings' noise std, e.g. --noise-std "
+                     "0.0072mm (or reading_std in the model file)");
     return model.reading_std();
   }
   const UnitValues values = unit_values_option(vm, "noise-std");
@@ -190,7 +197,7 @@ int run_design(const Args& args) {
       "design adds to them")(
       "noise-std", po::value<std::string>(),
       "reading noise standard deviation per unit, e.g. 0.0072mm, between 1e-9 and 1e6 (default: "
-      "the model's reading_std)")(
+      "the model's reading_std; one of them is required)")(
       "singularity-margin",
       po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
       "keep configurations whose conditioning is at least this fraction of home's")(
@@ -210,6 +217,7 @@ int run_design(const Args& args) {
   add_free_fix_options(options);
   add_prior_std_option(options);
   add_data_size_option(options);
+  add_progress_option(options);
   po::variables_map vm;
   if (!parse_command_line("design", args, options, vm)) return 0;
   if (!vm.count("count")) throw CliError("--count N is required");
@@ -255,8 +263,8 @@ int run_design(const Args& args) {
   apply_config_range(vm, *model);
   const int n = model->parameters().num_free();
   if (n == 0) throw CliError("no free parameters: nothing to design for (use --free)");
-  bool assumed_noise = false;
-  design.noise_std = noise_std_option(vm, *model, &assumed_noise);
+  design.noise_std = noise_std_option(vm, *model, model_file);
+  const char* noise_source = vm.count("noise-std") ? "--noise-std" : "the model's reading_std";
   // The n x n matrices first (a model of 10^4 free parameters needs GBs of them), then the
   // candidates' rows beside them: the exchange keeps each row, its transpose and M^-1 times
   // it (and W M^-1 times it for A and I), and the workspace samples hold 6 rows each.
@@ -277,11 +285,55 @@ int run_design(const Args& args) {
                                  model_file, data_limits(vm))
                    .data;
   DesignSetup setup = make_design_setup(*model, design, vm.count("existing") ? &existing : nullptr);
-  if (assumed_noise && setup.has_prior)
-    note("design",
-         "the model states no reading_std: the readings' noise is taken as 1 of their unit, "
-         "which decides how much the prior weighs; give --noise-std");
+  // Progress per stage on stderr (each stage's own count and time left), and Ctrl-C: the
+  // first one stops the work with the best design so far (marked partial, exit 130), the
+  // second one aborts.
+  const bool show_progress = progress_wanted(vm);
+  std::unique_ptr<Progress> progress;
+  std::string progress_stage, stopped_in;
+  long progress_done = 0;
+  std::chrono::steady_clock::time_point exchange_start;
+  const InterruptGuard interrupt_guard("design");
+  design.monitor = [&](const DesignStep& step) {
+    const std::string stage =
+        step.pass ? std::string(step.stage) + " pass " + std::to_string(step.pass) : step.stage;
+    if (show_progress && stage != progress_stage) {
+      if (progress) progress->finish();
+      const std::string unit =
+          std::string(step.stage) == "candidates" ? "candidates drawn"
+          : std::string(step.stage) == "greedy"   ? "measurements picked (greedy start)"
+          : std::string(step.stage) == "bound"
+              ? "bound iterations (at most)"
+              : "measurements revisited (exchange pass " + std::to_string(step.pass) + ")";
+      // A stage shows after a second: quick designs stay quiet. The exchange's passes count
+      // that second from the exchange's start, so a long exchange of short passes shows.
+      const auto now = std::chrono::steady_clock::now();
+      if (std::string(step.stage) == "exchange" && step.pass == 1) exchange_start = now;
+      const double delay =
+          std::string(step.stage) == "exchange"
+              ? std::max(0.0, 1.0 - std::chrono::duration<double>(now - exchange_start).count())
+              : 1.0;
+      progress = std::make_unique<Progress>("design", step.total, unit, true, delay);
+      progress_stage = stage;
+      progress_done = 0;
+    }
+    if (progress && step.done > progress_done) {
+      progress->advance(step.done - progress_done);
+      progress_done = step.done;
+    }
+    if (!interrupt_requested()) return true;
+    if (stopped_in.empty()) stopped_in = stage;
+    return false;
+  };
   const DesignCandidates candidates = make_design_candidates(*model, setup, design);
+  if (candidates.stopped && candidates.size() < design.count) {
+    if (progress) progress->finish();
+    std::fprintf(stderr,
+                 "kincal design: interrupted while drawing candidates: %d reachable so far, "
+                 "fewer than --count %d; nothing written\n",
+                 candidates.size(), design.count);
+    return 130;  // the shell's code for a run ended by SIGINT
+  }
   if (candidates.size() < design.count)
     throw CliError("only " + std::to_string(candidates.size()) + " reachable candidates (" +
                    std::to_string(candidates.rejected_unreachable) + " unreachable, " +
@@ -324,8 +376,11 @@ int run_design(const Args& args) {
   const bool want_bound = vm["bound"].as<bool>();
   if (want_bound && design.criterion == DesignCriterion::kE)
     note("design", "--bound: the E criterion is not smooth; no bound is computed for it");
-  const DesignBound bound =
-      want_bound ? design_bound(candidates, setup, design, result.chosen) : DesignBound{};
+  const DesignBound bound = want_bound && !result.stopped && !candidates.stopped
+                                ? design_bound(candidates, setup, design, result.chosen)
+                                : DesignBound{};
+  if (progress) progress->finish();
+  const bool partial = candidates.stopped || result.stopped || bound.stopped;
   const double std_ratio =
       design_std_ratio_to_bound(design.criterion, result.criterion_value, bound, n);
   const Measurements rows = design_rows(*model, candidates, result.chosen);
@@ -369,7 +424,10 @@ int run_design(const Args& args) {
       (model->sensors().size() > 1
            ? " of the sensors each row's '# read:' line names (leave the others empty)"
            : "") +
-      ", then: kincal calibrate --model " + printable(model_file) + " --data <this file>\n";
+      ", then: kincal calibrate --model " + printable(model_file) + " --data <this file>\n" +
+      (partial ? "# PARTIAL: interrupted in the " + stopped_in +
+                     ": the best design found before the interruption\n"
+               : "");
 
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
@@ -397,9 +455,8 @@ int run_design(const Args& args) {
                                                     : "parameter stds (RMS, relative)",
           100 * (std_ratio - 1));
     std::printf(
-        "prediction (linearised at the nominal values; reading noise std %s%s%s%s):\n", noise_text,
-        assumed_noise ? ", assumed: the model states none" : "",
-        setup.has_prior ? "; with the model's prior" : "",
+        "prediction (linearised at the nominal values; reading noise std %s from %s%s%s):\n",
+        noise_text, noise_source, setup.has_prior ? "; with the model's prior" : "",
         setup.existing_readings
             ? ("; with " + std::to_string(setup.existing_readings) + " existing readings").c_str()
             : "");
@@ -424,6 +481,9 @@ int run_design(const Args& args) {
     }
     std::printf("template: %s (%d configurations; fill in the reading columns)\n",
                 vm["out"].as<std::string>().c_str(), rows.size());
+    if (partial)
+      std::printf("PARTIAL: interrupted in the %s; the design is the best found so far\n",
+                  stopped_in.c_str());
   }
 
   std::vector<std::pair<std::string, std::string>> outputs;
@@ -448,7 +508,10 @@ int run_design(const Args& args) {
     for (int i = 0; i < model->num_readings(); ++i)
       noise[model->reading_names()[i]] = setup.noise_std[i];
     j["noise_std"] = noise;
-    j["noise_std_assumed"] = assumed_noise;
+    j["noise_std_assumed"] = false;  // kept for readers of version 1: never assumed now
+    j["noise_std_source"] = vm.count("noise-std") ? "--noise-std" : "reading_std";
+    j["partial"] = partial;
+    j["stopped_in"] = partial ? Json(stopped_in) : Json();
     j["prior"] = setup.has_prior;
     j["existing_readings"] = setup.existing_readings;
     j["exchange"] = {{"passes", result.passes},
@@ -482,6 +545,13 @@ int run_design(const Args& args) {
   }
   outputs.push_back({"--out", template_csv(*model, rows, heading)});
   plan.write(outputs);
+  if (partial) {
+    std::fprintf(stderr,
+                 "kincal design: interrupted in the %s: wrote the best design found so far, "
+                 "marked partial (a full run may do better)\n",
+                 stopped_in.c_str());
+    return 130;  // the shell's code for a run ended by SIGINT
+  }
   return 0;
 }
 

@@ -11,6 +11,7 @@
 #include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/model_pair.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
@@ -59,11 +60,14 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
   for (const auto& u : model.reading_units()) reading_units.insert(u);
   std::printf("kincal simulate: %s, ", model_name.c_str());
   if (case_id) std::printf("case %d, ", case_id);
-  std::printf(
-      "%d configurations, reading noise %s, parameter errors %s, seed %llu\n", o.num_configurations,
-      per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
-      per_unit(o.param_error_half_width, o.param_error_half_width_rad, parameter_units).c_str(),
-      static_cast<unsigned long long>(o.seed));
+  std::printf("%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
+              per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
+              o.truth.size()
+                  ? "true model given (--truth)"
+                  : ("parameter errors " + per_unit(o.param_error_half_width,
+                                                    o.param_error_half_width_rad, parameter_units))
+                        .c_str(),
+              static_cast<unsigned long long>(o.seed));
   if (o.prior_std > 0 || o.prior_std_rad > 0) {
     std::string stds;
     char buf[64];
@@ -151,6 +155,7 @@ ScenarioOptions designed_options(const po::variables_map& vm, const MeasurementM
 int run_simulate(const Args& args) {
   po::options_description options("kincal simulate");
   add_scenario_options(options, true);
+  add_data_size_option(options);
   add_solver_options(options);
   add_json_option(options, "the result");
   options.add_options()("trace", po::value<std::string>(),
@@ -172,6 +177,16 @@ int run_simulate(const Args& args) {
       "write-data", po::value<std::string>(),
       "write the simulated measurements as CSV to FILE, and the true model beside it as "
       "<FILE stem>.truth.json")(
+      "configs", po::value<std::string>(),
+      "simulate the configurations of this measurement file (e.g. a design template: its "
+      "actuator columns; readings given mark the ones taken, a row without any takes all) "
+      "instead of drawing --poses at random")(
+      "truth", po::value<std::string>(),
+      "the true model (a model file with the same parameters as --model, e.g. a "
+      "<stem>.truth.json) instead of drawing --param-error errors")(
+      "noise-std", po::value<std::string>(),
+      "reading noise standard deviation per unit, e.g. 0.0007mm: each reading gets uniform "
+      "noise of this std (U[-a, a] with a = std x sqrt(3)); instead of --noise")(
       "allow-rank-deficient", po::bool_switch(),
       "as calibrate's: when the simulated data cannot determine every free parameter, fix the "
       "dependent ones at their nominal values and solve for the rest instead of stopping");
@@ -180,6 +195,21 @@ int run_simulate(const Args& args) {
 
   int case_id = 0;
   ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
+  if (vm.count("noise-std")) {
+    if (vm.count("noise") || vm.count("case"))
+      throw CliError(
+          "--noise-std is the noise's std, --noise its half-width, --case sets it: "
+          "give one of them");
+    const UnitValues std = unit_values_option(vm, "noise-std");
+    scenario_options.noise_half_width = std.get(kMillimetre, 0) * std::sqrt(3.0);
+    scenario_options.noise_half_width_rad = std.get(kRadian, 0) * std::sqrt(3.0);
+  }
+  if (vm.count("configs") && (vm.count("poses") || vm.count("case") || vm.count("design")))
+    throw CliError(
+        "--configs gives the configurations: give it without --poses, --case and "
+        "--design");
+  if (vm.count("truth") && !vm["param-error"].defaulted())
+    throw CliError("--truth gives the true model: give it without --param-error");
   UnitValues prior_std;
   if (vm.count("prior-std")) {
     prior_std = unit_values_option(vm, "prior-std");
@@ -194,7 +224,8 @@ int run_simulate(const Args& args) {
 
   // Every file is checked before the run, so a typo does not cost a solve.
   OutputPlan plan;
-  if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
+  for (const char* option : {"model", "configs", "truth"})
+    if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   for (const char* option : {"json", "trace"})
     if (vm.count(option)) plan.output(std::string("--") + option, vm[option].as<std::string>());
   std::string truth_file;
@@ -229,6 +260,35 @@ int run_simulate(const Args& args) {
                        p.unit + " for free parameter " + p.name +
                        "; expected one per unit of the free parameters, e.g. 2.887mm,0.0058rad");
     }
+  if (vm.count("truth")) {
+    const std::string path = vm["truth"].as<std::string>();
+    const std::shared_ptr<MeasurementModel> truth = load_model_file(path);
+    check_same_parameters(*truth, "--truth " + printable(path), *model,
+                          vm.count("model") ? "--model " + printable(model_name)
+                                            : "the preset " + printable(model_name));
+    scenario_options.truth = truth->parameters().nominal_values();
+  }
+  if (vm.count("configs")) {
+    // The actuator columns; the readings only say which are taken (a design template has
+    // none). Reachability is checked where the readings are simulated, with the truth.
+    const std::string path = vm["configs"].as<std::string>();
+    MeasurementTable table;
+    try {
+      table = read_measurements(path, model->mechanism().actuator_names(), model->reading_names(),
+                                data_limits(vm));
+      std::vector<std::string> actuator_units;
+      for (const auto& a : model->mechanism().actuators()) actuator_units.push_back(a.unit);
+      convert_column_units(table, actuator_units, model->reading_units(), path);
+    } catch (const std::invalid_argument& e) {
+      throw measurement_file_error(e);
+    }
+    Measurements rows = table.data;
+    // A row without readings (a template) takes every reading; otherwise the readings given.
+    for (int r = 0; r < rows.size(); ++r)
+      if (rows.readings.row(r).array().isNaN().all()) rows.readings.row(r).setZero();
+    scenario_options.planned = rows;
+    scenario_options.num_configurations = rows.size();
+  }
   const int free_parameters = model->parameters().num_free();
   check_memory("--poses " + std::to_string(scenario_options.num_configurations),
                scenario_options.num_configurations,
@@ -246,6 +306,9 @@ int run_simulate(const Args& args) {
   } catch (const std::invalid_argument& e) {
     if (!vm.count("prior-std")) throw;
     throw CliError(std::string("--prior-std: ") + e.what());
+  } catch (const std::runtime_error& e) {
+    if (!vm.count("configs")) throw;
+    throw CliError("--configs " + printable(vm["configs"].as<std::string>()) + ": " + e.what());
   }
   // As in calibrate: fewer readings than unknowns cannot determine them (the paper needs
   // m > n), and a solver would report a perfect fit of a wrong geometry.
@@ -253,8 +316,11 @@ int run_simulate(const Args& args) {
       static_cast<long long>(scenario.calibration.size()) * scenario.model->num_readings();
   const int unknowns = static_cast<int>(scenario.free_indices.size());
   if (readings < unknowns)
-    throw CliError("--poses " + std::to_string(scenario.calibration.size()) + ": " +
-                   std::to_string(readings) + " readings cannot determine " +
+    throw CliError((vm.count("configs")
+                        ? "--configs " + printable(vm["configs"].as<std::string>()) + " (" +
+                              std::to_string(scenario.calibration.size()) + " configurations)"
+                        : "--poses " + std::to_string(scenario.calibration.size())) +
+                   ": " + std::to_string(readings) + " readings cannot determine " +
                    std::to_string(unknowns) + " free parameters (need at least " +
                    std::to_string((unknowns + scenario.model->num_readings() - 1) /
                                   scenario.model->num_readings()) +
@@ -296,6 +362,11 @@ int run_simulate(const Args& args) {
     json["version"] = 1;
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
     json["fixed_by_identifiability"] = fixed_by_identifiability;
+    // Where the configurations and the truth came from (null: drawn from the seed).
+    json["configs"] =
+        vm.count("configs") ? nlohmann::json(vm["configs"].as<std::string>()) : nlohmann::json();
+    json["truth_model"] =
+        vm.count("truth") ? nlohmann::json(vm["truth"].as<std::string>()) : nlohmann::json();
     outputs.push_back({"--json", json.dump(2) + "\n"});
   }
   if (vm.count("trace")) outputs.push_back({"--trace", trace_csv(run)});
@@ -304,12 +375,17 @@ int run_simulate(const Args& args) {
     char noise[96];
     std::snprintf(noise, sizeof noise, "%g mm, %g rad", scenario_options.noise_half_width,
                   scenario_options.noise_half_width_rad);
-    const std::string comment = "kincal simulate: " + printable(model_name) + ", " +
-                                std::to_string(scenario_options.num_configurations) +
-                                " configurations, reading noise U[-a, a] with a = " + noise +
-                                ", seed " + std::to_string(scenario_options.seed) +
-                                "\ntrue model: " + printable(truth_file) + " (sha256 " +
-                                sha256_hex(truth) + ")";
+    const std::string comment =
+        "kincal simulate: " + printable(model_name) + ", " +
+        std::to_string(scenario_options.num_configurations) + " configurations" +
+        (vm.count("configs") ? " of " + printable(vm["configs"].as<std::string>())
+                             : std::string()) +
+        ", reading noise U[-a, a] with a = " + noise + ", seed " +
+        std::to_string(scenario_options.seed) +
+        (vm.count("truth")
+             ? ", true model given by --truth " + printable(vm["truth"].as<std::string>())
+             : std::string()) +
+        "\ntrue model: " + printable(truth_file) + " (sha256 " + sha256_hex(truth) + ")";
     outputs.push_back({kTruthLabel, truth});
     outputs.push_back({"--write-data", measurements_to_csv(scenario.calibration,
                                                            model->mechanism().actuator_names(),

@@ -2,6 +2,7 @@
 // checked against the honesty contract (docs/solvers.md). Exit code 1 when a contract was
 // broken, so that scripts can use it as a check.
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -139,15 +140,29 @@ int run_solver_suite(const Args& args) {
   const InterruptGuard interrupt_guard("solver-suite");
   bool partial = false;
   long finished = 0;
+  // The time left weighs each backend by its own speed (ipopt takes many times what gn
+  // does): per-run durations, backend by backend, for staged_time_left.
+  std::vector<std::vector<double>> durations;
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point run_start;
+  const auto run_done = [&] {
+    const Clock::time_point now = Clock::now();
+    durations.back().push_back(std::chrono::duration<double>(now - run_start).count());
+    run_start = now;
+    progress.advance(
+        1, staged_time_left(durations, runs_per_solver, static_cast<int>(solvers.size())));
+  };
   for (const auto& name : solvers) {
     if (interrupt_requested()) {
       partial = true;
       break;
     }
+    durations.emplace_back();
+    run_start = Clock::now();
     // configure() is called as each run starts: the one before it is done.
     bool started = false;
     const auto configure = [&](SolverOptions& o) {
-      if (started) progress.advance();
+      if (started) run_done();
       started = true;
       if (!overrides.backend_options.empty()) o.backend_options = overrides.backend_options;
       if (vm.count("max-iterations")) o.max_iterations = vm["max-iterations"].as<int>();
@@ -161,7 +176,7 @@ int run_solver_suite(const Args& args) {
       const auto runs = problems::run_suite(name, {problem}, configure);
       results.insert(results.end(), runs.begin(), runs.end());
     }
-    if (started) progress.advance();
+    if (started) run_done();
     const problems::SuiteTally t = problems::tally(results);
     finished += t.cases;
     broken += t.violations;

@@ -41,5 +41,6 @@ int run_verify(const Args& args);
 int run_export(const Args& args);
 int run_validate(const Args& args);
 int run_design(const Args& args);
+int run_compare(const Args& args);
 
 }  // namespace kincal::cli

@@ -113,7 +113,10 @@ std::string unusable_values(const MeasurementModel& model) {
 
 std::shared_ptr<MeasurementModel> load_model_option(const po::variables_map& vm) {
   if (!vm.count("model")) throw CliError("--model FILE is required");
-  const std::string path = vm["model"].as<std::string>();
+  return load_model_file(vm["model"].as<std::string>());
+}
+
+std::shared_ptr<MeasurementModel> load_model_file(const std::string& path) {
   auto model = load_model(path);
   const std::string why = unusable_values(*model);
   if (!why.empty())

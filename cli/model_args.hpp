@@ -35,6 +35,8 @@ bool check_prior_usable(const MeasurementModel& model, const std::string& model_
 /// (values such as 1e200 are numbers, but nothing can be computed with them), so that such
 /// a file is blamed, not the data read with it.
 std::shared_ptr<MeasurementModel> load_model_option(const po::variables_map& vm);
+/// The same for a model file named by another option (compare --truth, simulate --truth).
+std::shared_ptr<MeasurementModel> load_model_file(const std::string& path);
 
 /// "a,b,c" -> exactly `count` finite numbers; throws CliError naming `option` otherwise.
 std::vector<double> parse_numbers(const std::string& text, int count, const std::string& option,

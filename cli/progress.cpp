@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace kincal::cli {
 
@@ -20,33 +21,82 @@ std::string duration_text(double seconds) {
 }
 
 std::string Progress::line(long done, long total, const std::string& unit, double elapsed_s) {
+  // The rate so far predicts the rest; nothing to predict from before the first item.
+  return line(
+      done, total, unit, elapsed_s,
+      done > 0 ? elapsed_s / done * (total - done) : std::numeric_limits<double>::quiet_NaN());
+}
+
+std::string Progress::line(long done, long total, const std::string& unit, double elapsed_s,
+                           double seconds_left) {
   std::string text = std::to_string(done) + "/" + std::to_string(total) + " " + unit + ", " +
                      duration_text(elapsed_s) + " elapsed";
-  // The rate so far predicts the rest; nothing to predict from before the first item.
-  if (done > 0 && done < total)
-    text += ", about " + duration_text(elapsed_s / done * (total - done)) + " left";
+  if (done < total && std::isfinite(seconds_left))
+    text += seconds_left < 0.5 ? std::string(", under 1 s left")
+                               : ", about " + duration_text(seconds_left) + " left";
   return text;
 }
 
-Progress::Progress(std::string command, long total, std::string unit, bool enabled)
+double staged_time_left(const std::vector<std::vector<double>>& durations, long per_stage,
+                        int stages) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const int started = static_cast<int>(durations.size());
+  if (started == 0 || per_stage <= 0) return nan;
+  const std::vector<double>& current = durations.back();
+  const long k = static_cast<long>(current.size());
+  const bool current_finished = k >= per_stage;
+  const int finished = started - (current_finished ? 0 : 1);
+  const auto sum = [](const std::vector<double>& v, long from, long to) {
+    double s = 0;
+    for (long i = from; i < to && i < static_cast<long>(v.size()); ++i) s += v[i];
+    return s;
+  };
+  if (finished == 0) {
+    if (k == 0) return nan;
+    const double rate = sum(current, 0, k) / k;
+    return rate * (per_stage - k) + rate * per_stage * (stages - started);
+  }
+  std::vector<double> profile(per_stage, 0.0);
+  for (int s = 0; s < finished; ++s)
+    for (long i = 0; i < per_stage; ++i)
+      profile[i] += (i < static_cast<long>(durations[s].size()) ? durations[s][i] : 0) / finished;
+  const double whole = sum(profile, 0, per_stage);
+  double left = 0, factors = finished;  // each finished stage's factor averages 1
+  if (!current_finished) {
+    const double seen = sum(profile, 0, k);
+    const double factor = k > 0 && seen > 0 ? sum(current, 0, k) / seen : 1.0;
+    left += factor * sum(profile, k, per_stage);
+    factors += factor;
+  }
+  left += (stages - started) * whole * factors / started;
+  return left;
+}
+
+Progress::Progress(std::string command, long total, std::string unit, bool enabled, double delay_s)
     : command_(std::move(command)),
       unit_(std::move(unit)),
       total_(total),
       enabled_(enabled),
       terminal_(::isatty(STDERR_FILENO) != 0),
+      delay_s_(delay_s),
       start_(std::chrono::steady_clock::now()) {}
 
 Progress::~Progress() { finish(); }
 
-void Progress::advance(long n) {
+void Progress::advance(long n) { advance(n, std::numeric_limits<double>::quiet_NaN()); }
+
+void Progress::advance(long n, double seconds_left) {
   const long done = done_ += n;
   if (!enabled_) return;
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (t < delay_s_) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const double interval = terminal_ ? 0.25 : 2.0;
   if (last_shown_ >= 0 && t - last_shown_ < interval && done != total_) return;
   last_shown_ = t;
-  const std::string text = "kincal " + command_ + ": " + line(done, total_, unit_, t);
+  const std::string text = "kincal " + command_ + ": " +
+                           (std::isnan(seconds_left) ? line(done, total_, unit_, t)
+                                                     : line(done, total_, unit_, t, seconds_left));
   if (terminal_) {
     // \33[K clears what a longer earlier line left.
     std::fprintf(stderr, "\r%s\33[K", text.c_str());

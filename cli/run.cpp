@@ -33,6 +33,7 @@ const std::vector<Command>& commands() {
       {"validate", "residuals of a calibrated model on held-out data against the prediction",
        run_validate},
       {"design", "choose the configurations to measure (experiment design)", run_design},
+      {"compare", "a model against a known truth: parameter and pose errors", run_compare},
       {"solver-suite", "backends on the Moré-Garbow-Hillstrom test problems, checked",
        run_solver_suite},
       {"verify", "check that a calibrated model is the one its report was written with",

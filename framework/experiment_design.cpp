@@ -13,6 +13,22 @@
 
 namespace kincal {
 
+namespace {
+
+// Asks options.monitor whether to go on (always, without one).
+bool keep_going(const DesignOptions& options, const char* stage, long done, long total,
+                int pass = 0) {
+  if (!options.monitor) return true;
+  DesignStep step;
+  step.stage = stage;
+  step.done = done;
+  step.total = total;
+  step.pass = pass;
+  return options.monitor(step);
+}
+
+}  // namespace
+
 const char* to_string(DesignCriterion criterion) {
   switch (criterion) {
     case DesignCriterion::kD:
@@ -207,6 +223,10 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
   Random rng(derive_seed(options.seed, kCandidateStream));
   int kept = 0;
   for (int i = 0; i < total; ++i) {
+    if (i % 256 == 0 && !keep_going(options, "candidates", i, total)) {
+      out.stopped = true;
+      break;
+    }
     const bool corner = i < num_corners;
     for (int a = 0; a < na; ++a)
       q[a] = home[a] + (corner ? ((i >> a) & 1 ? range[a] : -range[a]) : rng.symmetric(range[a]));
@@ -556,6 +576,8 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
   std::vector<char> available(candidates.size(), 1);
   state.reset({});
   for (int i = 0; i < options.count; ++i) {
+    // The greedy start is the least design there is: it is finished even when asked to stop.
+    if (!keep_going(options, "greedy", i, options.count)) result.stopped = true;
     const int c = state.best(available);
     state.add(c);
     available[c] = 0;
@@ -571,11 +593,18 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
   };
   result.greedy_value = value(result.chosen);
   double current = result.greedy_value;
-  for (int pass = 0; pass < options.max_passes; ++pass) {
+  for (int pass = 0; pass < options.max_passes && !result.stopped; ++pass) {
     ++result.passes;
     state.reset(result.chosen);  // rounding errors of the updates do not accumulate
+    const std::vector<int> pass_start = result.chosen;
     int changed = 0;
     for (int j = 0; j < options.count; ++j) {
+      // Stopped between exchanges, the design holds count distinct candidates, each
+      // exchange so far an improvement (or none): the best found so far.
+      if (!keep_going(options, "exchange", j, options.count, pass + 1)) {
+        result.stopped = true;
+        break;
+      }
       const int old = result.chosen[j];
       int best = old;
       if (state.can_stage()) {
@@ -602,7 +631,10 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
     }
     result.exchanges += changed;
     const double after = value(result.chosen);
-    if (changed == 0 || !(after > current)) {
+    // A pass cut short that did not improve on its start gives its start back: the best
+    // design found so far.
+    if (result.stopped && !(after >= current)) result.chosen = pass_start;
+    if (changed == 0 || !(after > current) || result.stopped) {
       current = std::max(current, after);
       break;
     }
@@ -663,6 +695,10 @@ DesignBound design_bound(const DesignCandidates& candidates, const DesignSetup& 
   std::vector<int> order(size);
   MatrixXd B, C;
   for (int it = 0; it < max_iterations; ++it) {
+    if (!keep_going(options, "bound", it, max_iterations)) {
+      out.stopped = true;
+      break;
+    }
     out.iterations = it + 1;
     // score_c = -d loss / d w_c: x^T M^-1 x (D) or x^T M^-1 W M^-1 x (A, I), over c's rows.
     const MatrixXd M = setup.base_information + data;

@@ -22,6 +22,7 @@
 // I), so a pass costs a few matrix-vector products over the candidates per measurement.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -32,6 +33,21 @@
 namespace kincal {
 
 enum class DesignCriterion { kD, kA, kE, kI };
+
+/// Where a design is, for a caller that shows progress or may stop it: `stage` is
+/// "candidates" (drawn so far of `total`), "greedy" (measurements picked of `total`),
+/// "exchange" (measurements of the pass `pass` revisited of `total`) or "bound" (iterations
+/// of at most `total`).
+struct DesignStep {
+  const char* stage = "";
+  long done = 0, total = 0;
+  int pass = 0;
+};
+/// Called between steps; returning false asks the work to stop early with what it has: the
+/// candidates drawn so far, the exchange's best design so far (the greedy start is always
+/// finished), the bound certified so far. DesignResult::stopped / DesignCandidates::stopped /
+/// DesignBound::stopped say so.
+using DesignMonitor = std::function<bool(const DesignStep&)>;
 const char* to_string(DesignCriterion criterion);
 /// "D", "A", "E", "I" (also lower case); throws std::invalid_argument otherwise.
 DesignCriterion parse_design_criterion(const std::string& text);
@@ -54,6 +70,8 @@ struct DesignOptions {
   VectorXd noise_std;
   /// Parameter spread for simulated errors without prior_std (nominal_parameter_std).
   double default_error_mm = 5, default_error_rad = 0.01;
+  /// Progress and early stop (empty: none).
+  DesignMonitor monitor;
 };
 
 /// How far a configuration is from a singular one, relative to home: kappa^-1(q) /
@@ -94,6 +112,7 @@ struct DesignCandidates {
   std::vector<int> sensor;         ///< per candidate: its sensor (index in the model)
   std::vector<int> row_offset;     ///< candidate c owns rows row_offset[c] .. row_offset[c + 1]
   MatrixXd rows;                   ///< normalised whitened information rows, all candidates
+  bool stopped = false;            ///< the monitor stopped the draw: fewer than asked for
   int size() const { return static_cast<int>(sensor.size()); }
 };
 
@@ -125,6 +144,7 @@ struct DesignResult {
   double criterion_value = 0;  ///< D: log det M, A: trace M^-1 / n, E: lambda_min, I: trace W M^-1
   double greedy_value = 0;     ///< the same for the greedy start
   int passes = 0, exchanges = 0;
+  bool stopped = false;  ///< the monitor stopped the exchange: the best design found so far
 };
 
 /// Chooses options.count candidates (without repeats) by options.criterion. Throws
@@ -142,6 +162,7 @@ struct DesignBound {
   double bound = std::numeric_limits<double>::quiet_NaN();
   double relaxed_value = std::numeric_limits<double>::quiet_NaN();  ///< of the best weights
   int iterations = 0;
+  bool stopped = false;  ///< the monitor stopped the iterations: the bound certified so far
 };
 DesignBound design_bound(const DesignCandidates& candidates, const DesignSetup& setup,
                          const DesignOptions& options, const std::vector<int>& start,

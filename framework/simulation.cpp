@@ -147,11 +147,19 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
 
   Random truth_rng(derive_seed(options.seed, kTruthStream));
   s.truth = s.nominal;
-  for (int i : s.free_indices) {
-    const Parameter& p = model->parameters()[i];
-    const double e =
-        std::isnan(p.error_half_width) ? options.param_error_for(p.unit) : p.error_half_width;
-    s.truth[i] += truth_rng.symmetric(e);
+  if (options.truth.size() > 0) {
+    if (options.truth.size() != s.nominal.size() || !options.truth.allFinite())
+      throw std::invalid_argument("the true parameter values do not fit the model (" +
+                                  std::to_string(options.truth.size()) + " values for " +
+                                  std::to_string(s.nominal.size()) + " parameters)");
+    s.truth = options.truth;
+  } else {
+    for (int i : s.free_indices) {
+      const Parameter& p = model->parameters()[i];
+      const double e =
+          std::isnan(p.error_half_width) ? options.param_error_for(p.unit) : p.error_half_width;
+      s.truth[i] += truth_rng.symmetric(e);
+    }
   }
 
   // Commanded actuator values at home come from the nominal model, as a controller would.

@@ -49,6 +49,10 @@ struct ScenarioOptions {
   /// the true parameters.
   Measurements planned;
 
+  /// When it has num_parameters entries: the true parameter values (a known truth, e.g. a
+  /// model file), instead of nominal + drawn errors on the free parameters.
+  VectorXd truth;
+
   /// The parameter error, noise and range for `unit` ("mm" or "rad").
   double param_error_for(const std::string& unit) const;
   double noise_for(const std::string& unit) const;

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include "cli_runner.hpp"
@@ -417,6 +418,52 @@ TEST(CliLongRuns, CtrlCStopsTheSolverSuiteAndWritesWhatFinished) {
   int runs = 0;
   for (const auto& s : j["solvers"]) runs += s["cases"].get<int>();
   EXPECT_GT(runs, 0);
+}
+
+// design (issue 21 item 3): progress per stage, and the first Ctrl-C ends the run with the
+// best design found so far, whole and marked partial, exit code 130.
+TEST(CliLongRuns, FirstCtrlCEndsTheDesignWithTheBestSoFarMarkedPartial) {
+  TempDir dir("sigint-design");
+  const std::string m = dir / "m.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  Child child;
+  // Many candidates and the bound: several seconds of exchange and bound iterations.
+  start(child,
+        {"design", "--model", m, "--count", "60", "--candidates", "200000", "--criterion", "I",
+         "--bound", "--noise-std", "0.0072mm", "--progress", "--out", dir / "t.csv", "--json",
+         dir / "d.json"},
+        dir / "err.txt");
+  ASSERT_TRUE(wait_for(child, "left")) << read_text(dir / "err.txt");
+  ::kill(child.pid, SIGINT);
+  const int status = wait_status(child);
+  const std::string err = read_text(dir / "err.txt");
+  ASSERT_TRUE(WIFEXITED(status)) << err;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << err;
+  EXPECT_NE(err.find("kincal design: interrupted in the "), std::string::npos) << err;
+  EXPECT_NE(err.find("wrote the best design found so far, marked partial"), std::string::npos)
+      << err;
+  const Json j = Json::parse(read_text(dir / "d.json"));
+  EXPECT_EQ(j["partial"], true);
+  ASSERT_TRUE(j["stopped_in"].is_string()) << j.dump();
+  EXPECT_TRUE(j["exchange"]["value"].is_number());
+  const std::string t = read_text(dir / "t.csv");
+  EXPECT_NE(t.find("# PARTIAL: interrupted in the "), std::string::npos) << t;
+  std::istringstream rows(t);
+  int data_rows = 0;
+  for (std::string line; std::getline(rows, line);)
+    if (!line.empty() && line[0] != '#') ++data_rows;
+  EXPECT_EQ(data_rows, 61) << "header and the 60 configurations";
+}
+
+TEST(CliLongRuns, DesignProgressShowsOnlyWhenAskedAndOnlyForLongStages) {
+  TempDir dir("design-progress");
+  const std::string m = dir / "m.json";
+  ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
+  const auto quick = run_cli("design --model " + m +
+                             " --count 30 --candidates 300 --noise-std 0.0072mm --progress --out " +
+                             dir / "t.csv");
+  ASSERT_EQ(quick.exit_code, 0) << quick.err;
+  EXPECT_EQ(quick.err, "") << "a stage under a second says nothing";
 }
 
 TEST(CliLongRuns, SecondCtrlCAbortsAtOnceAndWritesNothing) {

@@ -26,7 +26,8 @@ TEST(CliDesign, TemplateFilledWithReadingsCalibrates) {
   const std::string m = dir / "m.json", t = dir / "t.csv", d = dir / "d.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const auto r =
-      run_cli("design --model " + m + " --count 40 --candidates 500 --out " + t + " --json " + d);
+      run_cli("design --model " + m + " --count 40 --candidates 500 --noise-std 0.0072mm --out " +
+              t + " --json " + d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("designed"), std::string::npos) << r.out;
   const std::string text = read_text(t);
@@ -84,7 +85,8 @@ TEST(CliDesign, BoundSaysHowCloseTheDesignComes) {
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   for (const std::string criterion : {"D", "A", "I"}) {
     SCOPED_TRACE(criterion);
-    const auto r = run_cli("design --model " + m + " --count 30 --candidates 300 --criterion " +
+    const auto r = run_cli("design --model " + m +
+                           " --count 30 --candidates 300 --noise-std 0.0072mm --criterion " +
                            criterion + " --bound --out " + t + " --json " + d);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("bound: no design of 30 from these candidates"), std::string::npos)
@@ -101,8 +103,9 @@ TEST(CliDesign, BoundSaysHowCloseTheDesignComes) {
     EXPECT_LT(b["std_ratio"].get<double>(), 1.2) << "the exchange should come close";
   }
   const auto e =
-      run_cli("design --model " + m + " --count 30 --candidates 300 --criterion E --bound --out " +
-              t + " --json " + d);
+      run_cli("design --model " + m +
+              " --count 30 --candidates 300 --noise-std 0.0072mm --criterion E --bound --out " + t +
+              " --json " + d);
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.err.find("no bound is computed"), std::string::npos) << e.err;
   EXPECT_FALSE(Json::parse(read_text(d))["exchange"].contains("bound"));
@@ -112,10 +115,11 @@ TEST(CliDesign, OrientationLengthIsStatedInTheOutputs) {
   TempDir dir("design-orientation");
   const std::string m = dir / "m.json", t = dir / "t.csv", d = dir / "d.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
-  const auto r = run_cli("design --model " + m +
-                         " --count 30 --candidates 300 --criterion I --orientation-length 250mm "
-                         "--out " +
-                         t + " --json " + d);
+  const auto r = run_cli(
+      "design --model " + m +
+      " --count 30 --candidates 300 --criterion I --orientation-length 250mm --noise-std 0.0072mm "
+      "--out " +
+      t + " --json " + d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Json j = Json::parse(read_text(d));
   EXPECT_EQ(j["orientation_length_mm"].get<double>(), 250.0);
@@ -128,7 +132,8 @@ TEST(CliDesign, SameSeedSameTemplate) {
   TempDir dir("design-seed");
   const std::string m = dir / "m.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
-  const std::string base = "design --model " + m + " --count 30 --candidates 300 --criterion A ";
+  const std::string base =
+      "design --model " + m + " --count 30 --candidates 300 --criterion A --noise-std 0.0072mm ";
   ASSERT_EQ(run_cli(base + "--seed 5 --out " + dir / "a.csv").exit_code, 0);
   ASSERT_EQ(run_cli(base + "--seed 5 --out " + dir / "b.csv").exit_code, 0);
   ASSERT_EQ(run_cli(base + "--seed 6 --out " + dir / "c.csv").exit_code, 0);
@@ -146,6 +151,9 @@ TEST(CliDesign, BadOptionsGiveOneLineAndExit2) {
       {"--out " + dir / "t.csv", "--count"},
       {"--count 5 --out " + dir / "t.csv", "free parameters"},
       {"--count 30 --noise-std 0mm --out " + dir / "t.csv", "--noise-std"},
+      // No noise std anywhere: no silent default (issue 21 item 3).
+      {"--count 31 --out " + dir / "t.csv",
+       "m.json states no reading_std: give the readings' noise std, e.g. --noise-std"},
       {"--count 30 --existing " + dir / "missing.csv" + " --out " + dir / "t.csv", "missing.csv"},
       {"--count 30 --orientation-length 300mm --out " + dir / "t.csv", "criterion I only"},
       {"--count 30 --criterion I --orientation-length 1rad --out " + dir / "t.csv",
@@ -154,7 +162,9 @@ TEST(CliDesign, BadOptionsGiveOneLineAndExit2) {
        "--orientation-length"},
   };
   for (const auto& [args, expected] : cases) {
-    const auto r = run_cli("design --model " + m + " " + args);
+    const bool noise = args.find("--noise-std") != std::string::npos ||
+                       args.find("--count 31") != std::string::npos;
+    const auto r = run_cli("design --model " + m + (noise ? " " : " --noise-std 0.0072mm ") + args);
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_NE(r.err.find(expected), std::string::npos) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -3,7 +3,9 @@
 # calibrated with --html, headless Chromium loads the page from disk (no network: the
 # page's Content-Security-Policy allows nothing but its own inline styles) and
 #   --dump-dom  must hold every section and the five charts with their points and bars;
-#   --screenshot must produce a picture that is not blank.
+#   --screenshot must produce a picture that is not blank;
+# and compare --html's page (the calibrated model against the truth): its sections, its two
+# charts with their points, no raw JSON.
 # Skipped (exit 77, with the reason) only when no chromium is installed; scripts/setup.sh
 # installs Debian's chromium. Usage: html_report_browser_test.sh KINCAL [SCREENSHOT_COPY.png]
 set -euo pipefail
@@ -46,4 +48,18 @@ size=$(stat -c %s "$dir/report.png")
 # A blank 1200 x 2400 page compresses to about 10 KB; text and charts make it much larger.
 [ "$size" -gt 60000 ] || fail "the screenshot is only $size bytes: the page looks blank"
 if [ -n "$copy_to" ]; then cp "$dir/report.png" "$copy_to"; fi
+
+# compare --html: the calibrated model against the simulation's truth.
+"$kincal" compare --truth "$dir/measured.truth.json" --model "$dir/calibrated.json" \
+  --html "$dir/compare.html" >/dev/null
+timeout 180 "$browser" "${flags[@]}" --dump-dom "file://$dir/compare.html" >"$dir/cdom.html" 2>"$dir/chromium.log" ||
+  { cat "$dir/chromium.log"; fail "chromium --dump-dom of the compare page failed"; }
+for id in verdicts pose parameters; do
+  grep -q "<section id=\"$id\">" "$dir/cdom.html" || fail "compare page: section '$id' missing"
+done
+csvgs=$(grep -o '<svg' "$dir/cdom.html" | wc -l)
+[ "$csvgs" -eq 2 ] || fail "compare page: expected 2 charts (pose and parameter errors), found $csvgs"
+ccircles=$(grep -o '<circle' "$dir/cdom.html" | wc -l)
+[ "$ccircles" -ge 224 ] || fail "compare page: expected 200 pose and 24 parameter points, found $ccircles"
+grep -q '{"' "$dir/cdom.html" && fail "compare page: raw JSON in the page"
 echo "html report renders in $browser: 7 sections, $svgs charts, $circles points, screenshot $size bytes"

@@ -356,8 +356,9 @@ TEST(HtmlPages, ValidateAndDesignWriteThePageOfTheirJson) {
   ASSERT_NE(v.exit_code, 2) << v.err;
   EXPECT_EQ(read_text(vh), cli::render_validation_html(Json::parse(read_text(vj))));
   const std::string t = dir / "t.csv", dj = dir / "d.json", dh = dir / "d.html";
-  const auto g = run_cli("design --model " + m + " --count 30 --candidates 300 --out " + t +
-                         " --json " + dj + " --html " + dh);
+  const auto g =
+      run_cli("design --model " + m + " --count 30 --candidates 300 --noise-std 0.0072mm --out " +
+              t + " --json " + dj + " --html " + dh);
   ASSERT_EQ(g.exit_code, 0) << g.err;
   EXPECT_EQ(read_text(dh), cli::render_design_html(Json::parse(read_text(dj))));
   EXPECT_EQ(markup_problem(read_text(dh)), "");

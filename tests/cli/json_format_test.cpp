@@ -37,9 +37,11 @@ TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
       {"calibrate", "calibrate --model " + m + " --data " + d},
       {"observability", "observability --model " + m + " --data " + d},
       {"validate", "validate --model " + c + " --data " + d + " --report " + r},
-      {"design", "design --model " + m + " --count 30 --candidates 60 --out /dev/null"},
+      {"design",
+       "design --model " + m + " --count 30 --candidates 60 --noise-std 0.0072mm --out /dev/null"},
       {"solver-suite", "solver-suite --solver gn --problem mgh01*"},
       {"verify", "verify --report " + r + " --model " + c},
+      {"compare", "compare --truth " + dir / "D.truth.json" + " --model " + c + " --poses 5"},
   };
   // Commands whose result is a file of their own format, not a --json report.
   const std::map<std::string, std::string> documents = {

@@ -247,7 +247,7 @@ TEST(CliDesignDegenerate, DegenerateProblemsAreRefused) {
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const std::string design =
       "design --model " + m + " --count 30 --candidates 300 --out " + out + " --json " + json + " ";
-  expect_one_line_error(run_cli(design + "--config-range 0mm"),
+  expect_one_line_error(run_cli(design + "--config-range 0mm --noise-std 0.0072mm"),
                         "no design of these 364 candidates determines every free parameter: "
                         "no reading depends on free parameter(s) leg4.base.y",
                         "config-range 0");
@@ -257,7 +257,7 @@ TEST(CliDesignDegenerate, DegenerateProblemsAreRefused) {
   const std::string puma = dir / "puma-target-at-origin.json";
   write_puma_target_at_origin(dir, puma, {"joint1.a", "joint6.theta"});
   const auto unseen = run_cli("design --model " + puma + " --count 10 --candidates 300 --out " +
-                              out + " --json " + json);
+                              out + " --json " + json + " --noise-std 0.01mm");
   expect_one_line_error(unseen, "no reading depends on free parameter(s) joint6.theta",
                         "a parameter no reading sees");
   EXPECT_NE(unseen.err.find("determine only 1 of 2 free parameters"), std::string::npos)
@@ -297,8 +297,9 @@ TEST(CliDesignDegenerate, MemoryForTheMatricesIsCheckedBeforeAnyWork) {
     m["free"] = {"j*.a", "j*.alpha", "j*.d", "j*.theta"};
   });
   // 2 GB of address space: 16 matrices of 10^4 x 10^4 doubles need 12.8 GB.
-  const auto r = run_cli("design --model " + big + " --count 30 --candidates 100 --out " + out,
-                         "ulimit -v 2000000; ");
+  const auto r = run_cli(
+      "design --model " + big + " --count 30 --candidates 100 --noise-std 0.01mm --out " + out,
+      "ulimit -v 2000000; ");
   expect_one_line_error(r, "big.json (10000 free parameters): needs about", "10^4 parameters");
   EXPECT_NE(r.err.find("of memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("expected at most about"), std::string::npos) << r.err;

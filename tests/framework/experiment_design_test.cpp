@@ -259,6 +259,64 @@ TEST(ExperimentDesign, DeterministicForASeed) {
   EXPECT_NE(run(3), run(4));
 }
 
+// The monitor sees every stage and can stop each with what it has (issue 21 item 3): the
+// candidates drawn so far, the greedy start finished and the exchange's best so far, the
+// bound certified so far; a monitor that never stops changes nothing.
+TEST(ExperimentDesign, TheMonitorSeesTheStagesAndStopsThemWithWhatTheyHave) {
+  const auto model = make_cube_hexapod();
+  DesignOptions options;
+  options.count = 30;
+  options.num_random = 1000;
+  options.workspace_samples = 20;
+  const DesignSetup setup = make_design_setup(*model, options, nullptr);
+  const DesignCandidates plain_c = make_design_candidates(*model, setup, options);
+  const DesignResult plain = choose_design(plain_c, setup, options);
+
+  std::set<std::string> stages;
+  options.monitor = [&](const DesignStep& step) {
+    stages.insert(step.stage);
+    EXPECT_LE(step.done, step.total);
+    return true;
+  };
+  const DesignCandidates c = make_design_candidates(*model, setup, options);
+  const DesignResult r = choose_design(c, setup, options);
+  const DesignBound b = design_bound(c, setup, options, r.chosen, 5);
+  EXPECT_EQ(stages, (std::set<std::string>{"candidates", "greedy", "exchange", "bound"}));
+  EXPECT_EQ(r.chosen, plain.chosen);
+  EXPECT_FALSE(c.stopped || r.stopped || b.stopped);
+
+  // Stopped while drawing: fewer candidates, marked.
+  options.monitor = [](const DesignStep& step) {
+    return !(std::string(step.stage) == "candidates" && step.done >= 512);
+  };
+  const DesignCandidates few = make_design_candidates(*model, setup, options);
+  EXPECT_TRUE(few.stopped);
+  EXPECT_LT(few.size(), plain_c.size());
+  EXPECT_GT(few.size(), 0);
+  // Stopped in the greedy start: it still ends with a whole design, and no exchange.
+  options.monitor = [](const DesignStep& step) { return std::string(step.stage) != "greedy"; };
+  const DesignResult greedy_only = choose_design(plain_c, setup, options);
+  EXPECT_TRUE(greedy_only.stopped);
+  EXPECT_EQ(greedy_only.chosen.size(), 30u);
+  EXPECT_EQ(greedy_only.passes, 0);
+  EXPECT_EQ(greedy_only.criterion_value, greedy_only.greedy_value);
+  // Stopped in the exchange's first pass: a design of distinct candidates, no worse than greedy.
+  options.monitor = [](const DesignStep& step) {
+    return !(std::string(step.stage) == "exchange" && step.done >= 10);
+  };
+  const DesignResult part = choose_design(plain_c, setup, options);
+  EXPECT_TRUE(part.stopped);
+  EXPECT_EQ(part.passes, 1);
+  EXPECT_EQ(std::set<int>(part.chosen.begin(), part.chosen.end()).size(), 30u);
+  EXPECT_GE(part.criterion_value, part.greedy_value);  // D: maximised
+  EXPECT_TRUE(std::isfinite(part.criterion_value));
+  // Stopped in the bound at once: no bound (not finite), marked.
+  options.monitor = [](const DesignStep& step) { return std::string(step.stage) != "bound"; };
+  const DesignBound none = design_bound(plain_c, setup, options, plain.chosen);
+  EXPECT_TRUE(none.stopped);
+  EXPECT_FALSE(std::isfinite(none.bound));
+}
+
 // Existing data enter as fixed information: designing few measurements on top of a full
 // design is possible (alone they could not determine the parameters), and the result's
 // information is the existing one plus the chosen rows.

@@ -37,5 +37,20 @@ TEST(Simulation, TrackingCallsTheCallersCallbackAtEveryIteration) {
   EXPECT_EQ(run.summary.trace.size(), 3u);
 }
 
+// A known truth (simulate --truth): used as given, not drawn; a vector that does not fit the
+// model is refused.
+TEST(Simulation, AGivenTruthIsUsedAsGiven) {
+  const auto model = make_cube_hexapod();
+  ScenarioOptions options;
+  options.num_configurations = 30;
+  options.num_validation = 5;
+  options.truth = model->parameters().nominal_values();
+  options.truth[0] += 1.5;
+  const Scenario s = make_scenario(model, options);
+  EXPECT_EQ(s.truth, options.truth);
+  options.truth.resize(3);
+  EXPECT_THROW(make_scenario(model, options), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace kincal
