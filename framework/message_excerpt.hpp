@@ -7,6 +7,11 @@
 
 namespace kincal {
 
+/// Length of the valid UTF-8 sequence at text[i] (1 for ASCII), or 0 when none starts there
+/// (overlong forms, surrogates and code points beyond U+10FFFF are not valid); its code point
+/// in `*code` when given.
+std::size_t utf8_sequence_length(const std::string& text, std::size_t i, unsigned* code = nullptr);
+
 /// `text` with control characters and bytes outside valid UTF-8 written as \xNN, cut with
 /// "..." once `max_chars` characters of the result are shown (an escape counts as its four).
 /// Never contains a line break.
