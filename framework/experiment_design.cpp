@@ -70,7 +70,9 @@ SingularityGauge::SingularityGauge(const MeasurementModel& model, const VectorXd
     throw std::invalid_argument("forward kinematics at the model's home configuration " +
                                 fk.describe());
   Matrix6Xd J;
-  if (actuator_jacobian(home_, fk.pose, J)) {
+  // No moving actuator (every range 0) has no Jacobian to weigh: a block of a 6 x 0 matrix is
+  // undefined behaviour in Eigen.
+  if (actuator_jacobian(home_, fk.pose, J) && J.cols() > 0) {
     const double t = J.topRows<3>().norm(), r = J.bottomRows<3>().norm();
     rotation_length_ = r > 0 && t > 0 ? t / r : 1;
   }

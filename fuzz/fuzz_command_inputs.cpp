@@ -53,12 +53,12 @@ void check(const std::vector<std::string>& args) {
   for (const auto& a : args) shown += a + " ";
   if (code != 0 && code != 1 && code != 2) fail("exit code other than 0, 1 or 2", shown, err);
   if (code != 2) return;
-  // Notes may come first; the error is the last line and there is one.
-  const auto last = err.rfind("kincal ", err.size() > 1 ? err.size() - 2 : 0);
-  if (err.empty() || err.back() != '\n' || last == std::string::npos ||
-      err.find('\n', last) != err.size() - 1 || err.find(": error: ", last) == std::string::npos)
+  // Notes may come first; the error is the last line.
+  if (err.size() < 2 || err.back() != '\n') fail("error is not one line of kincal's", shown, err);
+  const auto previous = err.rfind('\n', err.size() - 2);
+  const std::string message = err.substr(previous == std::string::npos ? 0 : previous + 1);
+  if (message.rfind("kincal ", 0) != 0 || message.find(": error: ") == std::string::npos)
     fail("error is not one line of kincal's", shown, err);
-  const std::string message = err.substr(last);
   for (const char* raw : {"std::", "type_error", "parse_error", "out_of_range", "basic_string",
                           "vector::", "what():"})
     if (message.find(raw) != std::string::npos) fail("raw exception text", shown, message);
