@@ -46,7 +46,7 @@ int run(const std::vector<std::string>& args, std::string& err) {
   return code;
 }
 
-void check(const std::vector<std::string>& args) {
+void check(const std::vector<std::string>& args, const std::string& input) {
   std::string err;
   const int code = run(args, err);
   std::string shown;
@@ -61,7 +61,9 @@ void check(const std::vector<std::string>& args) {
     fail("error is not one line of kincal's", shown, err);
   for (const char* raw : {"std::", "type_error", "parse_error", "out_of_range", "basic_string",
                           "vector::", "what():"})
-    if (message.find(raw) != std::string::npos) fail("raw exception text", shown, message);
+    // Raw exception text, unless the input holds it (a message quotes what it read).
+    if (message.find(raw) != std::string::npos && input.find(raw) == std::string::npos)
+      fail("raw exception text", shown, message);
 }
 
 }  // namespace
@@ -93,13 +95,12 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > 65536) return 0;
-  {
-    std::ofstream in("IN", std::ios::binary | std::ios::trunc);
-    in.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
-  check({"kincal", "validate", "--model", "C.json", "--data", "D.csv", "--report", "IN"});
-  check({"kincal", "verify", "--report", "IN", "--model", "C.json"});
+  const std::string input(reinterpret_cast<const char*>(data), size);
+  std::ofstream("IN", std::ios::binary | std::ios::trunc) << input;
+  check({"kincal", "validate", "--model", "C.json", "--data", "D.csv", "--report", "IN"}, input);
+  check({"kincal", "verify", "--report", "IN", "--model", "C.json"}, input);
   check({"kincal", "design", "--model", "M.json", "--existing", "IN", "--count", "30",
-         "--candidates", "60", "--out", "/dev/null"});
+         "--candidates", "60", "--out", "/dev/null"},
+        input);
   return 0;
 }
