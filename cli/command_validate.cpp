@@ -140,6 +140,13 @@ void check_report_is_for_model(const std::string& report_file, const std::string
                    "; expected the model written with this report (kincal verify checks a pair)");
 }
 
+// validate on readings that do not measure a point (length gauges): what they cannot show.
+constexpr const char* kPoseNotShown =
+    "these held-out readings measure no point of the mechanism, so agreeing with them does not "
+    "confirm its pose accuracy (a model can fit one gauge's lengths and still be millimetres "
+    "off in pose); to check the pose, validate on configurations measured with a point or pose "
+    "tracker, or with the gauge in a second placement";
+
 std::string format(const char* fmt, double a) {
   char buf[64];
   std::snprintf(buf, sizeof buf, fmt, a);
@@ -256,6 +263,7 @@ int run_validate(const Args& args) {
     noise_source = "none";
   }
   const bool tested = noise_source != "none";
+  const bool shows_pose = measures_position(*model);  // else the readings cannot speak for the pose
   if (!tested) input.noise_std = VectorXd::Ones(k);
 
   // "Before": --before's values, or the report's starting values of what it fitted.
@@ -355,6 +363,7 @@ int run_validate(const Args& args) {
                    "model misses something, or its uncertainty is understated)\n";
     else
       std::cout << "smaller than predicted: the stated noise or uncertainty is pessimistic\n";
+    if (!shows_pose) std::cout << "note: " << kPoseNotShown << "\n";
   }
   if (vm.count("json") || vm.count("html")) {
     Json out;
@@ -398,6 +407,10 @@ int run_validate(const Args& args) {
     out["p_smaller"] = tested ? number(v.p_smaller) : Json();
     out["significance"] = input.significance;
     out["verdict"] = v.verdict;
+    // What the verdict is about: readings. Without a sensor that measures a point, readings
+    // that agree say nothing of the pose (a gauge's length is one number of six).
+    out["pose_accuracy_shown"] = shows_pose;
+    out["pose_accuracy_note"] = shows_pose ? Json() : Json(kPoseNotShown);
     Json residuals = Json::array();
     const auto names = model->reading_names();
     for (int c = 0; c < v.residuals.rows(); ++c) {

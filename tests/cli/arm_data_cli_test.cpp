@@ -181,6 +181,9 @@ TEST_F(CliArmData, ValidateReportsThePositionErrorBeforeAndAfter) {
                          " --before " + path("M.json") + " --json " + v2);
   ASSERT_EQ(b.exit_code, 0) << b.err;
   const Json j1 = Json::parse(read_text(v1)), j2 = Json::parse(read_text(v2));
+  EXPECT_EQ(j1["pose_accuracy_shown"], true);  // a tracker measures the point
+  EXPECT_TRUE(j1["pose_accuracy_note"].is_null());
+  EXPECT_EQ(a.out.find("measure no point"), std::string::npos) << a.out;
   for (const char* which : {"mean", "rms", "max"}) {
     EXPECT_GT(j1["position_error_mm"]["before"][which].get<double>(),
               5 * j1["position_error_mm"]["after"][which].get<double>());

@@ -184,6 +184,12 @@ TEST_F(CliPrior, ValidateOnHeldOutData) {
   EXPECT_GT(j["per_reading"][0]["predicted_rms"].get<double>(),
             j["per_reading"][0]["noise_std"].get<double>());
   EXPECT_EQ(j["residuals"].size(), 40u);
+  // A gauge measures no point: "consistent" is about its readings, and says so (issue 21).
+  EXPECT_EQ(j["pose_accuracy_shown"], false);
+  EXPECT_NE(j["pose_accuracy_note"].get<std::string>().find("does not confirm its pose accuracy"),
+            std::string::npos);
+  EXPECT_NE(run.out.find("note: these held-out readings measure no point"), std::string::npos)
+      << run.out;
   // Without the report: the stated noise alone.
   const auto noise_only =
       run_cli("validate --model " + c + " --data " + path("H.csv") + " --json -");
