@@ -151,11 +151,7 @@ int run_compare(const Args& args) {
     const std::string path = vm["data"].as<std::string>();
     MeasurementTable table;
     try {
-      table = read_measurements(path, model->mechanism().actuator_names(), model->reading_names(),
-                                data_limits(vm));
-      std::vector<std::string> actuator_units;
-      for (const auto& a : model->mechanism().actuators()) actuator_units.push_back(a.unit);
-      convert_column_units(table, actuator_units, model->reading_units(), path);
+      table = read_model_columns(path, *model, data_limits(vm));
     } catch (const std::invalid_argument& e) {
       throw measurement_file_error(e);
     }

@@ -308,13 +308,19 @@ std::string measurements_to_csv(const Measurements& data,
   return out.str();
 }
 
-MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
-                                   const CsvLimits& limits) {
+MeasurementTable read_model_columns(const std::string& path, const MeasurementModel& model,
+                                    const CsvLimits& limits) {
   MeasurementTable table =
       read_measurements(path, model.mechanism().actuator_names(), model.reading_names(), limits);
   std::vector<std::string> actuator_units;
   for (const auto& a : model.mechanism().actuators()) actuator_units.push_back(a.unit);
   convert_column_units(table, actuator_units, model.reading_units(), path);
+  return table;
+}
+
+MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
+                                   const CsvLimits& limits) {
+  MeasurementTable table = read_model_columns(path, model, limits);
   check_sensor_readings(model, table, path);
   return table;
 }

@@ -72,8 +72,12 @@ MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& reading_names,
                                    const CsvLimits& limits = {});
 
-/// read_measurements for `model`'s actuators and readings, convert_column_units, then
-/// check_sensor_readings.
+/// read_measurements for `model`'s actuators and readings, then convert_column_units: the
+/// configurations of a file whose readings may all be empty (a design template).
+MeasurementTable read_model_columns(const std::string& path, const MeasurementModel& model,
+                                    const CsvLimits& limits = {});
+
+/// read_model_columns, then check_sensor_readings: a measurement file to calibrate from.
 MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
                                    const CsvLimits& limits = {});
 
