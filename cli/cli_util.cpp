@@ -1,5 +1,6 @@
 #include "kincal/cli/cli_util.hpp"
 
+#include <boost/make_shared.hpp>
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
@@ -37,6 +38,46 @@ std::string option_error_message(const po::error& e, const Args& args) {
   return e.what();
 }
 
+namespace {
+
+constexpr const char* kAliasPrefix = "deprecated: the old name of --";
+
+// Moves each alias's value to its current name (so that commands read one name) and says so.
+void resolve_deprecated_aliases(const std::string& command, const po::options_description& options,
+                                po::variables_map& vm) {
+  auto& values = static_cast<std::map<std::string, po::variable_value>&>(vm);
+  for (const auto& option : options.options()) {
+    const std::string current = deprecated_alias_target(option->description());
+    const std::string old = option->long_name();
+    if (current.empty() || !vm.count(old)) continue;
+    if (vm.count(current) && !vm[current].defaulted())
+      throw CliError("give --" + current + " or --" + old + " (its deprecated old name), not both");
+    values[current] = values.at(old);
+    values.erase(old);
+    deprecation_notes().push_back("kincal " + command + ": note: --" + old +
+                                  " is deprecated: use --" + current + " (the same option)");
+  }
+}
+
+}  // namespace
+
+void add_deprecated_alias(po::options_description& options, const std::string& old_name,
+                          const std::string& current_name, const po::value_semantic* semantic) {
+  options.add(boost::make_shared<po::option_description>(old_name.c_str(), semantic,
+                                                         (kAliasPrefix + current_name).c_str()));
+}
+
+std::vector<std::string>& deprecation_notes() {
+  static std::vector<std::string> notes;
+  return notes;
+}
+
+std::string deprecated_alias_target(const std::string& description) {
+  const std::string prefix = kAliasPrefix;
+  if (description.compare(0, prefix.size(), prefix) != 0) return "";
+  return description.substr(prefix.size());
+}
+
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm) {
   options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
@@ -49,6 +90,7 @@ bool parse_command_line(const std::string& command, const Args& args,
   } catch (const po::error& e) {
     throw CliError(option_error_message(e, args));
   }
+  resolve_deprecated_aliases(command, options, vm);
   if (vm.count("help")) {
     std::cout << "usage: kincal " << command << " [options]\n" << options << "\n";
     return false;

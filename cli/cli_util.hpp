@@ -29,6 +29,23 @@ bool parse_command_line(const std::string& command, const Args& args,
 /// so then a message of our own names the option and the argument.
 std::string option_error_message(const po::error& e, const Args& args);
 
+/// An old spelling of an option, kept working: `--old_name` parses as `--current_name` (the
+/// same value semantic, which the caller passes again) and prints one line on stderr,
+/// "kincal <command>: note: --old_name is deprecated: use --current_name (the same option)"
+/// once the command has run (deprecation_notes()).
+/// Giving both is an error. parse_command_line resolves every alias it finds in `options`,
+/// so a command's code reads only the current name.
+void add_deprecated_alias(po::options_description& options, const std::string& old_name,
+                          const std::string& current_name, const po::value_semantic* semantic);
+
+/// The notes of the aliases used in this run. run() prints them when the command has run and
+/// drops them when it stopped on bad input, so that bad input still gets one line.
+std::vector<std::string>& deprecation_notes();
+
+/// The current name an option's help text marks it an alias of, or "" when it is none (the
+/// option test walks every command's --help with it).
+std::string deprecated_alias_target(const std::string& description);
+
 /// A random seed on the command line: a whole number >= 0. Boost's own unsigned parsing
 /// would turn "-1" into 18446744073709551615 without a word.
 struct Seed {

@@ -12,6 +12,7 @@
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/cross_validation.hpp"
 #include "kincal/framework/data_checks.hpp"
@@ -55,11 +56,6 @@ RobustLoss loss_option(const po::variables_map& vm, SolverChoice& choice) {
   return loss;
 }
 
-// The report's option as the user spelt it, for messages: --json, or its older name --report.
-std::string report_label(const po::variables_map& vm) {
-  return vm.count("report") ? "--report" : "--json";
-}
-
 // The files of this run: no output may be an input or the other output. Checked before
 // the data is read, so a typo does not cost a solve.
 OutputPlan plan_files(const po::variables_map& vm) {
@@ -67,8 +63,8 @@ OutputPlan plan_files(const po::variables_map& vm) {
   for (const char* option : {"model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("out")) plan.output("--out", vm["out"].as<std::string>());
-  const std::string report = json_output(vm, "report");
-  if (!report.empty()) plan.output(report_label(vm), report);
+  const std::string report = json_output(vm);
+  if (!report.empty()) plan.output("--json", report);
   if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   plan.check();
   return plan;
@@ -172,15 +168,10 @@ int run_calibrate(const Args& args) {
   options.add_options()("model", po::value<std::string>(), "model file (JSON): the nominal values")(
       "data", po::value<std::string>(), "measurement file (CSV)")(
       "out", po::value<std::string>(), "write the calibrated model (JSON, same schema) to FILE")(
-      "report", po::value<std::string>(), "the same as --json (its older name)")(
       "html", po::value<std::string>(),
       "write the report for people to FILE: one self-contained HTML page with plots")(
       "loss", po::value<std::string>(),
       "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)")(
-      "allow-rank-deficient", po::bool_switch(),
-      "when the data cannot determine every free parameter, fix the dependent ones at their "
-      "model values and solve for the rest instead of stopping (what an arm imported from a "
-      "URDF does by default, without --free/--fix)")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "folds", po::value<int>(),
       "K-fold cross-validation (K >= 2): configuration i is held out in fold i mod K, the "
@@ -191,8 +182,13 @@ int run_calibrate(const Args& args) {
                                          default_text(IdentifiabilityOptions{}.rcond)),
       "numerical rank threshold relative to the largest scaled singular value");
   add_json_option(options, "the report");
+  add_allow_rank_deficient_option(options);
+  add_deprecated_alias(options, "report", "json", po::value<std::string>());
   add_free_fix_options(options);
   add_prior_std_option(options);
+  add_noise_std_option(options,
+                       "replaces the model's reading_std (weighs the readings against each "
+                       "other and a prior, and scales the reported uncertainty)");
   add_solver_options(options);
   add_data_size_option(options);
   po::variables_map vm;
@@ -216,6 +212,7 @@ int run_calibrate(const Args& args) {
   const std::string data_file = vm["data"].as<std::string>();
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
+  apply_noise_std(vm, *model);
   apply_prior_std(vm, *model);
   const bool with_prior = check_prior_usable(*model, model_file);
   if (with_prior && loss.kind != RobustLoss::Kind::kNone)
@@ -291,8 +288,8 @@ int run_calibrate(const Args& args) {
                       summary.termination == TerminationType::kMaxIterations;
   if (solved)
     add_baselines(report, model, loaded.data, nominal, free, choice, with_prior, folds, id_options);
-  const std::string report_file = json_output(vm, "report");
-  const bool report_to_stdout = (!report_file.empty() && plan.to_stdout(report_label(vm))) ||
+  const std::string report_file = json_output(vm);
+  const bool report_to_stdout = (!report_file.empty() && plan.to_stdout("--json")) ||
                                 (vm.count("html") && plan.to_stdout("--html"));
   if (!report_to_stdout) std::cout << to_text(report);
   // Model and report are written together or not at all while the process runs. Under a
@@ -310,7 +307,7 @@ int run_calibrate(const Args& args) {
   } else {
     report_json["calibrated_model"] = nullptr;
   }
-  if (!report_file.empty()) outputs.push_back({report_label(vm), report_json.dump(2) + "\n"});
+  if (!report_file.empty()) outputs.push_back({"--json", report_json.dump(2) + "\n"});
   if (vm.count("html")) outputs.push_back({"--html", render_calibration_html(report_json)});
   if (!model_text.empty()) outputs.push_back({"--out", model_text});
   plan.write(outputs);

@@ -17,6 +17,7 @@
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/progress.hpp"
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
@@ -52,8 +53,6 @@ std::string criterion_meaning(DesignCriterion c, double orientation_length) {
   }
   return "";
 }
-
-constexpr double kNoiseStdMin = 1e-9, kNoiseStdMax = 1e6;
 
 // n x n matrices design holds at once, at most: the prior and existing data, the workspace
 // weight, the exchange's M, M^-1, M0 and W, a criterion's eigenvectors and inverse, the
@@ -93,34 +92,13 @@ void check_information(const MatrixXd& M, const std::vector<std::string>& names,
 // The reading noise std per reading: --noise-std per unit, else the model's reading_std;
 // neither is an error (a design weighs the readings against each other and against the
 // prior by it, and its predictions scale with it: no value is a safe guess).
-VectorXd noise_std_option(const po::variables_map& vm, const MeasurementModel& model,
+VectorXd design_noise_std(const po::variables_map& vm, const MeasurementModel& model,
                           const std::string& model_file) {
-  const std::vector<std::string> units = model.reading_units();
-  if (!vm.count("noise-std")) {
-    if (!model.weighted())
-      throw CliError((model_file.empty() ? std::string("the model") : printable(model_file)) +
-                     " states no reading_std: give the readings' noise std, e.g. --noise-std "
-                     "0.0072mm (or reading_std in the model file)");
-    return model.reading_std();
-  }
-  const UnitValues values = unit_values_option(vm, "noise-std");
-  VectorXd std(model.num_readings());
-  for (int i = 0; i < model.num_readings(); ++i) {
-    if (!values.has(units[i]))
-      throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + "': no value for " +
-                     units[i] + " (reading " + model.reading_names()[i] + ")");
-    std[i] = values.get(units[i]);
-    // Outside this range the information (spread / noise)^2 over- or underflows, or the
-    // figures mean nothing: 1e-9 mm is a picometre, 1e6 mm a kilometre.
-    if (!(std[i] >= kNoiseStdMin && std[i] <= kNoiseStdMax)) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    "': %g %s for reading %s; expected a noise std between %g and %g", std[i],
-                    units[i].c_str(), model.reading_names()[i].c_str(), kNoiseStdMin, kNoiseStdMax);
-      throw CliError("--noise-std '" + vm["noise-std"].as<std::string>() + text + " " + units[i]);
-    }
-  }
-  return std;
+  if (!vm.count("noise-std") && !model.weighted())
+    throw CliError((model_file.empty() ? std::string("the model") : printable(model_file)) +
+                   " states no reading_std: give the readings' noise std, e.g. --noise-std "
+                   "0.0072mm (or reading_std in the model file)");
+  return noise_std_per_reading(vm, model);
 }
 
 void apply_config_range(const po::variables_map& vm, MeasurementModel& model) {
@@ -183,21 +161,15 @@ void print_prediction_row(const char* label, double designed, double random, dou
 int run_design(const Args& args) {
   po::options_description options("kincal design");
   options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
-      "count", po::value<int>(), "number of measurements to choose")(
+      "poses", po::value<int>(), "number of configurations to choose")(
       "criterion", po::value<std::string>()->default_value("D"),
       "D (parameters' confidence volume), A (mean parameter variance), E (worst direction) or I "
       "(mean predicted position variance over the workspace)")(
       "candidates", po::value<int>()->default_value(10000),
       "random candidate configurations drawn in the box (the box's corners are added)")(
-      "config-range", po::value<std::string>(),
-      "half-width of the configuration box around home per unit, e.g. 20mm,0.5rad (default: "
-      "each actuator's range in the model)")(
       "existing", po::value<std::string>(),
       "measurement file (CSV) already measured: its readings count as information, and the "
       "design adds to them")(
-      "noise-std", po::value<std::string>(),
-      "reading noise standard deviation per unit, e.g. 0.0072mm, between 1e-9 and 1e6 (default: "
-      "the model's reading_std; one of them is required)")(
       "singularity-margin",
       po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
       "keep configurations whose conditioning is at least this fraction of home's")(
@@ -205,7 +177,7 @@ int run_design(const Args& args) {
       "criterion I only: also weigh the orientation error, a rotation of 1 rad counting as a "
       "displacement of this length, e.g. 300mm (the tool's reach; default: position only)")(
       "bound", po::bool_switch(),
-      "also bound how good any design of --count measurements from these candidates can be "
+      "also bound how good any design of --poses measurements from these candidates can be "
       "(D, A, I: the continuous relaxation's optimum, certified; a fraction of a second for "
       "10^4 hexapod candidates, 2 s for 10^5), and say how close the design comes to it")(
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"),
@@ -214,16 +186,21 @@ int run_design(const Args& args) {
       "html", po::value<std::string>(),
       "write the design for people to FILE: one self-contained HTML page");
   add_json_option(options, "the design");
+  add_config_range_option(options);
+  add_noise_std_option(options,
+                       "weighs the readings in the design and scales its predictions (default: "
+                       "the model's reading_std; one of them is required)");
+  add_deprecated_alias(options, "count", "poses", po::value<int>());
   add_free_fix_options(options);
   add_prior_std_option(options);
   add_data_size_option(options);
   add_progress_option(options);
   po::variables_map vm;
   if (!parse_command_line("design", args, options, vm)) return 0;
-  if (!vm.count("count")) throw CliError("--count N is required");
+  if (!vm.count("poses")) throw CliError("--poses N is required (the configurations to choose)");
   if (!vm.count("out")) throw CliError("--out FILE is required (the measurement template)");
   DesignOptions design;
-  design.count = vm["count"].as<int>();
+  design.count = vm["poses"].as<int>();
   design.num_random = vm["candidates"].as<int>();
   design.seed = vm["seed"].as<Seed>().value;
   design.min_singularity_margin = vm["singularity-margin"].as<double>();
@@ -232,7 +209,7 @@ int run_design(const Args& args) {
   } catch (const std::invalid_argument& e) {
     throw CliError(std::string("--criterion: ") + e.what());
   }
-  if (design.count < 1) throw CliError("--count must be at least 1");
+  if (design.count < 1) throw CliError("--poses must be at least 1");
   if (design.num_random < 0) throw CliError("--candidates must be >= 0");
   if (!(design.min_singularity_margin >= 0)) throw CliError("--singularity-margin must be >= 0");
   if (vm.count("orientation-length")) {
@@ -263,7 +240,7 @@ int run_design(const Args& args) {
   apply_config_range(vm, *model);
   const int n = model->parameters().num_free();
   if (n == 0) throw CliError("no free parameters: nothing to design for (use --free)");
-  design.noise_std = noise_std_option(vm, *model, model_file);
+  design.noise_std = design_noise_std(vm, *model, model_file);
   const char* noise_source = vm.count("noise-std") ? "--noise-std" : "the model's reading_std";
   // The n x n matrices first (a model of 10^4 free parameters needs GBs of them), then the
   // candidates' rows beside them: the exchange keeps each row, its transpose and M^-1 times
@@ -330,14 +307,14 @@ int run_design(const Args& args) {
     if (progress) progress->finish();
     std::fprintf(stderr,
                  "kincal design: interrupted while drawing candidates: %d reachable so far, "
-                 "fewer than --count %d; nothing written\n",
+                 "fewer than --poses %d; nothing written\n",
                  candidates.size(), design.count);
     return 130;  // the shell's code for a run ended by SIGINT
   }
   if (candidates.size() < design.count)
     throw CliError("only " + std::to_string(candidates.size()) + " reachable candidates (" +
                    std::to_string(candidates.rejected_unreachable) + " unreachable, " +
-                   std::to_string(candidates.rejected_singular) + " near-singular) for --count " +
+                   std::to_string(candidates.rejected_singular) + " near-singular) for --poses " +
                    std::to_string(design.count) +
                    "; raise --candidates or lower --singularity-margin");
   const long long new_readings = [&] {
@@ -346,7 +323,7 @@ int run_design(const Args& args) {
     return k * design.count;
   }();
   if (!setup.has_prior && setup.existing_readings + new_readings < n)
-    throw CliError("--count " + std::to_string(design.count) + " gives at most " +
+    throw CliError("--poses " + std::to_string(design.count) + " gives at most " +
                    std::to_string(new_readings + setup.existing_readings) + " readings for " +
                    std::to_string(n) +
                    " free parameters; expected at least as many readings as free parameters");
@@ -365,7 +342,7 @@ int run_design(const Args& args) {
   check_information(design_information(candidates, result.chosen, setup), free_names,
                     "the " + std::to_string(design.count) +
                         " measurements chosen do not determine every free parameter",
-                    "raise --count, widen the box (--config-range) or state a prior "
+                    "raise --poses, widen the box (--config-range) or state a prior "
                     "(--prior-std)");
   if (!std::isfinite(result.criterion_value))
     throw CliError("the design's criterion " + std::string(to_string(design.criterion)) + " is " +

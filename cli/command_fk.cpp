@@ -84,20 +84,19 @@ int run_fk(const Args& args) {
       "actuators", po::value<std::string>(),
       "commanded actuator values q1,q2,... in the actuators' units (mm for prismatic joints "
       "such as hexapod legs, rad for revolute joints), or each with its unit: 90deg, 1.2rad, "
-      "350mm, 0.35m")("legs", po::value<std::string>(), "the same as --actuators (its older name)")(
+      "350mm, 0.35m")(
       "data", po::value<std::string>(),
       "instead of --actuators: a CSV file with the actuator columns (a measurement file; "
       "other columns are ignored; a column may carry a unit suffix, joint1_deg): one result "
       "per row, failures as statuses");
+  add_deprecated_alias(options, "legs", "actuators", po::value<std::string>());
   add_table_outputs(options);
   add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("fk", args, options, vm)) return 0;
   OutputPlan plan;  // standard output must not be an input
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
-  if (vm.count("actuators") && vm.count("legs"))
-    throw CliError("give --actuators or --legs (the same option), not both");
-  const std::string option = vm.count("legs") ? "legs" : "actuators";
+  const std::string option = "actuators";
   if (vm.count("data")) {
     if (vm.count(option)) throw CliError("give --" + option + " or --data, not both");
     plan.input("--data", vm["data"].as<std::string>());

@@ -1,5 +1,5 @@
 // kincal ik: actuator values of a model file at a given pose (--pose) or at each pose of a
-// table (--poses).
+// table (--data).
 
 #include <cstdio>
 
@@ -22,29 +22,31 @@ int run_ik(const Args& args) {
   options.add_options()("model", po::value<std::string>(), "model file (JSON)")(
       "pose", po::value<std::string>(),
       "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)")(
-      "poses", po::value<std::string>(),
+      "data", po::value<std::string>(),
       "instead of --pose: a CSV file with columns x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg (other "
       "columns are ignored): one result per row, failures as statuses");
+  // --poses is a count of configurations in every other command; a table is --data, as in fk.
+  add_deprecated_alias(options, "poses", "data", po::value<std::string>());
   add_table_outputs(options);
   add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("ik", args, options, vm)) return 0;
   OutputPlan plan;  // standard output must not be an input
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
-  if (vm.count("poses")) {
-    if (vm.count("pose")) throw CliError("give --pose or --poses, not both");
-    plan.input("--poses", vm["poses"].as<std::string>());
+  if (vm.count("data")) {
+    if (vm.count("pose")) throw CliError("give --pose or --data, not both");
+    plan.input("--data", vm["data"].as<std::string>());
     if (!vm.count("model")) throw CliError("--model FILE is required");
     plan.check();
     const auto model = load_model_option(vm);
     OutputPlan table_plan = plan;
-    return run_table("ik", vm, table_plan, *model, "poses", kPoseColumns, inverse_from_values);
+    return run_table("ik", vm, table_plan, *model, "data", kPoseColumns, inverse_from_values);
   }
-  if (vm.count("out")) throw CliError("--out writes the table of --poses; give --poses FILE");
+  if (vm.count("out")) throw CliError("--out writes the table of --data; give --data FILE");
   const std::string json_file = json_output(vm);
   if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();
-  if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz (or --poses FILE) is required");
+  if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz (or --data FILE) is required");
   const auto model = load_model_option(vm);
   const std::string text = vm["pose"].as<std::string>();
   const KinematicsRow row = inverse_from_values(

@@ -9,6 +9,7 @@
 #include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/fixed_parameter_sensitivity.hpp"
@@ -72,8 +73,6 @@ int run_observability(const Args& args) {
       "poses", po::value<int>(),
       "instead of --data: this many random configurations, home actuator values + U[-r, r]")(
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed for --poses")(
-      "config-range", po::value<std::string>(),
-      "r per unit for --poses, e.g. 20mm,0.5rad (default: each actuator's range in the model)")(
       "rcond",
       po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
                                          default_text(IdentifiabilityOptions{}.rcond)),
@@ -85,8 +84,12 @@ int run_observability(const Args& args) {
       "sensitivity-step", po::value<std::string>()->default_value("1mm,0.001rad"),
       "the error assumed in each fixed parameter, per unit");
   add_json_option(options, "the analysis");
+  add_config_range_option(options);
   add_free_fix_options(options);
   add_prior_std_option(options);
+  add_noise_std_option(options,
+                       "replaces the model's reading_std (weighs the readings, scales "
+                       "the predicted standard deviations)");
   add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("observability", args, options, vm)) return 0;
@@ -103,6 +106,7 @@ int run_observability(const Args& args) {
 
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
+  apply_noise_std(vm, *model);
   apply_prior_std(vm, *model);
   const bool with_prior =
       check_prior_usable(*model, vm.count("model") ? vm["model"].as<std::string>() : "the model");

@@ -13,6 +13,7 @@
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/model_pair.hpp"
 #include "kincal/cli/sha256.hpp"
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
@@ -81,6 +82,12 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
     }
     std::printf("MAP estimate: Gaussian prior of std %s around nominal on every free parameter\n",
                 stds.c_str());
+  } else {
+    int with_prior = 0;
+    for (int i : scenario.free_indices) with_prior += model.parameters()[i].has_prior();
+    if (with_prior)
+      std::printf("MAP estimate: Gaussian prior around nominal on %d of %zu free parameters\n",
+                  with_prior, scenario.free_indices.size());
   }
   std::printf("solver %s: %s — %s\n", s.solver.c_str(), to_string(s.termination),
               s.message.c_str());
@@ -164,11 +171,10 @@ int run_simulate(const Args& args) {
       "choose the configurations by experiment design with this criterion (D, A, E or I; "
       "kincal design) instead of drawing them at random")(
       "design-candidates", po::value<int>()->default_value(10000),
-      "random candidate configurations for --design (the box's corners are added)")(
-      "prior-std", po::value<std::string>(),
-      "MAP calibration with a Gaussian prior of this std around nominal on every free "
-      "parameter, per unit, e.g. 2.887mm,0.0058rad (a bare number is mm); the readings are "
-      "weighed by the noise's std a / sqrt(3) unless the model states reading_std");
+      "random candidate configurations for --design (the box's corners are added)");
+  // A prior makes the calibration a MAP estimate; the readings are weighed by the noise's
+  // std a / sqrt(3) unless the model states reading_std.
+  add_prior_std_option(options);
   // Files for the calibrate workflow (docs/calibrating-a-machine.md).
   options.add_options()("preset", po::value<std::string>(),
                         "built-in model to simulate (kincal list models; default cube-hexapod)")(
@@ -183,22 +189,20 @@ int run_simulate(const Args& args) {
       "instead of drawing --poses at random")(
       "truth", po::value<std::string>(),
       "the true model (a model file with the same parameters as --model, e.g. a "
-      "<stem>.truth.json) instead of drawing --param-error errors")(
-      "noise-std", po::value<std::string>(),
-      "reading noise standard deviation per unit, e.g. 0.0007mm: each reading gets uniform "
-      "noise of this std (U[-a, a] with a = std x sqrt(3)); instead of --noise")(
-      "allow-rank-deficient", po::bool_switch(),
-      "as calibrate's: when the simulated data cannot determine every free parameter, fix the "
-      "dependent ones at their nominal values and solve for the rest instead of stopping");
+      "<stem>.truth.json) instead of drawing --param-error errors");
+  add_allow_rank_deficient_option(options);
+  add_noise_std_option(options,
+                       "each simulated reading gets uniform noise of this std (U[-a, a] with a "
+                       "= std x sqrt(3)); instead of --noise-half-width");
   po::variables_map vm;
   if (!parse_command_line("simulate", args, options, vm)) return 0;
 
   int case_id = 0;
   ScenarioOptions scenario_options = scenario_options_from(vm, &case_id);
   if (vm.count("noise-std")) {
-    if (vm.count("noise") || vm.count("case"))
+    if (vm.count("noise-half-width") || vm.count("case"))
       throw CliError(
-          "--noise-std is the noise's std, --noise its half-width, --case sets it: "
+          "--noise-std is the noise's std, --noise-half-width its half-width, --case sets it: "
           "give one of them");
     const UnitValues std = unit_values_option(vm, "noise-std");
     scenario_options.noise_half_width = std.get(kMillimetre, 0) * std::sqrt(3.0);
@@ -210,13 +214,13 @@ int run_simulate(const Args& args) {
         "--design");
   if (vm.count("truth") && !vm["param-error"].defaulted())
     throw CliError("--truth gives the true model: give it without --param-error");
+  // Priors per unit only are the scenario's (every free parameter of a unit, in the JSON as
+  // prior_std_mm and prior_std_rad); with a pattern they are set on the model itself below.
+  const std::vector<PriorStdRule> prior_rules = prior_std_rules(vm);
+  const bool prior_per_unit = !prior_rules.empty() && prior_std_per_unit_only(prior_rules);
   UnitValues prior_std;
-  if (vm.count("prior-std")) {
-    prior_std = unit_values_option(vm, "prior-std");
-    for (const auto& [unit, value] : prior_std.values())
-      if (!(value > 0))
-        throw CliError("--prior-std '" + vm["prior-std"].as<std::string>() +
-                       "': expected a std > 0 per unit (omit the option for no prior)");
+  if (prior_per_unit) {
+    for (const PriorStdRule& rule : prior_rules) prior_std.set(rule.unit, rule.value);
     scenario_options.prior_std = prior_std.get(kMillimetre, 0);
     scenario_options.prior_std_rad = prior_std.get(kRadian, 0);
   }
@@ -252,14 +256,15 @@ int run_simulate(const Args& args) {
       throw CliError(std::string("--preset: ") + e.what());
     }
   }
-  if (vm.count("prior-std"))
+  if (prior_per_unit)
     for (int i : model->parameters().free_indices()) {
       const Parameter& p = model->parameters()[i];
       if (!prior_std.has(p.unit))
-        throw CliError("--prior-std '" + vm["prior-std"].as<std::string>() + "': gives no std in " +
-                       p.unit + " for free parameter " + p.name +
-                       "; expected one per unit of the free parameters, e.g. 2.887mm,0.0058rad");
+        throw CliError("--prior-std gives no std in " + p.unit + " for free parameter " + p.name +
+                       "; expected one per unit of the free parameters, e.g. 2.887mm,0.0058rad, "
+                       "or per pattern, e.g. '*.z=0.5mm'");
     }
+  if (!prior_rules.empty() && !prior_per_unit) apply_prior_std(vm, *model);
   if (vm.count("truth")) {
     const std::string path = vm["truth"].as<std::string>();
     const std::shared_ptr<MeasurementModel> truth = load_model_file(path);

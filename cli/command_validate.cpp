@@ -14,6 +14,7 @@
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/framework/json_input.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/position_error.hpp"
@@ -204,6 +205,9 @@ int run_validate(const Args& args) {
       "html", po::value<std::string>(),
       "write the result for people to FILE: one self-contained HTML page");
   add_json_option(options, "the result");
+  add_noise_std_option(options,
+                       "predicts the held-out residuals with it, instead of the report's "
+                       "sigma_hat or the model's reading_std");
   add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("validate", args, options, vm)) return 0;
@@ -261,6 +265,10 @@ int run_validate(const Args& args) {
     // Nothing predicts the residuals (a nominal model): the errors are reported, the
     // chi-square test is not made.
     noise_source = "none";
+  }
+  if (vm.count("noise-std")) {
+    input.noise_std = noise_std_per_reading(vm, *model);
+    noise_source = "--noise-std";
   }
   const bool tested = noise_source != "none";
   const bool shows_pose = measures_position(*model);  // else the readings cannot speak for the pose

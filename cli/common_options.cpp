@@ -22,13 +22,8 @@ void add_json_option(po::options_description& options, const std::string& what) 
                         ("write " + what + " as JSON to FILE, or - for standard output").c_str());
 }
 
-std::string json_output(const po::variables_map& vm, const char* alias) {
-  if (alias && vm.count(alias) && vm.count("json"))
-    throw CliError("give --json or --" + std::string(alias) +
-                   " (the same option, its older name), not both");
-  if (vm.count("json")) return vm["json"].as<std::string>();
-  if (alias && vm.count(alias)) return vm[alias].as<std::string>();
-  return "";
+std::string json_output(const po::variables_map& vm) {
+  return vm.count("json") ? vm["json"].as<std::string>() : "";
 }
 
 void add_progress_option(po::options_description& options) {

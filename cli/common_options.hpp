@@ -18,9 +18,8 @@ namespace kincal::cli {
 /// Adds --json FILE|-: "write <what> as JSON to FILE, or - for standard output".
 void add_json_option(po::options_description& options, const std::string& what);
 
-/// The --json path, or "" when not given. `alias` is an older name of the same option
-/// (calibrate's --report): it is accepted, and giving both is an error.
-std::string json_output(const po::variables_map& vm, const char* alias = nullptr);
+/// The --json path, or "" when not given.
+std::string json_output(const po::variables_map& vm);
 
 /// The start of every --json document: {"format": "kincal-<command>", "version": N}, so
 /// that a reader can tell what it holds and whether it knows that version (a test checks

@@ -129,7 +129,7 @@ std::string render_design_html(const Json& d) {
             : Verdict{L::kProblem,
                       "Even this design is not expected to beat the nominal model (" +
                           fmt(nominal, 3) + " mm RMS).",
-                      "Add measurements (--count), a second sensor placement, or what you know "
+                      "Add measurements (--poses), a second sensor placement, or what you know "
                       "as prior_std."});
   if (d.contains("noise_std_assumed") && d["noise_std_assumed"] == true)
     verdicts.push_back({L::kWarning,

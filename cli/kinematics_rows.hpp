@@ -17,7 +17,7 @@
 
 namespace kincal::cli {
 
-/// The pose columns of a poses file (ik --poses) and of fk's table output, in order.
+/// The pose columns of a poses file (ik --data) and of fk's table output, in order.
 inline const std::vector<std::string> kPoseColumns = {"x_mm",   "y_mm",   "z_mm",
                                                       "rx_deg", "ry_deg", "rz_deg"};
 

@@ -42,53 +42,6 @@ void apply_free_fix(const po::variables_map& vm, MeasurementModel& model) {
   }
 }
 
-void add_prior_std_option(po::options_description& options) {
-  options.add_options()("prior-std", po::value<std::vector<std::string>>(),
-                        "PATTERN=STD: Gaussian prior of std STD (the parameter's unit) around "
-                        "the model's value on the parameters matching PATTERN (repeatable; "
-                        "replaces the model file's prior_std for them)");
-}
-
-void apply_prior_std(const po::variables_map& vm, MeasurementModel& model) {
-  if (!vm.count("prior-std")) return;
-  for (const auto& entry : vm["prior-std"].as<std::vector<std::string>>()) {
-    const auto eq = entry.rfind('=');
-    if (eq == std::string::npos || eq == 0)
-      throw CliError("--prior-std '" + entry +
-                     "': expected PATTERN=STD, e.g. 'leg*.base.z=0.5' (STD in the parameter's "
-                     "unit)");
-    const std::string pattern = entry.substr(0, eq), text = entry.substr(eq + 1);
-    double value = 0;
-    std::size_t used = 0;
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size() || !std::isfinite(value) || !(value > 0))
-      throw CliError("--prior-std '" + entry + "': '" + text +
-                     "' is not a number > 0; expected the std in the parameter's unit (mm or "
-                     "rad), without a unit");
-    try {
-      model.parameters().for_each_matching(pattern, [value](Parameter& p) { p.prior_std = value; });
-    } catch (const std::invalid_argument&) {
-      throw CliError("--prior-std '" + entry + "': '" + pattern +
-                     "' matches no parameter of the model");
-    }
-  }
-}
-
-bool check_prior_usable(const MeasurementModel& model, const std::string& model_file) {
-  bool any = false;
-  for (int i : model.parameters().free_indices()) any = any || model.parameters()[i].has_prior();
-  if (any && !model.weighted())
-    throw CliError(model_file +
-                   ": a prior (prior_std, --prior-std) needs the readings' noise std to be "
-                   "weighed against; expected \"reading_std\": {\"<reading>\": std} in the "
-                   "model file (e.g. the gauge's std, a / sqrt(3) for noise U[-a, a])");
-  return any;
-}
-
 namespace {
 
 // What cannot be computed with the model's own values at its own home pose, or "".

@@ -19,17 +19,6 @@ void add_free_fix_options(po::options_description& options);
 /// an error naming the option and the pattern.
 void apply_free_fix(const po::variables_map& vm, MeasurementModel& model);
 
-/// --prior-std PATTERN=VALUE (repeatable): a Gaussian prior of std VALUE (the parameter's
-/// unit, > 0) on the parameters matching PATTERN, replacing the model file's prior_std.
-void add_prior_std_option(po::options_description& options);
-/// Applies every --prior-std in order; a malformed entry, a value that is not a finite
-/// number > 0 or a pattern matching nothing is a CliError naming it.
-void apply_prior_std(const po::variables_map& vm, MeasurementModel& model);
-/// Whether a free parameter of `model` has a prior. When one has, the model must state its
-/// readings' noise (reading_std): the prior weighs against whitened residuals. Throws a
-/// CliError naming `model_file` otherwise.
-bool check_prior_usable(const MeasurementModel& model, const std::string& model_file);
-
 /// The model file of --model (load_model with its errors), checked to be usable: inverse
 /// and forward kinematics at its home pose and its predicted readings there must be finite
 /// (values such as 1e200 are numbers, but nothing can be computed with them), so that such

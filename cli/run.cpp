@@ -98,9 +98,11 @@ int run(int argc, const char* const* argv) {
   }
   for (const auto& command : commands()) {
     if (name != command.name) continue;
+    deprecation_notes().clear();
     try {
       const int code = command.run(Args(argv + 2, argv + argc));
       check_standard_output();  // what was printed after the last file: never lost silently
+      for (const std::string& line : deprecation_notes()) std::cerr << line << "\n";
       return code;
     } catch (const OptionsChecked&) {
       return 0;  // the fuzzer's stop before any work (stop_after_option_checks)

@@ -4,28 +4,30 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/framework/units.hpp"
 
 namespace kincal::cli {
 
 void add_scenario_options(po::options_description& options, bool with_case_and_poses) {
-  if (with_case_and_poses)
+  if (with_case_and_poses) {
     options.add_options()("case", po::value<int>(),
-                          "paper's Table 2 case 1..5 (sets --noise and --poses)")(
+                          "paper's Table 2 case 1..5 (sets --noise-half-width and --poses)")(
         "poses", po::value<int>(), "number of measured configurations (default 30)")(
-        "noise", po::value<std::string>(),
-        "reading noise half-width a per unit, e.g. 0.00125mm or 0.05mm,1e-4rad: each reading "
-        "gets U[-a, a] (default 0; a bare number is mm)");
+        "noise-half-width", po::value<std::string>(),
+        "reading noise as the paper states it, a half-width a per unit, e.g. 0.00125mm or "
+        "0.05mm,1e-4rad: each reading gets U[-a, a] (default 0; a bare number is mm; "
+        "--noise-std states the same noise as its std, a / sqrt(3))");
+    add_deprecated_alias(options, "noise", "noise-half-width", po::value<std::string>());
+  }
   options.add_options()("param-error", po::value<std::string>()->default_value("5mm,0.01rad"),
                         "true parameters = nominal + U[-e, e] on each free parameter, e per "
                         "unit (a parameter's own param_error in the model file wins); 0 is "
                         "zero in every unit: the model is the truth")(
-      "config-range", po::value<std::string>(),
-      "configurations = home actuator values + U[-r, r], r per unit, e.g. 20mm,0.5rad "
-      "(default: each actuator's range in the model; cube-hexapod legs 20 mm)")(
       "seed", po::value<Seed>()->default_value(Seed{1}, "1"), "random seed")(
       "validation", po::value<int>()->default_value(200),
       "validation configurations for the pose errors");
+  add_config_range_option(options);
 }
 
 UnitValues unit_values_option(const po::variables_map& vm, const std::string& option) {
@@ -45,8 +47,8 @@ ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id)
   ScenarioOptions s;
   *case_id = 0;
   if (vm.count("case")) {
-    if (vm.count("poses") || vm.count("noise"))
-      throw CliError("--case sets --poses and --noise; give either --case or those two");
+    if (vm.count("poses") || vm.count("noise-half-width"))
+      throw CliError("--case sets --poses and --noise-half-width; give either --case or those two");
     *case_id = vm["case"].as<int>();
     try {
       const PaperCase& c = paper_case(*case_id);
@@ -57,8 +59,8 @@ ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id)
     }
   }
   if (vm.count("poses")) s.num_configurations = vm["poses"].as<int>();
-  if (vm.count("noise")) {
-    const UnitValues noise = unit_values_option(vm, "noise");
+  if (vm.count("noise-half-width")) {
+    const UnitValues noise = unit_values_option(vm, "noise-half-width");
     s.noise_half_width = noise.get(kMillimetre, 0);
     s.noise_half_width_rad = noise.get(kRadian, 0);
   }

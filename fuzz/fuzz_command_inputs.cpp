@@ -81,8 +81,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   const auto brace = model.rfind('}');
   model = model.substr(0, brace) + ",\n  \"reading_std\": {\"gauge\": 0.0072}\n}\n";
   std::ofstream("M.json") << model;
-  if (run({"kincal", "simulate", "--model", "M.json", "--poses", "30", "--noise", "0.0125",
-           "--seed", "3", "--validation", "1", "--write-data", "D.csv"},
+  if (run({"kincal", "simulate", "--model", "M.json", "--poses", "30", "--noise-half-width",
+           "0.0125", "--seed", "3", "--validation", "1", "--write-data", "D.csv"},
           err) != 0 ||
       run({"kincal", "calibrate", "--model", "M.json", "--data", "D.csv", "--out", "C.json",
            "--json", "R.json"},
@@ -99,7 +99,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::ofstream("IN", std::ios::binary | std::ios::trunc) << input;
   check({"kincal", "validate", "--model", "C.json", "--data", "D.csv", "--report", "IN"}, input);
   check({"kincal", "verify", "--report", "IN", "--model", "C.json"}, input);
-  check({"kincal", "design", "--model", "M.json", "--existing", "IN", "--count", "30",
+  check({"kincal", "design", "--model", "M.json", "--existing", "IN", "--poses", "30",
          "--candidates", "60", "--out", "/dev/null"},
         input);
   return 0;

@@ -1,84 +1,197 @@
 #!/usr/bin/env python3
-"""Re-runs the commands shown in the docs and pastes their real output under them.
+"""Re-runs every command shown in the docs and writes what it printed back into the page.
 
-usage: scripts/refresh_doc_outputs.py [--kincal PATH] DOC.md [DOC.md ...]
+A transcript in a page is a ```console block whose first line starts with "$ ": each "$ " line is
+a command (a line ending in a backslash continues it), the lines up to the next one are what
+it printed (stdout and stderr together, as on a terminal). The blocks of one page run in
+order in one bash session started in an empty directory, with the build's `kincal` first on
+PATH, so a page reads like the walk-through it is: `mkdir`, `cd`, files made by one block and
+used by the next.
 
-In every ```console block of each DOC, a line "$ command" is a command and the lines after
-it, up to the next "$ " line or the end of the block, are its output. Each command is run
-again with bash (stdout and stderr together, as a terminal shows them) and its output
-replaces the old one. The commands of one DOC run in order in one fresh scratch directory,
-where `kincal` is on PATH and ./build/cli/kincal exists, both pointing to --kincal
-(default: build/cli/kincal of this checkout). "mkdir D && cd D" and "cd D" change the
-directory of the commands that follow. Nothing outside the scratch directory is touched
-except the DOCs, and a DOC is only rewritten when every command in it ran.
+  scripts/refresh_doc_outputs.py              rewrite the outputs (and the screenshots)
+  scripts/refresh_doc_outputs.py --check      exit 1 naming each block whose output differs
+
+--check compares with times masked ("29.974 ms", "(0.0225 s)": they differ between runs and
+machines); everything else must match, digits included. A block preceded by
+`<!-- doc-outputs: skip REASON -->` is not run (the script lists it with its reason).
+
+Screenshots: docs/img/calibration-report.png is the page that calibrating-a-machine.md's
+walk-through writes (report.html), taken by headless Chromium. Beside it,
+calibration-report.png.source holds the SHA-256 of that page with times masked; --check
+recomputes it, so a report page that changed makes the screenshot stale.
 """
 
 import argparse
+import hashlib
 import os
 import re
 import shutil
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 
-BLOCK = re.compile(r"```console\n(.*?)```", re.S)
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+SKIP = re.compile(r"<!-- doc-outputs: skip (.+?) -->")
+# Times vary from run to run; nothing else may.
+TIME = re.compile(r"\b\d+(?:\.\d+)?(?:e[-+]?\d+)? ?(?:ms|s|µs)\b")
+MARK = "@@kincal-doc-outputs@@"
+SCREENSHOTS = {
+    # page whose session writes the HTML -> (file in that session, image under docs/img)
+    "calibrating-a-machine.md": ("hexcal/report.html", "calibration-report.png"),
+}
 
 
-def run_commands(doc_text, kincal):
-    scratch = tempfile.mkdtemp(prefix="kincal-doc-")
-    try:
-        bindir = os.path.join(scratch, ".bin")
-        os.makedirs(bindir)
-        os.symlink(kincal, os.path.join(bindir, "kincal"))
-        os.makedirs(os.path.join(scratch, "build", "cli"))
-        os.symlink(kincal, os.path.join(scratch, "build", "cli", "kincal"))
-        env = dict(os.environ, PATH=bindir + os.pathsep + os.environ["PATH"], COLUMNS="80")
-        cwd = scratch
+def mask(text):
+    return TIME.sub("<time>", text)
 
-        def run(command):
-            nonlocal cwd
-            change = re.fullmatch(r"(?:mkdir (\S+) && )?cd (\S+)", command)
-            if change:
-                cwd = os.path.normpath(os.path.join(cwd, change.group(2)))
-                os.makedirs(cwd, exist_ok=True)
-                return ""
-            if command == "ls":
-                command = "ls -C"  # the columns a terminal shows, not one name per line
-            done = subprocess.run(["bash", "-c", command + " 2>&1"], cwd=cwd, env=env,
-                                  stdout=subprocess.PIPE, text=True)
-            return done.stdout
 
-        pieces, position = [], 0
-        for block in BLOCK.finditer(doc_text):
-            pieces.append(doc_text[position:block.start(1)])
-            for line in block.group(1).splitlines():
-                if line.startswith("$ "):
-                    pieces.append(line + "\n" + run(line[2:]))
-            position = block.end(1)
-        pieces.append(doc_text[position:])
-        return "".join(pieces)
-    finally:
-        shutil.rmtree(scratch)
+class Block:
+    def __init__(self, start, end, commands, outputs, skip):
+        self.start, self.end = start, end  # line indices of the fences
+        self.commands, self.outputs, self.skip = commands, outputs, skip
+
+
+def parse_page(lines):
+    """The transcript blocks of a page (lines without their newlines)."""
+    blocks = []
+    i = 0
+    while i < len(lines):
+        if lines[i] == "```console" and i + 1 < len(lines) and lines[i + 1].startswith("$ "):
+            skip = None
+            for back in (i - 1, i - 2):
+                if back >= 0 and SKIP.search(lines[back]):
+                    skip = SKIP.search(lines[back]).group(1)
+            j = i + 1
+            commands, outputs = [], []
+            while j < len(lines) and not lines[j].startswith("```"):
+                if lines[j].startswith("$ "):
+                    command = [lines[j][2:]]
+                    while command[-1].endswith("\\") and j + 1 < len(lines):
+                        j += 1
+                        command.append(lines[j])
+                    commands.append(command)
+                    outputs.append([])
+                else:
+                    outputs[-1].append(lines[j])
+                j += 1
+            blocks.append(Block(i, j, commands, outputs, skip))
+            i = j + 1
+        else:
+            i += 1
+    return blocks
+
+
+def run_session(blocks, kincal_dir, workdir):
+    """Runs every command of the page's blocks in one bash; returns their outputs in order."""
+    # `ls` as a terminal shows it (columns), and ./build/cli/kincal as in a checkout.
+    script = ["exec 2>&1", "shopt -s expand_aliases", "alias ls='ls -C'",
+              "cd " + shlex_quote(str(workdir)), "mkdir -p build/cli .bin",
+              "ln -s " + shlex_quote(str(kincal_dir / "kincal")) + " build/cli/kincal"]
+    n = 0
+    for block in blocks:
+        if block.skip:
+            continue
+        for command in block.commands:
+            script.append("echo " + MARK + str(n))
+            script.append("\n".join(command))
+            n += 1
+    script.append("echo " + MARK + "end")
+    env = dict(os.environ, PATH=str(kincal_dir) + os.pathsep + os.environ["PATH"],
+               COLUMNS="80", LC_ALL="C.UTF-8", TZ="UTC")
+    env.pop("KINCAL_PLUGIN_PATH", None)
+    result = subprocess.run(["bash", "--noprofile", "--norc"], input="\n".join(script) + "\n",
+                            capture_output=True, text=True, env=env, timeout=1800)
+    parts = result.stdout.split(MARK)
+    outputs = []
+    for k in range(n):
+        chunk = parts[k + 1]
+        assert chunk.startswith(str(k) + "\n"), chunk[:40]
+        body = chunk[len(str(k)) + 1:]
+        outputs.append(body.rstrip("\n").split("\n") if body.strip("\n") else [])
+    return outputs
+
+
+def shlex_quote(text):
+    return "'" + text.replace("'", "'\\''") + "'"
+
+
+def screenshot(html, image):
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    if not browser:
+        sys.exit("refresh_doc_outputs: chromium is needed for the screenshots (scripts/setup.sh)")
+    with tempfile.TemporaryDirectory() as profile:
+        subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                        "--hide-scrollbars", "--user-data-dir=" + profile,
+                        "--window-size=1000,1400", "--screenshot=" + str(image),
+                        "file://" + str(html)], check=True, capture_output=True, timeout=180)
 
 
 def main():
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--kincal", default=os.path.join(root, "build", "cli", "kincal"))
-    parser.add_argument("docs", nargs="+")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--check", action="store_true", help="compare, do not write")
+    parser.add_argument("--kincal", default=str(ROOT / "build" / "cli" / "kincal"),
+                        help="the kincal binary to run (default: build/cli/kincal)")
+    parser.add_argument("pages", nargs="*", help="pages under docs/ (default: every page)")
     args = parser.parse_args()
-    kincal = os.path.abspath(args.kincal)
-    if not os.access(kincal, os.X_OK):
-        sys.exit(f"refresh_doc_outputs: {kincal}: not an executable (build kincal first)")
-    for doc in args.docs:
-        with open(doc) as f:
-            text = f.read()
-        refreshed = run_commands(text, kincal)
-        with open(doc + ".tmp", "w") as f:
-            f.write(refreshed)
-        os.replace(doc + ".tmp", doc)
-        print(f"refreshed {doc}")
+    kincal = Path(args.kincal).resolve()
+    if not kincal.is_file():
+        sys.exit(f"refresh_doc_outputs: {kincal}: no such program; build kincal first")
+    bin_dir = Path(tempfile.mkdtemp(prefix="kincal-doc-bin-"))
+    (bin_dir / "kincal").symlink_to(kincal)
+    pages = [DOCS / p for p in args.pages] if args.pages else sorted(DOCS.glob("*.md"))
+    stale = []
+    for page in pages:
+        lines = page.read_text().split("\n")
+        blocks = parse_page(lines)
+        if not blocks:
+            continue
+        for block in blocks:
+            if block.skip:
+                print(f"{page.relative_to(ROOT)}:{block.start + 1}: not run: {block.skip}")
+        with tempfile.TemporaryDirectory(prefix="kincal-doc-") as workdir:
+            outputs = iter(run_session(blocks, bin_dir, Path(workdir)))
+            new_lines = list(lines)
+            # From the last block up, so that earlier line numbers stay valid.
+            replaced = []
+            for block in blocks:
+                if block.skip:
+                    continue
+                body = []
+                for command, old in zip(block.commands, block.outputs):
+                    out = next(outputs)
+                    body += ["$ " + command[0]] + command[1:] + out
+                    if mask("\n".join(out)) != mask("\n".join(old)):
+                        stale.append(f"{page.relative_to(ROOT)}:{block.start + 2}: "
+                                     f"'$ {command[0][:60]}' prints something else now")
+                replaced.append((block, body))
+            for block, body in reversed(replaced):
+                new_lines[block.start + 1:block.end] = body
+            shot = SCREENSHOTS.get(page.name)
+            if shot:
+                html = Path(workdir) / shot[0]
+                image = DOCS / "img" / shot[1]
+                source = image.with_name(image.name + ".source")
+                digest = hashlib.sha256(mask(html.read_text()).encode()).hexdigest()
+                recorded = source.read_text().strip() if source.exists() else ""
+                if digest != recorded:
+                    stale.append(f"{image.relative_to(ROOT)}: taken from another report page")
+                    if not args.check:
+                        screenshot(html, image)
+                        source.write_text(digest + "\n")
+        if not args.check and new_lines != lines:
+            page.write_text("\n".join(new_lines))
+    shutil.rmtree(bin_dir)
+    if args.check and stale:
+        print("\n".join(stale))
+        print(f"refresh_doc_outputs: {len(stale)} output(s) in docs/ differ from what the "
+              "commands print now; run scripts/refresh_doc_outputs.py and review the diff")
+        return 1
+    print("refresh_doc_outputs: " + ("every doc output is current" if args.check else
+                                     f"refreshed ({len(stale)} output(s) changed)"))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

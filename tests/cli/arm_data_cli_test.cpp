@@ -76,10 +76,11 @@ class CliArmData : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir("arm-data");
     ASSERT_EQ(run_cli("model --preset puma560 --out " + path("M.json")).exit_code, 0);
-    const auto sim = run_cli("simulate --model " + path("M.json") +
-                             " --poses 100 --noise 0.01 --param-error 1mm,0.003rad --seed 8 "
-                             "--validation 1 --write-data " +
-                             path("all.csv"));
+    const auto sim =
+        run_cli("simulate --model " + path("M.json") +
+                " --poses 100 --noise-half-width 0.01 --param-error 1mm,0.003rad --seed 8 "
+                "--validation 1 --write-data " +
+                path("all.csv"));
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
     const std::string all = read_text(path("all.csv"));
     write(path("D.csv"), rows(all, 0, 80));

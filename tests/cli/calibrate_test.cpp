@@ -58,10 +58,11 @@ class CliCalibrate : public ::testing::Test {
   // A model file and simulated data (60 configurations, paper's case 5 noise).
   void SetUp() override {
     ASSERT_EQ(run_cli("model --out " + m_).exit_code, 0);
-    const auto sim = run_cli("simulate --model " + m_ +
-                             " --poses 60 --noise 0.0125 --seed 5 --solver gn --validation 1 "
-                             "--write-data " +
-                             d_);
+    const auto sim =
+        run_cli("simulate --model " + m_ +
+                " --poses 60 --noise-half-width 0.0125 --seed 5 --solver gn --validation 1 "
+                "--write-data " +
+                d_);
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
   }
   TempDir dir_{"calibrate"};
@@ -71,7 +72,7 @@ class CliCalibrate : public ::testing::Test {
 TEST_F(CliCalibrate, RecoversTheTruthWithinTheReportedStd) {
   const std::string c = dir_ / "C.json", r = dir_ / "R.json";
   const auto run =
-      run_cli("calibrate --model " + m_ + " --data " + d_ + " --out " + c + " --report " + r);
+      run_cli("calibrate --model " + m_ + " --data " + d_ + " --out " + c + " --json " + r);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("identifiability"), std::string::npos);
   const Json report = Json::parse(read_text(r));
@@ -94,7 +95,7 @@ TEST_F(CliCalibrate, RecoversTheTruthWithinTheReportedStd) {
   expect_within_reported_std(report, truth, 4.5);
 
   // The calibrated model is a valid input everywhere a model is accepted.
-  EXPECT_EQ(run_cli("fk --model " + c + " --legs 354,354,354,354,354,382").exit_code, 0);
+  EXPECT_EQ(run_cli("fk --model " + c + " --actuators 354,354,354,354,354,382").exit_code, 0);
   EXPECT_EQ(run_cli("ik --model " + c + " --pose 0,0,410,0,0,0").exit_code, 0);
   EXPECT_EQ(run_cli("observability --model " + c + " --poses 40").exit_code, 0);
   const auto again = run_cli("calibrate --model " + c + " --data " + d_ + " --solver gn");
@@ -114,12 +115,12 @@ TEST(CliCalibrateOffsets, GaugeAndLegOffsetsFreeAreRecovered) {
   EXPECT_EQ(a["parameters"], 31);
   EXPECT_EQ(a["numerical_rank"], 31);
   ASSERT_EQ(run_cli("simulate --model " + m +
-                    " --poses 80 --noise 0.00125 --seed 2 --solver gn --validation 1 "
+                    " --poses 80 --noise-half-width 0.00125 --seed 2 --solver gn --validation 1 "
                     "--write-data " +
                     d)
                 .exit_code,
             0);
-  const auto run = run_cli("calibrate --model " + m + " --data " + d + " --report " + r);
+  const auto run = run_cli("calibrate --model " + m + " --data " + d + " --json " + r);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json report = Json::parse(read_text(r));
   EXPECT_EQ(report["parameters"].size(), 31u);
@@ -214,8 +215,7 @@ TEST_F(CliCalibrate, RobustLossStdIsCloseToTheCleanDataStd) {
   write(o, with_outliers(read_text(d_), {{5, 1.0}, {23, -0.8}, {41, 1.0}}));
   const std::string clean = dir_ / "clean.json", huber = dir_ / "huber.json",
                     cauchy = dir_ / "cauchy.json", start = dir_ / "H.json";
-  ASSERT_EQ(run_cli("calibrate --model " + m_ + " --data " + d_ + " --report " + clean).exit_code,
-            0);
+  ASSERT_EQ(run_cli("calibrate --model " + m_ + " --data " + d_ + " --json " + clean).exit_code, 0);
   const auto h = run_cli("calibrate --model " + m_ + " --data " + o +
                          " --loss huber:0.02 --report " + huber + " --out " + start);
   ASSERT_EQ(h.exit_code, 0) << h.err;
@@ -268,7 +268,7 @@ TEST_F(CliCalibrate, UnreachableRowsAreNamedAndSkippedOnlyWhenAsked) {
   EXPECT_NE(stop.err.find("--skip-bad-rows"), std::string::npos);
   const std::string r = dir_ / "R.json";
   const auto go =
-      run_cli("calibrate --model " + m_ + " --data " + bad + " --skip-bad-rows --report " + r);
+      run_cli("calibrate --model " + m_ + " --data " + bad + " --skip-bad-rows --json " + r);
   ASSERT_EQ(go.exit_code, 0) << go.err;
   const Json report = Json::parse(read_text(r));
   EXPECT_EQ(report["skipped_lines"], Json::array({6, 9}));
@@ -320,14 +320,14 @@ TEST_F(CliCalibrate, BadInputGivesOneLineNamingTheProblemAndExit2) {
        dir_.path().string() + ": is a directory, expected a measurement file"},
       {cal + d_ + " --out " + no_dir + "/C.json",
        "--out '" + no_dir + "/C.json': '" + no_dir + "' is not a directory"},
-      {cal + d_ + " --report " + no_dir + "/R.json", "--report '" + no_dir + "/R.json'"},
+      {cal + d_ + " --json " + no_dir + "/R.json", "--json '" + no_dir + "/R.json'"},
       {cal + d_ + " --out " + dir_.path().string(), "is a directory, expected a file path"},
-      {cal + d_ + " --out " + dir_ / "C.json" + " --report " + dir_ / "./C.json",
+      {cal + d_ + " --out " + dir_ / "C.json" + " --json " + dir_ / "./C.json",
        "are the same file"},
       {cal + d_ + " --solver-option loss=huber:1", "give the robust loss as --loss huber:1"},
       {"calibrate --model " + m_, "--data FILE is required"},
-      {"fk --model " + m_ + " --legs 1,2,3", "--legs '1,2,3': 3 numbers, expected 6"},
-      {"fk --model " + m_ + " --legs -354,354,354,354,354,382", "forward kinematics"},
+      {"fk --model " + m_ + " --actuators 1,2,3", "--actuators '1,2,3': 3 numbers, expected 6"},
+      {"fk --model " + m_ + " --actuators -354,354,354,354,354,382", "forward kinematics"},
       {"ik --model " + m_ + " --pose 0,0,410,0,0,x", "field 6 'x' is not a finite number"},
       {"observability --model " + m_, "give exactly one of --data FILE and --poses M"},
       {"model --preset nope", "--preset: unknown model preset 'nope'"},
@@ -389,7 +389,7 @@ TEST(CliKinematics, IkAndFkAreInverse) {
   std::string name, legs;
   double value;
   for (int i = 0; i < 6 && in >> name >> value; ++i) legs += (i ? "," : "") + std::to_string(value);
-  const auto fk = run_cli("fk --model " + m + " --legs " + legs);
+  const auto fk = run_cli("fk --model " + m + " --actuators " + legs);
   ASSERT_EQ(fk.exit_code, 0) << fk.err;
   std::istringstream out(fk.out);
   double x, y, z, rx, ry, rz;

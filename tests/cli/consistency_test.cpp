@@ -51,7 +51,7 @@ class CliConsistency : public ::testing::Test {
     ASSERT_EQ(run_cli("model --out " + m_).exit_code, 0);
     const auto sim =
         run_cli("simulate --model " + m_ +
-                " --poses 40 --noise 0.001 --validation 5 --seed 3 --write-data " + d_);
+                " --poses 40 --noise-half-width 0.001 --validation 5 --seed 3 --write-data " + d_);
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
   }
   TempDir dir_{"consistency"};
@@ -191,7 +191,7 @@ TEST_F(CliConsistency, BatchInverseKinematicsRoundTripsThroughFk) {
   write(dir_ / "poses.csv",
         "# poses in mm and degrees\nrx_deg,ry_deg,rz_deg,x_mm,y_mm,z_mm,comment\n"
         "0,0,0,0,0,410,1\n1.5,-2,3,5,-4,400,2\n0,0,0,1e308,0,410,3\n");
-  const auto ik = run_cli("ik --model " + m_ + " --poses " + dir_ / "poses.csv" + " --json -");
+  const auto ik = run_cli("ik --model " + m_ + " --data " + dir_ / "poses.csv" + " --json -");
   EXPECT_EQ(ik.exit_code, 1) << ik.err;  // the third pose overflows the arithmetic
   const Json j = Json::parse(ik.out);
   ASSERT_EQ(j["rows"].size(), 3u);
@@ -207,14 +207,14 @@ TEST_F(CliConsistency, BatchInverseKinematicsRoundTripsThroughFk) {
   for (const auto& [name, value] : row["pose"].items())
     EXPECT_NEAR(fk["pose"][name].get<double>(), value.get<double>(), 1e-6) << name;
   // The CSV form, to standard output by default.
-  const auto csv = run_cli("ik --model " + m_ + " --poses " + dir_ / "poses.csv");
+  const auto csv = run_cli("ik --model " + m_ + " --data " + dir_ / "poses.csv");
   EXPECT_EQ(csv.out.substr(0, csv.out.find('\n')),
             "line,leg1,leg2,leg3,leg4,leg5,leg6,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg,gauge,status,"
             "reason");
   EXPECT_EQ(count_lines(csv.out), 4);
   // A poses file without the unit in its columns is refused, naming the columns.
   write(dir_ / "bare.csv", "x,y,z,rx,ry,rz\n0,0,410,0,0,0\n");
-  const auto bare = run_cli("ik --model " + m_ + " --poses " + dir_ / "bare.csv");
+  const auto bare = run_cli("ik --model " + m_ + " --data " + dir_ / "bare.csv");
   EXPECT_EQ(bare.exit_code, 2);
   EXPECT_NE(bare.err.find("header has no column 'x_mm'"), std::string::npos) << bare.err;
 }
@@ -429,7 +429,7 @@ TEST(CliLongRuns, FirstCtrlCEndsTheDesignWithTheBestSoFarMarkedPartial) {
   Child child;
   // Many candidates and the bound: several seconds of exchange and bound iterations.
   start(child,
-        {"design", "--model", m, "--count", "60", "--candidates", "200000", "--criterion", "I",
+        {"design", "--model", m, "--poses", "60", "--candidates", "200000", "--criterion", "I",
          "--bound", "--noise-std", "0.0072mm", "--progress", "--out", dir / "t.csv", "--json",
          dir / "d.json"},
         dir / "err.txt");
@@ -460,7 +460,7 @@ TEST(CliLongRuns, DesignProgressShowsOnlyWhenAskedAndOnlyForLongStages) {
   const std::string m = dir / "m.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const auto quick = run_cli("design --model " + m +
-                             " --count 30 --candidates 300 --noise-std 0.0072mm --progress --out " +
+                             " --poses 30 --candidates 300 --noise-std 0.0072mm --progress --out " +
                              dir / "t.csv");
   ASSERT_EQ(quick.exit_code, 0) << quick.err;
   EXPECT_EQ(quick.err, "") << "a stage under a second says nothing";

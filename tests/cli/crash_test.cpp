@@ -79,7 +79,7 @@ class CliCrashCalibrate : public ::testing::Test {
   void SetUp() override {
     ASSERT_EQ(run_cli("model --out " + m_).exit_code, 0);
     for (const auto& [data, seed] : {std::pair{d1_, 1}, std::pair{d2_, 2}})
-      ASSERT_EQ(run_cli("simulate --model " + m_ + " --poses 40 --noise 0.001 --seed " +
+      ASSERT_EQ(run_cli("simulate --model " + m_ + " --poses 40 --noise-half-width 0.001 --seed " +
                         std::to_string(seed) + " --solver gn --validation 1 --write-data " + data)
                     .exit_code,
                 0);

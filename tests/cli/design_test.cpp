@@ -26,7 +26,7 @@ TEST(CliDesign, TemplateFilledWithReadingsCalibrates) {
   const std::string m = dir / "m.json", t = dir / "t.csv", d = dir / "d.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const auto r =
-      run_cli("design --model " + m + " --count 40 --candidates 500 --noise-std 0.0072mm --out " +
+      run_cli("design --model " + m + " --poses 40 --candidates 500 --noise-std 0.0072mm --out " +
               t + " --json " + d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("designed"), std::string::npos) << r.out;
@@ -56,7 +56,7 @@ TEST(CliDesign, TemplateFilledWithReadingsCalibrates) {
   const std::string filled = dir / "filled.csv", report = dir / "r.json";
   std::ofstream(filled) << measurements_to_csv(table.data, model->mechanism().actuator_names(),
                                                model->reading_names());
-  const auto c = run_cli("calibrate --model " + m + " --data " + filled + " --report " + report);
+  const auto c = run_cli("calibrate --model " + m + " --data " + filled + " --json " + report);
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const Json rep = Json::parse(read_text(report));
   const auto names = model->parameters().names();
@@ -86,7 +86,7 @@ TEST(CliDesign, BoundSaysHowCloseTheDesignComes) {
   for (const std::string criterion : {"D", "A", "I"}) {
     SCOPED_TRACE(criterion);
     const auto r = run_cli("design --model " + m +
-                           " --count 30 --candidates 300 --noise-std 0.0072mm --criterion " +
+                           " --poses 30 --candidates 300 --noise-std 0.0072mm --criterion " +
                            criterion + " --bound --out " + t + " --json " + d);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("bound: no design of 30 from these candidates"), std::string::npos)
@@ -104,7 +104,7 @@ TEST(CliDesign, BoundSaysHowCloseTheDesignComes) {
   }
   const auto e =
       run_cli("design --model " + m +
-              " --count 30 --candidates 300 --noise-std 0.0072mm --criterion E --bound --out " + t +
+              " --poses 30 --candidates 300 --noise-std 0.0072mm --criterion E --bound --out " + t +
               " --json " + d);
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.err.find("no bound is computed"), std::string::npos) << e.err;
@@ -117,7 +117,7 @@ TEST(CliDesign, OrientationLengthIsStatedInTheOutputs) {
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const auto r = run_cli(
       "design --model " + m +
-      " --count 30 --candidates 300 --criterion I --orientation-length 250mm --noise-std 0.0072mm "
+      " --poses 30 --candidates 300 --criterion I --orientation-length 250mm --noise-std 0.0072mm "
       "--out " +
       t + " --json " + d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -133,7 +133,7 @@ TEST(CliDesign, SameSeedSameTemplate) {
   const std::string m = dir / "m.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const std::string base =
-      "design --model " + m + " --count 30 --candidates 300 --criterion A --noise-std 0.0072mm ";
+      "design --model " + m + " --poses 30 --candidates 300 --criterion A --noise-std 0.0072mm ";
   ASSERT_EQ(run_cli(base + "--seed 5 --out " + dir / "a.csv").exit_code, 0);
   ASSERT_EQ(run_cli(base + "--seed 5 --out " + dir / "b.csv").exit_code, 0);
   ASSERT_EQ(run_cli(base + "--seed 6 --out " + dir / "c.csv").exit_code, 0);
@@ -146,24 +146,24 @@ TEST(CliDesign, BadOptionsGiveOneLineAndExit2) {
   const std::string m = dir / "m.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--count 30 --criterion X --out " + dir / "t.csv", "--criterion"},
-      {"--count 30 --out " + m, "--out"},
-      {"--out " + dir / "t.csv", "--count"},
-      {"--count 5 --out " + dir / "t.csv", "free parameters"},
-      {"--count 30 --noise-std 0mm --out " + dir / "t.csv", "--noise-std"},
+      {"--poses 30 --criterion X --out " + dir / "t.csv", "--criterion"},
+      {"--poses 30 --out " + m, "--out"},
+      {"--out " + dir / "t.csv", "--poses"},
+      {"--poses 5 --out " + dir / "t.csv", "free parameters"},
+      {"--poses 30 --noise-std 0mm --out " + dir / "t.csv", "--noise-std"},
       // No noise std anywhere: no silent default (issue 21 item 3).
-      {"--count 31 --out " + dir / "t.csv",
+      {"--poses 31 --out " + dir / "t.csv",
        "m.json states no reading_std: give the readings' noise std, e.g. --noise-std"},
-      {"--count 30 --existing " + dir / "missing.csv" + " --out " + dir / "t.csv", "missing.csv"},
-      {"--count 30 --orientation-length 300mm --out " + dir / "t.csv", "criterion I only"},
-      {"--count 30 --criterion I --orientation-length 1rad --out " + dir / "t.csv",
+      {"--poses 30 --existing " + dir / "missing.csv" + " --out " + dir / "t.csv", "missing.csv"},
+      {"--poses 30 --orientation-length 300mm --out " + dir / "t.csv", "criterion I only"},
+      {"--poses 30 --criterion I --orientation-length 1rad --out " + dir / "t.csv",
        "--orientation-length"},
-      {"--count 30 --criterion I --orientation-length -5mm --out " + dir / "t.csv",
+      {"--poses 30 --criterion I --orientation-length -5mm --out " + dir / "t.csv",
        "--orientation-length"},
   };
   for (const auto& [args, expected] : cases) {
     const bool noise = args.find("--noise-std") != std::string::npos ||
-                       args.find("--count 31") != std::string::npos;
+                       args.find("--poses 31") != std::string::npos;
     const auto r = run_cli("design --model " + m + (noise ? " " : " --noise-std 0.0072mm ") + args);
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_NE(r.err.find(expected), std::string::npos) << args << ": " << r.err;
@@ -176,10 +176,11 @@ TEST(CliDesign, ExistingDataAreExtended) {
   TempDir dir("design-existing");
   const std::string m = dir / "m.json", data = dir / "data.csv";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
-  ASSERT_EQ(run_cli("simulate --model " + m + " --poses 30 --noise 0.0125 --write-data " + data)
+  ASSERT_EQ(run_cli("simulate --model " + m +
+                    " --poses 30 --noise-half-width 0.0125 --write-data " + data)
                 .exit_code,
             0);
-  const auto r = run_cli("design --model " + m + " --count 10 --candidates 300 --existing " + data +
+  const auto r = run_cli("design --model " + m + " --poses 10 --candidates 300 --existing " + data +
                          " --noise-std 0.0072mm --out " + dir / "t.csv --json -");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Json j = Json::parse(r.out);
@@ -194,7 +195,7 @@ TEST(CliDesign, PriorStdEntersTheDesign) {
   const std::string m = dir / "m.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const auto r = run_cli("design --model " + m +
-                         " --count 10 --candidates 300 --noise-std 0.0072mm --prior-std '*=2.887' "
+                         " --poses 10 --candidates 300 --noise-std 0.0072mm --prior-std '*=2.887' "
                          "--prior-std leg4.base.x=0.1 --out " +
                          dir / "t.csv --json -");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -232,7 +233,7 @@ TEST(CliCalibrateReport, SaysWhetherCalibrationIsExpectedToBeatNominal) {
                       " --write-data " + data)
                   .exit_code,
               0);
-    const auto r = run_cli("calibrate --model " + m + " --data " + data + " --report " + report);
+    const auto r = run_cli("calibrate --model " + m + " --data " + data + " --json " + report);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const Json j = Json::parse(read_text(report))["predicted_pose_error"];
     ASSERT_TRUE(j["computed"].get<bool>()) << j;

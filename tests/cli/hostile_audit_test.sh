@@ -50,7 +50,7 @@ m = json.load(open("plain.json"))
 m["reading_std"] = {"gauge": 0.0125 / 3 ** 0.5}
 json.dump(m, open("M.json", "w"), indent=2)
 PY
-"$kincal" simulate --model M.json --poses 60 --noise 0.0125 --seed 5 --validation 1 \
+"$kincal" simulate --model M.json --poses 60 --noise-half-width 0.0125 --seed 5 --validation 1 \
   --write-data D.csv >/dev/null 2>&1 || { echo "FAILED: fixture simulate"; exit 1; }
 "$kincal" calibrate --model M.json --data D.csv --out C.json --json R.json >/dev/null 2>&1 ||
   { echo "FAILED: fixture calibrate"; exit 1; }
@@ -69,7 +69,7 @@ check "1: model > /dev/full" 2 $? e.txt "cannot write standard output"
 check "1: fk --data > /dev/full" 2 $? e.txt "cannot write standard output"
 "$kincal" validate --model C.json --data H.csv --json - >/dev/full 2>e.txt
 check "1: validate --json - > /dev/full" 2 $? e.txt "cannot write standard output"
-"$kincal" design --model M.json --noise-std 0.0072mm --count 30 --out T.csv --json - >/dev/full 2>e.txt
+"$kincal" design --model M.json --noise-std 0.0072mm --poses 30 --out T.csv --json - >/dev/full 2>e.txt
 check "1: design --json - > /dev/full" 2 $? e.txt "cannot write standard output"
 [ -e T.csv ] && bad "1: design wrote T.csv although its --json could not be written" || ok
 "$kincal" export --model C.json --format json >&- 2>e.txt
@@ -90,9 +90,9 @@ no_temporaries "1"
 "$kincal" calibrate --model M.json --data D2.csv --out C.json --json /dev/full >/dev/null 2>e.txt
 check "2: calibrate --json /dev/full" 2 $? e.txt "cannot write '/dev/full'"
 same C.json "$c_hash" "2: calibrate --json /dev/full"
-"$kincal" design --model M.json --noise-std 0.0072mm --count 30 --out T.csv >/dev/null 2>&1
+"$kincal" design --model M.json --noise-std 0.0072mm --poses 30 --out T.csv >/dev/null 2>&1
 t_hash=$(hash T.csv)
-"$kincal" design --model M.json --noise-std 0.0072mm --count 30 --seed 9 --out T.csv --html /dev/full >/dev/null 2>e.txt
+"$kincal" design --model M.json --noise-std 0.0072mm --poses 30 --seed 9 --out T.csv --html /dev/full >/dev/null 2>e.txt
 check "2: design --html /dev/full" 2 $? e.txt "cannot write '/dev/full'"
 same T.csv "$t_hash" "2: design --html /dev/full"
 no_temporaries "2"
@@ -126,7 +126,7 @@ check "8: kincal reads back the data it wrote with that name" 0 $? e.txt
 # A line break or an escape in the model's file name stays inside one comment line.
 nl_model=$'new\nline\e[2J.json'
 cp M.json "$nl_model"
-"$kincal" design --model "$nl_model" --noise-std 0.0072mm --count 30 --out NT.csv >out.txt 2>e.txt
+"$kincal" design --model "$nl_model" --noise-std 0.0072mm --poses 30 --out NT.csv >out.txt 2>e.txt
 check "8: design with a line break in the model's file name" 0 $? e.txt
 first=$(grep -v '^#' NT.csv | head -n 1)
 [ "$first" = "leg1,leg2,leg3,leg4,leg5,leg6,gauge" ] && ok ||
@@ -144,7 +144,7 @@ check "11: verify --model /dev/zero" 2 $? e.txt "larger than the limit"
 
 # ---- 13. a file name JSON cannot hold is refused before the work -----------------------------
 latin=$'\xe9t\xe9'
-"$kincal" design --model M.json --noise-std 0.0072mm --count 30 --out "$latin.csv" --json d.json >/dev/null 2>e.txt
+"$kincal" design --model M.json --noise-std 0.0072mm --poses 30 --out "$latin.csv" --json d.json >/dev/null 2>e.txt
 check "13: design --out with a non-UTF-8 name" 2 $? e.txt "not valid UTF-8"
 "$kincal" validate --model C.json --data H.csv --json "$latin.json" >/dev/null 2>e.txt
 check "13: validate --json with a non-UTF-8 name" 2 $? e.txt "not valid UTF-8"
@@ -159,7 +159,7 @@ import os, resource, signal, subprocess, sys
 def limit():
     signal.signal(signal.SIGXFSZ, signal.SIG_DFL)
     resource.setrlimit(resource.RLIMIT_FSIZE, (2048, 2048))
-r = subprocess.run([sys.argv[1], "design", "--model", "M.json", "--count", "60", "--out",
+r = subprocess.run([sys.argv[1], "design", "--model", "M.json", "--poses", "60", "--out",
                     "big.csv"], preexec_fn=limit, capture_output=True, text=True)
 open("xfsz.txt", "w").write(f"{r.returncode}\n{r.stderr}")
 PY

@@ -37,10 +37,11 @@ class CliHostileInput : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_EQ(run_cli("model --out " + m_).exit_code, 0);
-    const auto sim = run_cli("simulate --model " + m_ +
-                             " --poses 40 --noise 0.0125 --seed 3 --solver gn --validation 1 "
-                             "--write-data " +
-                             d_);
+    const auto sim =
+        run_cli("simulate --model " + m_ +
+                " --poses 40 --noise-half-width 0.0125 --seed 3 --solver gn --validation 1 "
+                "--write-data " +
+                d_);
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
   }
   // D.csv with line `line` (1-based) replaced by `text`.
@@ -126,7 +127,8 @@ TEST_F(CliHostileInput, UnusableModelValuesAreBlamedOnTheModel) {
   for (const char* model : {"big.json", "far.json"})
     for (const std::string& command :
          {"calibrate --data " + d_, std::string("observability --poses 30"),
-          std::string("fk --legs 354,354,354,354,354,382"), std::string("simulate --poses 30")}) {
+          std::string("fk --actuators 354,354,354,354,354,382"),
+          std::string("simulate --poses 30")}) {
       const std::string args = command + " --model " + dir_ / model;
       const auto r = run_cli(args);
       expect_one_line_error(r, dir_ / model + ": the model's values cannot be computed with", args);
@@ -153,7 +155,7 @@ TEST_F(CliHostileInput, ARepeatedKeyInAModelIsAnError) {
 
 TEST_F(CliHostileInput, ADeeplyNestedModelIsAnErrorNotACrash) {
   write(dir_ / "deep.json", std::string(100'000, '[') + std::string(100'000, ']'));
-  expect_one_line_error(run_cli("fk --legs 1,2,3,4,5,6 --model " + dir_ / "deep.json"),
+  expect_one_line_error(run_cli("fk --actuators 1,2,3,4,5,6 --model " + dir_ / "deep.json"),
                         "deep.json: line 1, column 65: nesting deeper than 64 levels", "deep");
 }
 
@@ -163,7 +165,7 @@ TEST_F(CliHostileInput, KinematicsThatOverflowAreErrors) {
                         "--pose '1e308,0,0,0,0,0': inverse kinematics non-finite values in the "
                         "pose or the parameters: leg 1 length is not finite",
                         "ik 1e308");
-  const auto fk = run_cli("fk --model " + m_ + " --legs 1e308,1e308,1e308,1e308,1e308,1e308");
+  const auto fk = run_cli("fk --model " + m_ + " --actuators 1e308,1e308,1e308,1e308,1e308,1e308");
   EXPECT_EQ(fk.exit_code, 2) << fk.out;
   EXPECT_EQ(fk.out.find("inf"), std::string::npos) << fk.out;
 }
@@ -173,7 +175,7 @@ TEST_F(CliHostileInput, ANonUtf8FileNameIsRefusedBeforeTheSolveWhenTheReportMust
   const std::string latin1 = dir_ / "d\xE9j\xE0.csv";
   fs::copy_file(d_, latin1);
   const auto r =
-      run_cli("calibrate --model " + m_ + " --data '" + latin1 + "' --report " + dir_ / "R.json");
+      run_cli("calibrate --model " + m_ + " --data '" + latin1 + "' --json " + dir_ / "R.json");
   expect_one_line_error(r, "--data: the file name is not valid UTF-8", "latin-1 name");
   EXPECT_EQ(r.out, "");  // no solve
   EXPECT_FALSE(fs::exists(dir_ / "R.json"));
@@ -224,8 +226,8 @@ TEST(CliMessages, AreOneLineWhateverTheInputHolds) {
   const std::string weird = dir / "a\nb/M.json";
   expect_one_line_error(run_cli("model --out '" + weird + "'"), "a\\x0Ab/M.json",
                         "line break in a path");
-  expect_one_line_error(run_cli("fk --legs 1 --model '" + dir / "x\ny.json" + "'"), "x\\x0Ay.json",
-                        "line break in a model path");
+  expect_one_line_error(run_cli("fk --actuators 1 --model '" + dir / "x\ny.json" + "'"),
+                        "x\\x0Ay.json", "line break in a model path");
 }
 
 }  // namespace

@@ -253,7 +253,7 @@ TEST(HtmlReport, CalibrateWritesItNextToTheJsonReport) {
   const std::string m = dir / "nominal.json", d = dir / "data.csv";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   ASSERT_EQ(run_cli("simulate --model " + m + " --case 5 --seed 7 --write-data " + d).exit_code, 0);
-  const auto result = run_cli("calibrate --model " + m + " --data " + d + " --report " +
+  const auto result = run_cli("calibrate --model " + m + " --data " + d + " --json " +
                               (dir / "r.json") + " --html " + (dir / "r.html"));
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const std::string html = read_text(dir / "r.html");
@@ -357,7 +357,7 @@ TEST(HtmlPages, ValidateAndDesignWriteThePageOfTheirJson) {
   EXPECT_EQ(read_text(vh), cli::render_validation_html(Json::parse(read_text(vj))));
   const std::string t = dir / "t.csv", dj = dir / "d.json", dh = dir / "d.html";
   const auto g =
-      run_cli("design --model " + m + " --count 30 --candidates 300 --noise-std 0.0072mm --out " +
+      run_cli("design --model " + m + " --poses 30 --candidates 300 --noise-std 0.0072mm --out " +
               t + " --json " + dj + " --html " + dh);
   ASSERT_EQ(g.exit_code, 0) << g.err;
   EXPECT_EQ(read_text(dh), cli::render_design_html(Json::parse(read_text(dj))));

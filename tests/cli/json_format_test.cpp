@@ -38,7 +38,7 @@ TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
       {"observability", "observability --model " + m + " --data " + d},
       {"validate", "validate --model " + c + " --data " + d + " --report " + r},
       {"design",
-       "design --model " + m + " --count 30 --candidates 60 --noise-std 0.0072mm --out /dev/null"},
+       "design --model " + m + " --poses 30 --candidates 60 --noise-std 0.0072mm --out /dev/null"},
       {"solver-suite", "solver-suite --solver gn --problem mgh01*"},
       {"verify", "verify --report " + r + " --model " + c},
       {"compare", "compare --truth " + dir / "D.truth.json" + " --model " + c + " --poses 5"},

@@ -59,7 +59,7 @@ TEST(CliModels, ListShowsEveryRegisteredPresetMechanismAndSensor) {
 TEST(CliModels, EveryPresetIsRecoveredExactlyWithoutNoise) {
   for (const auto& preset : listed("models")) {
     for (int seed = 1; seed <= 5; ++seed) {
-      const auto run = run_cli("simulate --preset " + preset + " --noise 0 --seed " +
+      const auto run = run_cli("simulate --preset " + preset + " --noise-half-width 0 --seed " +
                                std::to_string(seed) + " --validation 20 --json -");
       ASSERT_EQ(run.exit_code, 0) << preset << " seed " << seed << ": " << run.err;
       const Json j = Json::parse(run.out);
@@ -122,7 +122,8 @@ TEST(CliModels, UnreachablePosesAndBadUnitsAreClearErrors) {
   EXPECT_EQ(inf.out, "");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"simulate --param-error 5furlongs", "--param-error '5furlongs': '5furlongs': unknown unit"},
-      {"simulate --noise 1mm,2mm", "--noise '1mm,2mm': '1mm,2mm' gives a value in mm twice"},
+      {"simulate --noise-half-width 1mm,2mm",
+       "--noise-half-width '1mm,2mm': '1mm,2mm' gives a value in mm twice"},
       {"simulate --config-range=-3mm", "--config-range '-3mm': expected values >= 0"},
       {"simulate --preset no-such-robot", "--preset: unknown model preset 'no-such-robot'"},
       {"simulate --preset cube-hexapod --model " + m, "give either --preset NAME or --model FILE"},
@@ -166,9 +167,9 @@ TEST(CliModels, SerialArmFromFilesWithMissingTrackerReadingsRecoversTheTruth) {
   TempDir dir("cli-arm-files");
   const std::string nominal = dir / "nominal.json", data = dir / "D.csv", report = dir / "R.json";
   ASSERT_EQ(run_cli("model --preset puma560 --out " + nominal).exit_code, 0);
-  const auto sim =
-      run_cli("simulate --model " + nominal +
-              " --poses 40 --noise 0.02mm --seed 11 --validation 10 --write-data " + data);
+  const auto sim = run_cli(
+      "simulate --model " + nominal +
+      " --poses 40 --noise-half-width 0.02mm --seed 11 --validation 10 --write-data " + data);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   // The target was out of the tracker's sight in every fifth configuration: empty fields.
   std::istringstream in(read_text(data));
@@ -187,7 +188,7 @@ TEST(CliModels, SerialArmFromFilesWithMissingTrackerReadingsRecoversTheTruth) {
   std::ofstream(data) << out.str();
 
   const auto cal =
-      run_cli("calibrate --model " + nominal + " --data " + data + " --report " + report);
+      run_cli("calibrate --model " + nominal + " --data " + data + " --json " + report);
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   const Json r = Json::parse(read_text(report));
   EXPECT_EQ(r["termination"], "converged");

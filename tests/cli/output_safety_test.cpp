@@ -61,10 +61,10 @@ TEST_F(CliOutputSafety, TheAuditsCasesAreRefused) {
   const std::string cal = "calibrate --model " + m_ + " --data " + d_;
   expect_refused(cal + " --out " + d_,
                  "--out '" + d_ + "' is the same file as --data '" + d_ + "', an input");
-  expect_refused(cal + " --report " + m_,
-                 "--report '" + m_ + "' is the same file as --model '" + m_ + "', an input");
-  expect_refused(cal + " --out - --report -",
-                 "--out '-' (standard output) and --report '-' (standard output) are the same "
+  expect_refused(cal + " --json " + m_,
+                 "--json '" + m_ + "' is the same file as --model '" + m_ + "', an input");
+  expect_refused(cal + " --out - --json -",
+                 "--out '-' (standard output) and --json '-' (standard output) are the same "
                  "file");
   const std::string sim = "simulate --case 1 --solver gn --validation 1";
   expect_refused(sim + " --model " + m_ + " --write-data " + m_,
@@ -102,7 +102,7 @@ TEST_F(CliOutputSafety, StandardOutputCountsWhateverNamesIt) {
   expect_refused(cal + " --out /dev/fd/1 --report /proc/self/fd/1", "are the same file");
   // kincal prints to standard output: redirected onto an input, it would append to it.
   expect_refused(cal, "standard output goes to --data '" + d_ + "', an input", d_);
-  expect_refused("fk --legs 354,354,354,354,354,382 --model " + m_,
+  expect_refused("fk --actuators 354,354,354,354,354,382 --model " + m_,
                  "standard output goes to --model", m_);
   // The null device may be named any number of times: nothing is lost there.
   const auto r = run_cli(cal + " --out /dev/null --report /dev/null");

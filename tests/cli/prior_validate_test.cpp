@@ -33,10 +33,11 @@ class CliPrior : public ::testing::Test {
     Json model = Json::parse(read_text(path("plain.json")));
     model["reading_std"] = {{"gauge", kNoise / std::sqrt(3.0)}};
     write(path("M.json"), model.dump(2));
-    const auto sim = run_cli("simulate --model " + path("M.json") +
-                             " --poses 100 --noise 0.0125 --seed 5 --solver gn --validation 1 "
-                             "--write-data " +
-                             path("all.csv"));
+    const auto sim =
+        run_cli("simulate --model " + path("M.json") +
+                " --poses 100 --noise-half-width 0.0125 --seed 5 --solver gn --validation 1 "
+                "--write-data " +
+                path("all.csv"));
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
     std::istringstream all(read_text(path("all.csv")));
     std::ofstream calibration(path("D.csv")), held_out(path("H.csv"));
@@ -113,7 +114,7 @@ TEST_F(CliPrior, APriorPinsWhatTheDataCannotSee) {
   ASSERT_EQ(a["data_share"].size(), 42u);
   for (const auto& c : a["combinations"]) EXPECT_EQ(c["determined_by_prior"], true);
   const std::string r = path("R_all.json");
-  const auto solved = run_cli("calibrate " + args + " --prior-std '*=1' --report " + r);
+  const auto solved = run_cli("calibrate " + args + " --prior-std '*=1' --json " + r);
   ASSERT_EQ(solved.exit_code, 0) << solved.err;
   EXPECT_NE(solved.err.find("the prior determines the rest"), std::string::npos) << solved.err;
   EXPECT_EQ(Json::parse(read_text(r))["parameters"].size(), 42u);
@@ -124,7 +125,7 @@ TEST_F(CliPrior, BadPriorsGiveOneLineAndExitCode2) {
   for (const std::string bad :
        {"--prior-std 'leg1.base.z=-1'", "--prior-std 'leg1.base.z=abc'",
         "--prior-std 'leg1.base.z=0'", "--prior-std 'nothing.here=1'", "--prior-std leg1.base.z",
-        "--prior-std 'leg1.base.z=1mm'", "--prior-std 'leg*=1' --loss huber:0.02"}) {
+        "--prior-std 'leg1.base.z=1rad'", "--prior-std 'leg*=1' --loss huber:0.02"}) {
     const auto r = run_cli(base + " " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << bad << ": " << r.err;

@@ -140,10 +140,10 @@ void round_trip(const std::string& robot_text, const std::string& options,
   EXPECT_FALSE(json["mechanism"]["joints"][4].contains("lower_deg"));  // continuous
 
   // The truth: the imported model with every parameter moved; data without noise.
-  const auto simulated =
-      run_cli("simulate --model " + (dir / "model.json") +
-              " --poses 60 --noise 0 --param-error 0.5mm,0.002rad --seed 4 --write-data " +
-              (dir / "data.csv"));
+  const auto simulated = run_cli(
+      "simulate --model " + (dir / "model.json") +
+      " --poses 60 --noise-half-width 0 --param-error 0.5mm,0.002rad --seed 4 --write-data " +
+      (dir / "data.csv"));
   ASSERT_EQ(simulated.exit_code, 0) << simulated.err;
 
   // Default mask: the data choose; every fixed parameter is named with what it duplicates.

@@ -53,10 +53,10 @@ class CliVerdicts : public ::testing::Test {
       m["reading_std"] = {{"gauge", 0.0125 / std::sqrt(3.0)}};
     });
     for (const std::string machine : {"", "2"}) {
-      const auto sim = run_cli("simulate --model " + path("M.json") +
-                               " --poses 80 --noise 0.0125 --solver gn --validation 1 --seed " +
-                               (machine.empty() ? "5" : "6") + " --write-data " +
-                               path("all" + machine + ".csv"));
+      const auto sim = run_cli(
+          "simulate --model " + path("M.json") +
+          " --poses 80 --noise-half-width 0.0125 --solver gn --validation 1 --seed " +
+          (machine.empty() ? "5" : "6") + " --write-data " + path("all" + machine + ".csv"));
       ASSERT_EQ(sim.exit_code, 0) << sim.err;
       std::istringstream all(read_text(path("all" + machine + ".csv")));
       std::ofstream calibration(path("D" + machine + ".csv")),
@@ -246,7 +246,7 @@ TEST(CliDesignDegenerate, DegenerateProblemsAreRefused) {
   const std::string m = dir / "M.json", out = dir / "T.csv", json = dir / "T.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   const std::string design =
-      "design --model " + m + " --count 30 --candidates 300 --out " + out + " --json " + json + " ";
+      "design --model " + m + " --poses 30 --candidates 300 --out " + out + " --json " + json + " ";
   expect_one_line_error(run_cli(design + "--config-range 0mm --noise-std 0.0072mm"),
                         "no design of these 364 candidates determines every free parameter: "
                         "no reading depends on free parameter(s) leg4.base.y",
@@ -256,7 +256,7 @@ TEST(CliDesignDegenerate, DegenerateProblemsAreRefused) {
                           "--noise-std '" + noise + "': ", noise);
   const std::string puma = dir / "puma-target-at-origin.json";
   write_puma_target_at_origin(dir, puma, {"joint1.a", "joint6.theta"});
-  const auto unseen = run_cli("design --model " + puma + " --count 10 --candidates 300 --out " +
+  const auto unseen = run_cli("design --model " + puma + " --poses 10 --candidates 300 --out " +
                               out + " --json " + json + " --noise-std 0.01mm");
   expect_one_line_error(unseen, "no reading depends on free parameter(s) joint6.theta",
                         "a parameter no reading sees");
@@ -267,7 +267,7 @@ TEST(CliDesignDegenerate, DegenerateProblemsAreRefused) {
   // A prior determines what the readings cannot: then the design is made, and every
   // prediction is a number.
   const auto with_prior =
-      run_cli("design --model " + puma + " --count 10 --candidates 300 --noise-std 0.01mm --out " +
+      run_cli("design --model " + puma + " --poses 10 --candidates 300 --noise-std 0.01mm --out " +
               out + " --json " + json + " --prior-std joint6.theta=0.01");
   ASSERT_EQ(with_prior.exit_code, 0) << with_prior.err;
   const Json j = Json::parse(read_text(json));
@@ -299,7 +299,7 @@ TEST(CliDesignDegenerate, MemoryForTheMatricesIsCheckedBeforeAnyWork) {
   // 16 matrices of 4·10^4 x 4·10^4 doubles need 205 GB, beyond any machine this runs on (no
   // ulimit -v: AddressSanitizer reserves terabytes of address space for its shadow).
   const auto r = run_cli("design --model " + big +
-                         " --count 30 --candidates 100 --noise-std 0.01mm --out " + out);
+                         " --poses 30 --candidates 100 --noise-std 0.01mm --out " + out);
   expect_one_line_error(r, "big.json (40000 free parameters): needs about", "4·10^4 parameters");
   EXPECT_NE(r.err.find("of memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("expected at most about"), std::string::npos) << r.err;

@@ -32,7 +32,7 @@ class CliWorkflow : public ::testing::Test {
 
 TEST_F(CliWorkflow, AHomePoseFarFromTheDataIsANoteAndAReportWarning) {
   const auto clean =
-      run_cli("calibrate --model " + m_ + " --data " + d_ + " --report " + (dir_ / "clean.json"));
+      run_cli("calibrate --model " + m_ + " --data " + d_ + " --json " + (dir_ / "clean.json"));
   ASSERT_EQ(clean.exit_code, 0) << clean.err;
   EXPECT_EQ(clean.err.find("home_pose"), std::string::npos) << clean.err;
   EXPECT_TRUE(Json::parse(read_text(dir_ / "clean.json"))["warnings"].empty());

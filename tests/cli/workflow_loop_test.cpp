@@ -33,7 +33,7 @@ TEST(CliWorkflowLoop, DesignSimulateCalibrateCompareValidate) {
   // 1. Design 40 configurations for a gauge of 0.5 um noise std.
   const auto design =
       run_cli("design --model " + m +
-              " --count 40 --candidates 500 --noise-std 0.0005mm --seed 3 --out " + t);
+              " --poses 40 --candidates 500 --noise-std 0.0005mm --seed 3 --out " + t);
   ASSERT_EQ(design.exit_code, 0) << design.err;
   // 2. Simulate the readings at exactly those configurations, from drawn errors.
   const auto sim = run_cli("simulate --model " + m + " --configs " + t +
@@ -110,7 +110,7 @@ TEST(CliWorkflowLoop, SimulateConfigsUsesTheTemplatesRowsAndTheGivenTruth) {
   TempDir dir("workflow-configs");
   const std::string m = dir / "M.json", t = dir / "T.csv";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
-  ASSERT_EQ(run_cli("design --model " + m + " --count 30 --candidates 300 --noise-std 0.001mm " +
+  ASSERT_EQ(run_cli("design --model " + m + " --poses 30 --candidates 300 --noise-std 0.001mm " +
                     "--out " + t)
                 .exit_code,
             0);
@@ -139,7 +139,7 @@ TEST(CliWorkflowLoop, BadInputIsOneLineAndExit2) {
   const std::string m = dir / "M.json", puma = dir / "P.json", t = dir / "T.csv";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
   ASSERT_EQ(run_cli("model --preset puma560 --out " + puma).exit_code, 0);
-  ASSERT_EQ(run_cli("design --model " + m + " --count 30 --candidates 300 --noise-std 0.001mm " +
+  ASSERT_EQ(run_cli("design --model " + m + " --poses 30 --candidates 300 --noise-std 0.001mm " +
                     "--out " + t)
                 .exit_code,
             0);
@@ -157,7 +157,8 @@ TEST(CliWorkflowLoop, BadInputIsOneLineAndExit2) {
        "do not have the same parameters"},
       {"simulate --model " + m + " --truth " + m + " --param-error 1mm --json " + out,
        "without --param-error"},
-      {"simulate --model " + m + " --noise-std 0.001mm --noise 0.001 --json " + out, "--noise-std"},
+      {"simulate --model " + m + " --noise-std 0.001mm --noise-half-width 0.001 --json " + out,
+       "--noise-std"},
   };
   for (const auto& [args, expected] : cases) {
     const auto r = run_cli(args);

@@ -55,8 +55,8 @@ case $step in
     arm=$example/kincal-arm
     "$arm" list mechanisms | grep -q two-link-arm || fail "kincal-arm does not list two-link-arm"
     "$arm" model --preset two-link-demo --out arm.json
-    "$arm" simulate --model arm.json --poses 30 --noise 0 --seed 11 --write-data data.csv
-    "$arm" calibrate --model arm.json --data data.csv --out calibrated.json --report report.json
+    "$arm" simulate --model arm.json --poses 30 --noise-half-width 0 --seed 11 --write-data data.csv
+    "$arm" calibrate --model arm.json --data data.csv --out calibrated.json --json report.json
     python3 - calibrated.json data.truth.json <<'PY'
 import json, sys
 def numbers(node, path=""):

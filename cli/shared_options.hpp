@@ -1,0 +1,64 @@
+#pragma once
+// The options several commands share in meaning, defined and parsed once, so that each is
+// spelled, written and checked the same everywhere (tests/cli/option_vocabulary_test.cpp walks
+// every command's --help to hold them to it):
+//
+//   --prior-std SPEC   Gaussian priors, per unit (2.887mm,0.0058rad) or per pattern
+//                      ('leg*.base.z=0.5mm'), or both, repeatable: calibrate, design,
+//                      observability, simulate
+//   --noise-std SPEC   the readings' noise as a standard deviation per unit (0.0007mm):
+//                      calibrate, validate, observability, design, simulate
+
+#include <string>
+#include <vector>
+
+#include "kincal/cli/cli_util.hpp"
+#include "kincal/framework/measurement_model.hpp"
+
+namespace kincal::cli {
+
+/// One item of a --prior-std SPEC.
+struct PriorStdRule {
+  std::string pattern;  ///< parameters whose name matches this glob; "" = every free one in `unit`
+  double value = 0;     ///< the std, > 0, in `unit`
+  std::string unit;     ///< mm or rad; "" = the parameter's own unit (a pattern without one)
+};
+
+/// "2.887mm,0.0058rad", "leg*.base.z=0.5mm", "gauge.offset=0.1", or a mix, comma-separated:
+/// a number with a unit applies to every free parameter in that unit (a bare number is mm, as
+/// everywhere), PATTERN=STD to the parameters matching PATTERN (STD in the parameter's unit
+/// when it has none; deg is converted to rad). Throws std::invalid_argument naming the item.
+std::vector<PriorStdRule> parse_prior_std(const std::string& spec);
+
+/// Adds --prior-std SPEC (repeatable; later items win).
+void add_prior_std_option(po::options_description& options);
+/// Every --prior-std item in order, parsed; a malformed one is a CliError naming it.
+std::vector<PriorStdRule> prior_std_rules(const po::variables_map& vm);
+/// Whether every --prior-std item is per unit (no pattern).
+bool prior_std_per_unit_only(const std::vector<PriorStdRule>& rules);
+/// Sets the prior std of the parameters each rule names, replacing the model file's; a
+/// pattern matching nothing or a value in another unit than its parameter's is a CliError.
+void apply_prior_std(const po::variables_map& vm, MeasurementModel& model);
+/// Whether a free parameter of `model` has a prior. When one has, the model must state its
+/// readings' noise (reading_std or --noise-std): the prior weighs against whitened residuals.
+/// Throws a CliError naming `model_file` otherwise.
+bool check_prior_usable(const MeasurementModel& model, const std::string& model_file);
+
+/// Adds --config-range SPEC: the half-width per unit of the box around the home actuator
+/// values from which configurations are drawn (simulate, reproduce, observability, design).
+void add_config_range_option(po::options_description& options);
+
+/// Adds --allow-rank-deficient: fix what the data cannot determine instead of stopping
+/// (calibrate, simulate; cli/identifiability_check.hpp).
+void add_allow_rank_deficient_option(po::options_description& options);
+
+/// Adds --noise-std SPEC: `meaning` says what the std does in this command (e.g. "replaces
+/// the model's reading_std"), after the shared text.
+void add_noise_std_option(po::options_description& options, const std::string& meaning);
+/// The noise std of each reading from --noise-std (every reading unit needs a value), or the
+/// model's reading_std when it is not given. Values outside [1e-9, 1e6] are a CliError.
+VectorXd noise_std_per_reading(const po::variables_map& vm, const MeasurementModel& model);
+/// Sets the model's reading_std from --noise-std, when given.
+void apply_noise_std(const po::variables_map& vm, MeasurementModel& model);
+
+}  // namespace kincal::cli
