@@ -5,6 +5,8 @@
 #include <map>
 #include <set>
 
+#include "kincal/cli/html_pose_accuracy.hpp"
+#include "kincal/cli/html_sensitivity.hpp"
 #include "kincal/cli/svg_plot.hpp"
 
 namespace kincal::cli {
@@ -15,7 +17,9 @@ using Json = nlohmann::ordered_json;
 constexpr double kPi = 3.14159265358979323846;
 
 double num(const Json& j) { return j.is_number() ? j.get<double>() : NAN; }
-std::string text_of(const Json& j) { return j.is_string() ? j.get<std::string>() : j.dump(); }
+std::string text_of(const Json& j) {
+  return j.is_string() ? j.get<std::string>() : j.is_null() ? "" : plain_text(j);
+}
 std::string text_of(const Json& j, const char* key) {
   return j.is_object() && j.contains(key) ? text_of(j[key]) : "";
 }
@@ -133,10 +137,25 @@ std::string verdicts_html(const std::vector<Verdict>& verdicts) {
   return out + "</ul>";
 }
 
+std::string plain_text(const Json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number()) return fmt(v.get<double>(), 5);
+  if (v.is_boolean()) return v.get<bool>() ? "yes" : "no";
+  if (v.is_null()) return "\xE2\x80\x93";  // en dash: none
+  std::string out;
+  if (v.is_array()) {
+    for (const auto& item : v) out += (out.empty() ? "" : ", ") + plain_text(item);
+    return out;
+  }
+  for (const auto& [key, item] : v.items())
+    out += (out.empty() ? "" : "; ") + key + " " + plain_text(item);
+  return out;
+}
+
 std::string json_table_html(const Json& value) {
   auto cell = [](const Json& v) {
     if (v.is_number()) return "<td>" + esc(fmt(v.get<double>(), 5)) + "</td>";
-    return "<td class=\"name\">" + esc(v.is_string() ? v.get<std::string>() : v.dump()) + "</td>";
+    return "<td class=\"name\">" + esc(plain_text(v)) + "</td>";
   };
   std::string out = "<table>";
   if (value.is_object()) {
@@ -413,6 +432,15 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                      "Do not load it as it is: measure configurations chosen by kincal design, "
                      "add what you know as prior_std, or fix the weakly determined parameters."});
   }
+  if (const auto target = target_verdict(member(r, "target"))) out.push_back(*target);
+  // What readings that measure no point cannot show (issue: a single gauge).
+  if (member(r, "pose_accuracy_shown") == false)
+    out.push_back({L::kNote,
+                   "The readings measure no point of the mechanism: residuals that agree, "
+                   "fitted or held out, do not confirm the pose accuracy, and the predicted "
+                   "pose error comes from the model, not from a measured pose.",
+                   "To check the pose, measure configurations with a point or pose tracker, or "
+                   "with the gauge in a second placement, and run kincal validate on them."});
   if (member(r, "warnings").is_array())
     for (const auto& w : r["warnings"]) out.push_back({L::kWarning, text_of(w), ""});
   return out;
@@ -717,6 +745,8 @@ std::string correlation_html(const Json& r) {
   return out;
 }
 
+}  // namespace
+
 std::string identifiability_html(const Json& r) {
   const Json& id = member(r, "identifiability");
   const Json& sv = member(id, "singular_values");
@@ -796,6 +826,8 @@ std::string identifiability_html(const Json& r) {
   }
   return out;
 }
+
+namespace {
 
 std::string outliers_html(const Json& r) {
   const Json& rows = member(r, "residuals");
@@ -897,11 +929,19 @@ std::string render_calibration_html(const Json& r) {
                                       : std::string()));
   }
   if (r.contains("predicted_pose_error") && r["predicted_pose_error"].is_object())
-    page.add_section("pose-accuracy", "Predicted pose accuracy",
-                     json_table_html(r["predicted_pose_error"]));
+    page.add_section(
+        "pose-accuracy", "Predicted pose accuracy",
+        pose_accuracy_html(
+            r["predicted_pose_error"],
+            {{"calibrated", "calibrated"}, {"nominal", "nominal model (assumed spread)"}},
+            member(r, "target")) +
+            (member(r, "pose_accuracy_shown") == false
+                 ? "<p class=\"note\">" + esc(text_of(r, "pose_accuracy_note")) + ".</p>"
+                 : std::string()));
   if (r.contains("sensitivity"))
-    page.add_section("sensitivity", "Sensitivity to fixed parameters",
-                     json_table_html(r["sensitivity"]));
+    page.add_section(
+        "sensitivity", "Sensitivity to fixed parameters",
+        sensitivity_html(r["sensitivity"], num(member(member(r, "target"), "position_mm"))));
   if (member(r, "warnings").is_array() && !r["warnings"].empty()) {
     std::string list = "<ul>";
     for (const auto& w : r["warnings"]) list += "<li>" + esc(text_of(w)) + "</li>";

@@ -45,13 +45,23 @@ class HtmlPage {
 std::string verdicts_html(const std::vector<Verdict>& verdicts);
 
 /// The calibration report's page. Besides the fields calibrate always writes it renders,
-/// when present: "predicted_pose_error" (a table, and a verdict when calibration is not expected to
-/// beat the nominal model), per-parameter "prior_std" and "data_share" (columns of the parameter
-/// table), "sensitivity" (an array of objects: a table) and "warnings".
+/// when present: "predicted_pose_error" (a table, a plot over the workspace, and a verdict when
+/// calibration is not expected to beat the nominal model), "target" (calibrate --target: a
+/// verdict), "pose_accuracy_shown" false (a note on what the readings cannot show),
+/// per-parameter "prior_std" and "data_share" (columns of the parameter table), "sensitivity"
+/// (calibrate --sensitivity: a chart and a table) and "warnings".
 std::string render_calibration_html(const nlohmann::ordered_json& report);
 
 /// An object or an array of flat objects as an HTML table (keys as headers); nested values
-/// are shown as compact JSON. For sections whose schema belongs to another command.
+/// are shown as plain text ("key value; key value", lists comma-separated), never as JSON.
 std::string json_table_html(const nlohmann::ordered_json& value);
+
+/// A JSON value as plain text for a person: strings as they are, numbers with 5 digits,
+/// yes/no, a dash for null, arrays comma-separated, objects as "key value; key value".
+std::string plain_text(const nlohmann::ordered_json& value);
+
+/// The identifiability section (singular-value chart, rank and conditioning in words, the
+/// weakest combinations) from r["identifiability"] (the JSON of to_json(Identifiability)).
+std::string identifiability_html(const nlohmann::ordered_json& r);
 
 }  // namespace kincal::cli
