@@ -110,6 +110,78 @@ std::string pose_accuracy_html(const Json& predicted, const std::vector<Predicti
   return out;
 }
 
+std::string measured_position_error_html(const Json& r) {
+  struct Row {
+    std::string model, data;
+    const Json* stats;
+  };
+  std::vector<Row> rows;
+  const Json& p = r.contains("position_error_mm") ? r["position_error_mm"] : Json();
+  const char* labels[][2] = {{"before", "before calibration (starting values)"},
+                             {"registration_only", "registration only (frames fitted)"},
+                             {"after", "calibrated"}};
+  for (const auto& [key, label] : labels)
+    if (p.is_object() && p.contains(key) && p[key].is_object())
+      rows.push_back({label, "calibration data (in-sample)", &p[key]});
+  const Json& cv = r.contains("cross_validation") ? r["cross_validation"] : Json();
+  const std::string held_out =
+      "held out, " + fmt(number_at(cv, "folds"), 3) + "-fold cross-validation";
+  if (cv.is_object() && cv.contains("registration_only_position_error_mm") &&
+      cv["registration_only_position_error_mm"].is_object())
+    rows.push_back({"registration only (frames fitted)", held_out,
+                    &cv["registration_only_position_error_mm"]});
+  if (cv.is_object() && cv.contains("position_error_mm") && cv["position_error_mm"].is_object())
+    rows.push_back({"calibrated", held_out, &cv["position_error_mm"]});
+  if (rows.empty()) return "<p>No 3-D position error.</p>";
+  std::string out =
+      "<table><tr><th class=\"name\">model</th><th class=\"name\">data</th><th>points</th>"
+      "<th>mean (mm)</th><th>RMS (mm)</th><th>max (mm)</th></tr>";
+  double top = 0;
+  for (const Row& row : rows) {
+    out += "<tr><td class=\"name\">" + xml_escape(row.model) + "</td><td class=\"name\">" +
+           xml_escape(row.data) + "</td><td>" + fmt(number_at(*row.stats, "points"), 9) +
+           "</td><td>" + fmt(number_at(*row.stats, "mean")) + "</td><td>" +
+           fmt(number_at(*row.stats, "rms")) + "</td><td>" + fmt(number_at(*row.stats, "max")) +
+           "</td></tr>";
+    for (const char* key : {"mean", "max"}) {
+      const double v = number_at(*row.stats, key);
+      if (std::isfinite(v)) top = std::max(top, v);
+    }
+  }
+  out += "</table>";
+  // Mean (bar) and max (tick) per row, first row at the top.
+  const int n = static_cast<int>(rows.size());
+  SvgChart chart(1000, 30 + 46 + 26 * n, "3-D position error of the measured point", 260);
+  chart.set_x({0, top > 0 ? top * 1.1 : 1, false, "position error (mm): bar = mean, | = max"});
+  chart.set_y({0.5, n + 0.5, false, ""});
+  chart.draw_axes(true, false);
+  for (int i = 0; i < n; ++i) {
+    const Row& row = rows[static_cast<std::size_t>(i)];
+    const double y = n - i, mean = number_at(*row.stats, "mean"),
+                 max = number_at(*row.stats, "max");
+    // Short labels beside the bars: the table has the long ones.
+    const std::string label = row.model.substr(0, row.model.find(" (")) + ", " +
+                              (row.data.rfind("held out", 0) == 0 ? "held out" : "in-sample");
+    chart.text_px(chart.left() - 4, chart.py(y) + 4, label, "label", "end");
+    if (std::isfinite(mean))
+      chart.rect(0, y - 0.3, mean, y + 0.3, "bar",
+                 row.model + ", " + row.data + ": mean " + fmt(mean, 4) + " mm");
+    if (std::isfinite(max)) chart.line(max, y - 0.35, max, y + 0.35, "errbar");
+  }
+  out += chart.str();
+  const Json& predicted =
+      r.contains("predicted_point_error_mm") ? r["predicted_point_error_mm"] : Json();
+  if (predicted.is_object())
+    out += "<p>Predicted from the parameters' uncertainty at the " +
+           fmt(number_at(predicted, "points"), 9) + " measured configurations: 1 sigma mean " +
+           fmt(number_at(predicted, "mean_1sigma")) + " mm, worst " +
+           fmt(number_at(predicted, "max_1sigma")) + " mm; 95 % quantile mean " +
+           fmt(number_at(predicted, "mean_95")) + " mm, worst " +
+           fmt(number_at(predicted, "max_95")) + " mm (RMS " + fmt(number_at(predicted, "rms")) +
+           " mm).</p>";
+  return out;
+}
+
 std::optional<Verdict> target_verdict(const Json& target) {
   if (!target.is_object()) return std::nullopt;
   std::string text = target.contains("verdict") && target["verdict"].is_string()

@@ -25,6 +25,13 @@ std::string pose_accuracy_html(const nlohmann::ordered_json& predicted,
                                const std::vector<PredictionColumn>& columns,
                                const nlohmann::ordered_json& target);
 
+/// The calibration report's measured 3-D position error of the measured point (a point
+/// tracker's): before calibration, registration only, calibrated, in-sample and held out
+/// (--folds), as a table and a bar chart of the mean and max, and the error the parameters'
+/// uncertainty predicts at the measured configurations. `r` is the report's JSON
+/// ("position_error_mm", "cross_validation", "predicted_point_error_mm").
+std::string measured_position_error_html(const nlohmann::ordered_json& r);
+
 /// The verdict on a "target" object (target_json): good when met, a problem when not, a
 /// note when it could not be judged; nullopt when `target` is not an object.
 std::optional<Verdict> target_verdict(const nlohmann::ordered_json& target);

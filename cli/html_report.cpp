@@ -903,31 +903,9 @@ std::string render_calibration_html(const Json& r) {
   page.add_section("correlation", "Correlations", correlation_html(r));
   page.add_section("identifiability", "Identifiability", identifiability_html(r));
   page.add_section("outliers", "Outliers", outliers_html(r));
-  if (r.contains("position_error_mm") && r["position_error_mm"].is_object()) {
-    Json table = Json::array();
-    const Json& p = r["position_error_mm"];
-    for (const char* which : {"before", "registration_only", "after"})
-      if (p.contains(which) && p[which].is_object()) {
-        Json row = {{"model", which}, {"data", "calibration (in-sample)"}};
-        row.update(p[which]);
-        table.push_back(row);
-      }
-    const Json& cv = member(r, "cross_validation");
-    for (const char* which : {"registration_only_position_error_mm", "position_error_mm"})
-      if (member(cv, which).is_object()) {
-        Json row = {
-            {"model", std::string(which) == "position_error_mm" ? "after" : "registration_only"},
-            {"data", "held out, " + text_of(cv, "folds") + "-fold"}};
-        row.update(cv[which]);
-        table.push_back(row);
-      }
-    page.add_section(
-        "position-error", "3-D position error of the measured point (mm)",
-        json_table_html(table) + (r.contains("predicted_point_error_mm")
-                                      ? "<h3>Predicted from the parameters' uncertainty</h3>" +
-                                            json_table_html(r["predicted_point_error_mm"])
-                                      : std::string()));
-  }
+  if (r.contains("position_error_mm") && r["position_error_mm"].is_object())
+    page.add_section("position-error", "3-D position error of the measured point",
+                     measured_position_error_html(r));
   if (r.contains("predicted_pose_error") && r["predicted_pose_error"].is_object())
     page.add_section(
         "pose-accuracy", "Predicted pose accuracy",

@@ -247,10 +247,20 @@ TEST(PagesForPeople, APointTrackerNeedsNoNote) {
                     (dir / "p.csv"))
                 .exit_code,
             0);
-  const auto r = run_cli("calibrate --model " + (dir / "p.json") + " --data " + (dir / "p.csv") +
-                         " --json " + (dir / "r.json"));
+  const auto r =
+      run_cli("calibrate --model " + (dir / "p.json") + " --data " + (dir / "p.csv") + " --json " +
+              (dir / "r.json") + " --html " + (dir / "r.html") + " --folds 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find("measure no point"), std::string::npos);
+  // The measured position error: a table of five rows (before, registration only and
+  // calibrated in-sample, both fits held out) and its chart, besides the residuals and their
+  // histogram, the corrections in mm and in mrad, the correlation, the singular values and
+  // the predicted pose error.
+  const std::string html = read_text(dir / "r.html");
+  EXPECT_EQ(json_in(visible_text(html)), "");
+  EXPECT_EQ(count(html, "<svg"), 8u);
+  EXPECT_NE(html.find("registration only, held out"), std::string::npos);
+  EXPECT_EQ(html.find("do not confirm the pose accuracy"), std::string::npos);
   const Json report = Json::parse(read_text(dir / "r.json"));
   EXPECT_EQ(report["pose_accuracy_shown"], true);
   EXPECT_TRUE(report["pose_accuracy_note"].is_null());
