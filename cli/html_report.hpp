@@ -6,7 +6,11 @@
 // noise, parameter corrections with error bars, the correlation heat map, the singular-value
 // spectrum with identifiability in words, flagged outliers and warnings. Optional sections
 // render when their fields exist (see render_calibration_html). Every string from the report
-// (file names, parameter and reading names, messages) is escaped.
+// (file names, parameter and reading names, messages) is escaped. The page and its building
+// blocks are here (html_report.cpp); the calibration report's verdicts are in
+// calibration_verdicts.cpp, its sections in calibration_report_sections.{hpp,cpp}, the
+// pose-accuracy and sensitivity sections (shared with other pages) in html_pose_accuracy and
+// html_sensitivity, the other commands' pages in html_pages.hpp.
 
 #include <nlohmann/json.hpp>
 #include <string>
