@@ -11,8 +11,10 @@
 #include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
+#include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/cross_validation.hpp"
 #include "kincal/framework/data_checks.hpp"
@@ -191,8 +193,11 @@ int run_calibrate(const Args& args) {
                        "other and a prior, and scales the reported uncertainty)");
   add_solver_options(options);
   add_data_size_option(options);
+  add_target_option(options);
+  add_sensitivity_options(options);
   po::variables_map vm;
   if (!parse_command_line("calibrate", args, options, vm)) return 0;
+  const std::optional<TargetAccuracy> target = target_option(vm);
   if (!vm.count("data")) throw CliError("--data FILE is required");
   IdentifiabilityOptions id_options;
   id_options.rcond = vm["rcond"].as<double>();
@@ -291,11 +296,24 @@ int run_calibrate(const Args& args) {
   const std::string report_file = json_output(vm);
   const bool report_to_stdout = (!report_file.empty() && plan.to_stdout("--json")) ||
                                 (vm.count("html") && plan.to_stdout("--html"));
-  if (!report_to_stdout) std::cout << to_text(report);
+  // The free set as solved (identifiability may have fixed some): the others are "fixed".
+  const std::optional<SensitivityResult> sensitivity =
+      solved ? sensitivity_from_options(vm, model, problem.full_parameters(x), loaded.data, free)
+             : std::nullopt;
+  nlohmann::ordered_json report_json = to_json(report);
+  if (target)
+    report_json["target"] =
+        predicted_target(*target, report_json["predicted_pose_error"], "calibrated");
+  if (sensitivity) report_json["sensitivity"] = sensitivity_json(*sensitivity);
+  if (!report_to_stdout) {
+    std::cout << to_text(report);
+    if (sensitivity) std::cout << sensitivity_text(*sensitivity);
+    if (target)
+      std::cout << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
+  }
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
   // report records the SHA-256 of the model written with it, and `kincal verify` tells.
-  nlohmann::ordered_json report_json = to_json(report);
   if (!null_directions.empty()) report_json["null_directions"] = null_directions;
   std::vector<std::pair<std::string, std::string>> outputs;
   std::string model_text;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/design_map.hpp"
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/interrupt.hpp"
@@ -19,6 +20,7 @@
 #include "kincal/cli/progress.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
+#include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/framework/message_excerpt.hpp"
@@ -195,8 +197,10 @@ int run_design(const Args& args) {
   add_prior_std_option(options);
   add_data_size_option(options);
   add_progress_option(options);
+  add_target_option(options);
   po::variables_map vm;
   if (!parse_command_line("design", args, options, vm)) return 0;
+  const std::optional<TargetAccuracy> target = target_option(vm);
   if (!vm.count("poses")) throw CliError("--poses N is required (the configurations to choose)");
   if (!vm.count("out")) throw CliError("--out FILE is required (the measurement template)");
   DesignOptions design;
@@ -461,6 +465,11 @@ int run_design(const Args& args) {
     if (partial)
       std::printf("PARTIAL: interrupted in the %s; the design is the best found so far\n",
                   stopped_in.c_str());
+    if (target)
+      std::printf("target: %s\n", predicted_target(*target, {{"designed", to_json(designed_pose)}},
+                                                   "designed")["verdict"]
+                                      .get<std::string>()
+                                      .c_str());
   }
 
   std::vector<std::pair<std::string, std::string>> outputs;
@@ -516,6 +525,15 @@ int run_design(const Args& args) {
                                  {"designed", to_json(designed_pose)},
                                  {"random", to_json(random_pose)},
                                  {"nominal", to_json(nominal_pose)}};
+    // For the page's plots: the error at each workspace sample, the criterion after each
+    // exchange pass and where the chosen configurations lie among the candidates.
+    j["predicted_pose_error"]["position_1sigma_mm_per_sample"] = {
+        {"designed", designed_pose.position_1sigma},
+        {"random", random_pose.position_1sigma},
+        {"nominal", nominal_pose.position_1sigma}};
+    j["exchange"]["pass_values"] = result.pass_values;
+    j["configuration_map"] = design_configuration_map(candidates, result.chosen);
+    if (target) j["target"] = predicted_target(*target, j["predicted_pose_error"], "designed");
     j["template"] = vm["out"].as<std::string>();
     if (vm.count("json")) outputs.push_back({"--json", j.dump(2) + "\n"});
     if (vm.count("html")) outputs.push_back({"--html", render_design_html(j)});

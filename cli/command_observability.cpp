@@ -6,9 +6,11 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration_report.hpp"
@@ -17,54 +19,6 @@
 #include "kincal/framework/simulation.hpp"
 
 namespace kincal::cli {
-
-namespace {
-
-// The sensitivity table: what an error in each fixed parameter leaves after calibration.
-std::string sensitivity_text(const SensitivityResult& s) {
-  std::string out =
-      "sensitivity to fixed parameters (each one off by the step below, the free ones "
-      "re-calibrated; first order):\n";
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "  %-22s %10s %14s %12s %12s %14s %14s\n", "parameter", "error",
-                "residual RMS", "pos. mean", "pos. max", "orient. mean", "orient. max");
-  out += buf;
-  std::snprintf(buf, sizeof buf, "  %-22s %10s %14s %12s %12s %14s %14s\n", "", "", "(readings)",
-                "(mm)", "(mm)", "(mrad)", "(mrad)");
-  out += buf;
-  for (const auto& r : s.rows) {
-    char error[40];
-    if (r.unit == kRadian)
-      std::snprintf(error, sizeof error, "%g mrad", r.delta * 1000);
-    else
-      std::snprintf(error, sizeof error, "%g %s", r.delta, r.unit.c_str());
-    std::snprintf(buf, sizeof buf, "  %-22s %10s %14.3g %12.4g %12.4g %14.4g %14.4g\n",
-                  r.name.c_str(), error, r.residual_rms, r.position_mean, r.position_max,
-                  r.orientation_mean * 1000, r.orientation_max * 1000);
-    out += buf;
-  }
-  if (s.free_rank < s.num_free)
-    out += "  (the free parameters are rank deficient: " + std::to_string(s.free_rank) + " of " +
-           std::to_string(s.num_free) +
-           " determined; the re-calibration takes the smallest correction)\n";
-  return out;
-}
-
-nlohmann::ordered_json sensitivity_json(const SensitivityResult& s) {
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const auto& r : s.rows)
-    rows.push_back({{"name", r.name},
-                    {"unit", r.unit},
-                    {"error", r.delta},
-                    {"residual_rms", r.residual_rms},
-                    {"position_mean_mm", r.position_mean},
-                    {"position_max_mm", r.position_max},
-                    {"orientation_mean_rad", r.orientation_mean},
-                    {"orientation_max_rad", r.orientation_max}});
-  return rows;
-}
-
-}  // namespace
 
 int run_observability(const Args& args) {
   po::options_description options("kincal observability");
@@ -77,12 +31,10 @@ int run_observability(const Args& args) {
       po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
                                          default_text(IdentifiabilityOptions{}.rcond)),
       "numerical rank threshold relative to the largest scaled singular value")(
-      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
-      "sensitivity", po::bool_switch(),
-      "also: for each fixed parameter, the pose error an error in it leaves after calibrating "
-      "the free ones (over the same configurations)")(
-      "sensitivity-step", po::value<std::string>()->default_value("1mm,0.001rad"),
-      "the error assumed in each fixed parameter, per unit");
+      "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing");
+  add_sensitivity_options(options);
+  options.add_options()("html", po::value<std::string>(),
+                        "write the analysis for people to FILE: one self-contained HTML page");
   add_json_option(options, "the analysis");
   add_config_range_option(options);
   add_free_fix_options(options);
@@ -102,6 +54,7 @@ int run_observability(const Args& args) {
   for (const char* option : {"model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());
+  if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   plan.check();
 
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
@@ -169,18 +122,10 @@ int run_observability(const Args& args) {
          dependent_parameters(J, problem.parameter_names(), keep, id_options))
       null_directions.push_back(describe_dependent(d, *model));
   }
-  SensitivityResult sensitivity;
-  const bool want_sensitivity = vm["sensitivity"].as<bool>();
-  if (want_sensitivity) {
-    const UnitValues step = unit_values_option(vm, "sensitivity-step");
-    try {
-      sensitivity = fixed_parameter_sensitivity(
-          model, values, data, data, free, step.get(kMillimetre, 1.0), step.get(kRadian, 1e-3));
-    } catch (const std::runtime_error& e) {
-      throw CliError(std::string("--sensitivity: ") + e.what());
-    }
-  }
-  const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
+  const std::optional<SensitivityResult> sensitivity =
+      sensitivity_from_options(vm, model, values, data, free);
+  const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
+                              (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     std::cout << data.size() << " configurations\n" << to_text(a);
     if (with_prior) {
@@ -199,17 +144,24 @@ int run_observability(const Args& args) {
                 << " free parameters and fixes the others, each a duplicate of kept ones:\n";
       for (const auto& line : null_directions) std::cout << "  " << line << "\n";
     }
-    if (want_sensitivity) std::cout << sensitivity_text(sensitivity);
+    if (sensitivity) std::cout << sensitivity_text(*sensitivity);
   }
-  if (vm.count("json")) {
+  if (vm.count("json") || vm.count("html")) {
     nlohmann::ordered_json out = json_document("kincal-observability");
+    out["model"] = vm.count("model") ? vm["model"].as<std::string>() : "";
+    out["source"] = vm.count("data") ? vm["data"].as<std::string>()
+                                     : std::to_string(data.size()) + " random configurations";
+    out["configurations"] = data.size();
     out.update(to_json(a));
-    if (want_sensitivity) out["sensitivity"] = sensitivity_json(sensitivity);
+    if (sensitivity) out["sensitivity"] = sensitivity_json(*sensitivity);
     if (!kept_names.empty()) {
       out["calibrate_keeps"] = kept_names;
       out["null_directions"] = null_directions;
     }
-    plan.write({{"--json", out.dump(2) + "\n"}});
+    std::vector<std::pair<std::string, std::string>> outputs;
+    if (vm.count("json")) outputs.push_back({"--json", out.dump(2) + "\n"});
+    if (vm.count("html")) outputs.push_back({"--html", render_observability_html(out)});
+    plan.write(outputs);
   }
   return 0;
 }

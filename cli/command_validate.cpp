@@ -15,6 +15,7 @@
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
+#include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/json_input.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/position_error.hpp"
@@ -209,8 +210,10 @@ int run_validate(const Args& args) {
                        "predicts the held-out residuals with it, instead of the report's "
                        "sigma_hat or the model's reading_std");
   add_data_size_option(options);
+  add_target_option(options);
   po::variables_map vm;
   if (!parse_command_line("validate", args, options, vm)) return 0;
+  const std::optional<TargetAccuracy> target = target_option(vm);
   if (!vm.count("model")) throw CliError("--model FILE is required (the calibrated model)");
   if (!vm.count("data")) throw CliError("--data FILE is required (held-out measurements)");
   OutputPlan plan;
@@ -319,6 +322,18 @@ int run_validate(const Args& args) {
   const PositionComparison position =
       compare_positions(model, loaded.data, v.residuals, before_values, before_is, data_file);
 
+  // Without a point, the page's before/after plot is of the readings: their residuals with
+  // the model the calibration started from (a row the starting model cannot reach: none).
+  MatrixXd before_residuals;
+  if (before_values && !shows_pose) try {
+      before_residuals = residual_matrix(model, loaded.data, *before_values);
+    } catch (const std::runtime_error&) {
+    }
+  const Json target_result =
+      target ? measured_target(
+                   *target, position.computed ? Json{{"after", to_json(position.after)}} : Json(),
+                   "these held-out readings measure no point of the mechanism")
+             : Json();
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
@@ -372,6 +387,7 @@ int run_validate(const Args& args) {
     else
       std::cout << "smaller than predicted: the stated noise or uncertainty is pessimistic\n";
     if (!shows_pose) std::cout << "note: " << kPoseNotShown << "\n";
+    if (target) std::cout << "target: " << target_result["verdict"].get<std::string>() << "\n";
   }
   if (vm.count("json") || vm.count("html")) {
     Json out;
@@ -419,6 +435,7 @@ int run_validate(const Args& args) {
     // that agree say nothing of the pose (a gauge's length is one number of six).
     out["pose_accuracy_shown"] = shows_pose;
     out["pose_accuracy_note"] = shows_pose ? Json() : Json(kPoseNotShown);
+    if (target) out["target"] = target_result;
     Json residuals = Json::array();
     const auto names = model->reading_names();
     for (int c = 0; c < v.residuals.rows(); ++c) {
@@ -430,6 +447,10 @@ int run_validate(const Args& args) {
         row["position_error_mm"] = number(position.after_errors[c]);
         if (position.before_errors.size() == position.after_errors.size())
           row["position_error_before_mm"] = number(position.before_errors[c]);
+      }
+      if (before_residuals.rows() == v.residuals.rows()) {
+        row["before"] = Json::object();
+        for (int i = 0; i < k; ++i) row["before"][names[i]] = number(before_residuals(c, i));
       }
       residuals.push_back(row);
     }

@@ -6,7 +6,11 @@
 // noise, parameter corrections with error bars, the correlation heat map, the singular-value
 // spectrum with identifiability in words, flagged outliers and warnings. Optional sections
 // render when their fields exist (see render_calibration_html). Every string from the report
-// (file names, parameter and reading names, messages) is escaped.
+// (file names, parameter and reading names, messages) is escaped. The page and its building
+// blocks are here (html_report.cpp); the calibration report's verdicts are in
+// calibration_verdicts.cpp, its sections in calibration_report_sections.{hpp,cpp}, the
+// pose-accuracy and sensitivity sections (shared with other pages) in html_pose_accuracy and
+// html_sensitivity, the other commands' pages in html_pages.hpp.
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -45,13 +49,23 @@ class HtmlPage {
 std::string verdicts_html(const std::vector<Verdict>& verdicts);
 
 /// The calibration report's page. Besides the fields calibrate always writes it renders,
-/// when present: "predicted_pose_error" (a table, and a verdict when calibration is not expected to
-/// beat the nominal model), per-parameter "prior_std" and "data_share" (columns of the parameter
-/// table), "sensitivity" (an array of objects: a table) and "warnings".
+/// when present: "predicted_pose_error" (a table, a plot over the workspace, and a verdict when
+/// calibration is not expected to beat the nominal model), "target" (calibrate --target: a
+/// verdict), "pose_accuracy_shown" false (a note on what the readings cannot show),
+/// per-parameter "prior_std" and "data_share" (columns of the parameter table), "sensitivity"
+/// (calibrate --sensitivity: a chart and a table) and "warnings".
 std::string render_calibration_html(const nlohmann::ordered_json& report);
 
 /// An object or an array of flat objects as an HTML table (keys as headers); nested values
-/// are shown as compact JSON. For sections whose schema belongs to another command.
+/// are shown as plain text ("key value; key value", lists comma-separated), never as JSON.
 std::string json_table_html(const nlohmann::ordered_json& value);
+
+/// A JSON value as plain text for a person: strings as they are, numbers with 5 digits,
+/// yes/no, a dash for null, arrays comma-separated, objects as "key value; key value".
+std::string plain_text(const nlohmann::ordered_json& value);
+
+/// The identifiability section (singular-value chart, rank and conditioning in words, the
+/// weakest combinations) from r["identifiability"] (the JSON of to_json(Identifiability)).
+std::string identifiability_html(const nlohmann::ordered_json& r);
 
 }  // namespace kincal::cli

@@ -183,7 +183,8 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   }
   r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
                                               problem.free_indices(), r.uncertainty.covariance);
-  if (measures_position(model)) {
+  r.pose_accuracy_shown = measures_position(model);
+  if (r.pose_accuracy_shown) {
     try {
       r.position_before = summarize_position_errors(
           position_errors(model, residual_matrix(problem, problem.initial_free_parameters())));
@@ -318,6 +319,8 @@ Json to_json(const CalibrationReport& r) {
   out["identifiability"] = to_json(r.identifiability);
   out["warnings"] = r.warnings;
   out["predicted_pose_error"] = to_json(r.predicted_accuracy);
+  out["pose_accuracy_shown"] = r.pose_accuracy_shown;
+  out["pose_accuracy_note"] = r.pose_accuracy_shown ? Json() : Json(kPoseAccuracyNotShown);
   if (r.position_after.points > 0) {
     Json position = {{"before", to_json(r.position_before)}, {"after", to_json(r.position_after)}};
     position["before_is"] = "the model's starting values, on the calibration data";
@@ -537,6 +540,7 @@ std::string to_text(const CalibrationReport& r) {
   // For a point-measuring sensor the measured figures above replace the box prediction (the
   // flange, from assumed tolerances); it stays in the JSON.
   if (r.position_after.points == 0) out << to_text(r.predicted_accuracy);
+  if (!r.pose_accuracy_shown) out << "note: " << kPoseAccuracyNotShown << "\n";
   for (const auto& warning : r.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }

@@ -78,6 +78,10 @@ struct CalibrationReport {
   /// Predicted pose error over the workspace from the estimate's covariance, next to the
   /// nominal model's (compare_with_nominal at the estimate).
   AccuracyComparison predicted_accuracy;
+  /// The readings measure a point of the mechanism (measures_position). When they do not (a
+  /// length gauge), residuals that agree, fitted or held out, do not confirm the pose
+  /// accuracy: the report says so (kPoseAccuracyNotShown) and what would.
+  bool pose_accuracy_shown = true;
 
   /// Accuracy in the field's terms, for models with a point-measuring sensor
   /// (position_error.hpp; points = 0 otherwise): the measured 3-D position error on the
@@ -106,6 +110,15 @@ struct CalibrationReport {
     PositionErrorStats position, registration_position;
   } cross_validation;
 };
+
+/// What a calibration from readings that measure no point cannot show, and what would.
+inline constexpr const char* kPoseAccuracyNotShown =
+    "the readings measure no point of the mechanism, so residuals that agree with them, on the "
+    "calibration data or held out, do not confirm its pose accuracy (a model can fit one "
+    "gauge's lengths and still be millimetres off in pose), and the predicted pose error comes "
+    "from the parameters' covariance under the model, not from a measured pose; to check the "
+    "pose, measure configurations with a point or pose tracker, or with the gauge in a second "
+    "placement, and run kincal validate on them";
 
 /// Fills everything but the file names and the two lists above from the problem solved at x
 /// with the robust loss `loss` (none: plain least squares); the standard deviations then use

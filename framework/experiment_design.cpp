@@ -633,6 +633,11 @@ DesignResult choose_design(const DesignCandidates& candidates, const DesignSetup
     }
     result.exchanges += changed;
     const double after = value(result.chosen);
+    result.pass_values.push_back(
+        std::max(current, after) *
+        (options.criterion == DesignCriterion::kD || options.criterion == DesignCriterion::kE
+             ? 1
+             : -1));
     // A pass cut short that did not improve on its start gives its start back: the best
     // design found so far.
     if (result.stopped && !(after >= current)) result.chosen = pass_start;

@@ -144,6 +144,7 @@ struct DesignResult {
   double criterion_value = 0;  ///< D: log det M, A: trace M^-1 / n, E: lambda_min, I: trace W M^-1
   double greedy_value = 0;     ///< the same for the greedy start
   int passes = 0, exchanges = 0;
+  std::vector<double> pass_values;  ///< the criterion after each exchange pass (its progress)
   bool stopped = false;  ///< the monitor stopped the exchange: the best design found so far
 };
 

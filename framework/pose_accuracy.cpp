@@ -113,6 +113,7 @@ PoseErrorPrediction predict_pose_errors(const WorkspaceSamples& samples,
     const double p1 = std::sqrt(std::max(P.trace(), 0.0));
     const double r1 = std::sqrt(std::max(R.trace(), 0.0));
     const double p95 = error_norm_quantile(P, 0.95), r95 = error_norm_quantile(R, 0.95);
+    p.position_1sigma.push_back(p1);
     position_ms += p1 * p1;
     orientation_ms += r1 * r1;
     p.position_mean_1sigma += p1;
@@ -210,6 +211,12 @@ nlohmann::ordered_json to_json(const AccuracyComparison& a) {
       "the assumed spread of the parameters (prior_std, else param_error / sqrt 3, else 5 mm "
       "and 0.01 rad / sqrt 3), not measured";
   out["expected_to_beat_nominal"] = a.expected_to_beat_nominal;
+  // Per workspace sample, for the plot of the error over the workspace (HTML page).
+  nlohmann::ordered_json calibrated = nlohmann::ordered_json::array(),
+                         nominal = nlohmann::ordered_json::array();
+  for (double v : a.calibrated.position_1sigma) calibrated.push_back(number(v));
+  for (double v : a.nominal.position_1sigma) nominal.push_back(number(v));
+  out["position_1sigma_mm_per_sample"] = {{"calibrated", calibrated}, {"nominal", nominal}};
   return out;
 }
 

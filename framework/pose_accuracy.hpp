@@ -50,6 +50,7 @@ struct PoseErrorPrediction {
   double orientation_rms = 0;
   double orientation_mean_1sigma = 0, orientation_max_1sigma = 0;
   double orientation_mean_95 = 0, orientation_max_95 = 0;
+  std::vector<double> position_1sigma;  ///< per sample, in the samples' order (for plots)
 };
 
 /// From the covariance of the free parameters (free x free, the order of the samples'

@@ -184,7 +184,9 @@ TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   const std::string html = render_calibration_html(r);
   EXPECT_EQ(markup_problem(html), "");
   EXPECT_NE(html.find("id=\"pose-accuracy\""), std::string::npos);
-  EXPECT_NE(html.find("position_rms_mm"), std::string::npos);
+  // The prediction as a table with its units, not the JSON keys.
+  EXPECT_NE(html.find("position, RMS over the workspace (mm)"), std::string::npos) << html;
+  EXPECT_EQ(html.find("position_rms_mm"), std::string::npos);
   EXPECT_NE(html.find("data share"), std::string::npos);
   EXPECT_NE(html.find("NOT expected to beat the nominal model"), std::string::npos);
   // Without the field, no section and no verdict about it.
@@ -260,11 +262,12 @@ TEST(HtmlReport, CalibrateWritesItNextToTheJsonReport) {
   EXPECT_EQ(markup_problem(html), "");
   EXPECT_NE(html.find("Verdicts"), std::string::npos);
   EXPECT_GE(std::count(html.begin(), html.end(), '\n'), 5);
-  // Five charts: residuals, histogram, corrections (mm), correlation, singular values.
+  // Six charts: residuals, histogram, corrections (mm), correlation, singular values, the
+  // predicted pose error over the workspace.
   std::size_t svgs = 0;
   for (std::size_t p = html.find("<svg"); p != std::string::npos; p = html.find("<svg", p + 1))
     ++svgs;
-  EXPECT_EQ(svgs, 5u);
+  EXPECT_EQ(svgs, 6u);
   // The same page from the JSON report: the HTML is a pure function of it.
   const Json report = Json::parse(read_text(dir / "r.json"));
   EXPECT_EQ(render_calibration_html(report), html);
@@ -329,7 +332,7 @@ TEST(HtmlPages, DesignPageComparesWithRandomAndNominal) {
   d["predicted_pose_error"]["designed"] = pose(9.0);
   html = cli::render_design_html(d);
   EXPECT_NE(html.find("Even this design is not expected to beat"), std::string::npos);
-  // design --bound: a verdict in words, and the nested figures as rows of their own.
+  // design --bound: a verdict in words, and the bound's figures in a sentence.
   d["count"] = 30;
   d["exchange"] = {{"passes", 2}, {"bound", {{"value", 1.5}, {"std_ratio", 1.0123}}}};
   html = cli::render_design_html(d);
@@ -337,7 +340,7 @@ TEST(HtmlPages, DesignPageComparesWithRandomAndNominal) {
   EXPECT_NE(html.find("No design of 30 from these candidates can do more than 1.23 % better"),
             std::string::npos)
       << html;
-  EXPECT_NE(html.find("bound std_ratio"), std::string::npos) << html;
+  EXPECT_NE(html.find("no design can pass 1.5"), std::string::npos) << html;
   EXPECT_EQ(html.find("&quot;std_ratio"), std::string::npos) << "a JSON dump in a cell";
 }
 
