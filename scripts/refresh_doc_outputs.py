@@ -83,12 +83,13 @@ def parse_page(lines):
     return blocks
 
 
-def run_session(blocks, kincal_dir, workdir):
+def run_session(blocks, kincal_dir, build_dir, workdir):
     """Runs every command of the page's blocks in one bash; returns their outputs in order."""
-    # `ls` as a terminal shows it (columns), and ./build/cli/kincal as in a checkout.
+    # `ls` as a terminal shows it (columns), and ./build as in a checkout (./build/cli/kincal,
+    # the example programs).
     script = ["exec 2>&1", "shopt -s expand_aliases", "alias ls='ls -C'",
-              "cd " + shlex_quote(str(workdir)), "mkdir -p build/cli .bin",
-              "ln -s " + shlex_quote(str(kincal_dir / "kincal")) + " build/cli/kincal"]
+              "cd " + shlex_quote(str(workdir)),
+              "ln -s " + shlex_quote(str(build_dir)) + " build"]
     n = 0
     for block in blocks:
         if block.skip:
@@ -151,7 +152,7 @@ def main():
             if block.skip:
                 print(f"{page.relative_to(ROOT)}:{block.start + 1}: not run: {block.skip}")
         with tempfile.TemporaryDirectory(prefix="kincal-doc-") as workdir:
-            outputs = iter(run_session(blocks, bin_dir, Path(workdir)))
+            outputs = iter(run_session(blocks, bin_dir, kincal.parent.parent, Path(workdir)))
             new_lines = list(lines)
             # From the last block up, so that earlier line numbers stay valid.
             replaced = []
