@@ -61,6 +61,7 @@ write_basic_package_version_file("${PROJECT_BINARY_DIR}/kincalConfigVersion.cmak
                                  COMPATIBILITY SameMinorVersion)
 install(FILES "${PROJECT_BINARY_DIR}/kincalConfig.cmake"
               "${PROJECT_BINARY_DIR}/kincalConfigVersion.cmake"
+              "${PROJECT_SOURCE_DIR}/cmake/KincalPlugin.cmake"
         DESTINATION "${KINCAL_INSTALL_CMAKEDIR}" COMPONENT development)
 
 # ---- kincal.pc ---------------------------------------------------------------
