@@ -83,10 +83,10 @@ ConformanceCheck compare_jacobians(const std::string& name, const MatrixXd& anal
   }
   double worst = 0;
   int wr = 0, wc = 0;
-  for (int r = 0; r < analytic.rows(); ++r)
-    for (int c = 0; c < analytic.cols(); ++c) {
+  for (int r = 0; r < analytic.rows() && !std::isnan(worst); ++r)
+    for (int c = 0; c < analytic.cols() && !std::isnan(worst); ++c) {
       const double e = std::abs(analytic(r, c) - numeric(r, c)) / (1 + std::abs(numeric(r, c)));
-      if (!(e <= worst)) worst = e, wr = r, wc = c;  // NaN wins
+      if (!(e <= worst)) worst = e, wr = r, wc = c;  // the first NaN is the worst, and stays
     }
   std::ostringstream os;
   os << "worst at row " << wr << ", column " << wc;
