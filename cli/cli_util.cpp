@@ -50,7 +50,9 @@ bool parse_command_line(const std::string& command, const Args& args,
     throw CliError(option_error_message(e, args));
   }
   if (vm.count("help")) {
-    std::cout << "usage: kincal " << command << " [options]\n" << options << "\n";
+    std::cout << "usage: kincal " << command << " [options]\n"
+              << options << "\nEvery command also takes --plugin FILE (a kincal plug-in, "
+              << "repeatable) and loads those KINCAL_PLUGIN_PATH names.\n";
     return false;
   }
   if (vm.count("version")) {

@@ -16,6 +16,12 @@ function(kincal_add_plugin target)
   set_target_properties(${target} PROPERTIES CXX_VISIBILITY_PRESET hidden
                                              VISIBILITY_INLINES_HIDDEN ON)
   if(CMAKE_SYSTEM_NAME STREQUAL "Linux")
-    target_link_options(${target} PRIVATE "LINKER:--exclude-libs,ALL" "LINKER:--no-undefined")
+    target_link_options(${target} PRIVATE "LINKER:--exclude-libs,ALL")
+    # Sanitizer and coverage runtimes live in the loading program (clang links them into
+    # executables only), so a plug-in built with them has undefined symbols by design.
+    string(FIND "${CMAKE_CXX_FLAGS} ${CMAKE_SHARED_LINKER_FLAGS}" "-fsanitize" sanitized)
+    if(NOT KINCAL_SANITIZE AND NOT KINCAL_BUILD_FUZZERS AND sanitized EQUAL -1)
+      target_link_options(${target} PRIVATE "LINKER:--no-undefined")
+    endif()
   endif()
 endfunction()

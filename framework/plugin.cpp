@@ -11,6 +11,8 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <set>
+#include <tuple>
 
 #include "kincal/framework/message_excerpt.hpp"
 
@@ -20,7 +22,9 @@ namespace {
 
 struct LoadedPlugins {
   std::mutex mutex;
-  std::vector<std::string> files;                    // absolute, in load order
+  std::vector<std::string> files;  // absolute, in load order
+  // Which file went into which registries: loading it into the same ones again is a no-op.
+  std::set<std::tuple<std::string, const ModelRegistry*, const SolverRegistry*>> loaded_into;
   std::map<std::string, std::string> owner_of_name;  // "mechanism type 'x'" -> plug-in file
 };
 
@@ -82,7 +86,7 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
   const std::string file = absolute(path);
   LoadedPlugins& state = loaded();
   std::lock_guard<std::mutex> lock(state.mutex);
-  if (std::find(state.files.begin(), state.files.end(), file) != state.files.end()) return;
+  if (state.loaded_into.count({file, &models, &solvers})) return;
 
   // dlopen needs a slash to take the name as a path rather than search the library path.
   const std::string open_name = file.find('/') == std::string::npos ? "./" + file : file;
@@ -129,7 +133,7 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
     for (const auto& c : clashing) {
       const auto owner = state.owner_of_name.find(c);
       list += (list.empty() ? "" : "; ") + c + " (registered by " +
-              (owner == state.owner_of_name.end() ? std::string("kincal itself, built in")
+              (owner == state.owner_of_name.end() ? std::string("kincal or the program, built in")
                                                   : "plug-in '" + owner->second + "'") +
               ")";
     }
@@ -151,7 +155,9 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
       owners, scratch_models.presets(), [](const auto& p) { return p.name; }, "preset", file);
   for (const auto& info_entry : scratch_solvers.list())
     owners["solver '" + info_entry.name.substr(0, info_entry.name.find(':')) + "'"] = file;
-  state.files.push_back(file);
+  state.loaded_into.insert({file, &models, &solvers});
+  if (std::find(state.files.begin(), state.files.end(), file) == state.files.end())
+    state.files.push_back(file);
 }
 
 std::vector<std::string> plugins_from_environment() {

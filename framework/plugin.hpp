@@ -42,11 +42,10 @@
 #else
 #define KINCAL_PLUGIN_STDLIB "unknown-stdlib"
 #endif
-#define KINCAL_PLUGIN_ABI_TAG                                                 \
-  KINCAL_PLUGIN_COMPILER                                                      \
-      " " KINCAL_PLUGIN_STDLIB                                                \
-      " eigen-" KINCAL_PLUGIN_STR(EIGEN_WORLD_VERSION) "." KINCAL_PLUGIN_STR( \
-          EIGEN_MAJOR_VERSION) " align-" KINCAL_PLUGIN_STR(EIGEN_MAX_STATIC_ALIGN_BYTES)
+#define KINCAL_PLUGIN_ABI_TAG                                                                      \
+  KINCAL_PLUGIN_COMPILER                                                                           \
+  " " KINCAL_PLUGIN_STDLIB " eigen-" KINCAL_PLUGIN_STR(EIGEN_WORLD_VERSION) "." KINCAL_PLUGIN_STR( \
+      EIGEN_MAJOR_VERSION) " align-" KINCAL_PLUGIN_STR(EIGEN_MAX_STATIC_ALIGN_BYTES)
 
 extern "C" {
 
@@ -93,7 +92,9 @@ std::string plugin_abi_description();
 /// Loads the plug-in `path` (a file name; no search) and adds what it registers to
 /// `models` and `solvers`, by default the global registries. Everything or nothing: a
 /// plug-in whose names clash with registered ones (built in or from another plug-in) adds
-/// nothing, and the error names both. Loading the same file again does nothing. The
+/// nothing, and the error names both. Loading the same file into the same registries again
+/// does nothing. (Model files are read through ModelRegistry::global(): load into the
+/// global registries to read and write the plug-in's types from files.) The
 /// library stays loaded for the life of the process (registered types point into it).
 /// Throws PluginError.
 void load_plugin(const std::string& path, ModelRegistry& models = ModelRegistry::global(),

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "kincal/framework/plugin.hpp"
 
 namespace kincal::testing {
 namespace {
@@ -118,7 +119,8 @@ TEST(Plugins, AnotherKincalVersionIsRefusedWithAMessage) {
 TEST(Plugins, ANameClashNamesBoth) {
   const auto builtin = run_cli(std::string("list --plugin ") + KINCAL_CLASH_PLUGIN);
   EXPECT_EQ(builtin.exit_code, 2);
-  EXPECT_TRUE(contains(builtin.err, "preset 'puma560' (registered by kincal itself, built in)"))
+  EXPECT_TRUE(
+      contains(builtin.err, "preset 'puma560' (registered by kincal or the program, built in)"))
       << builtin.err;
   EXPECT_TRUE(contains(builtin.err, "test_plugin_clash")) << builtin.err;
   // The same plug-in under two file names: the second clashes with the first.
@@ -162,6 +164,51 @@ TEST(Plugins, APluginsSolverIsUsedByName) {
       run_cli("simulate --preset planar-3rpr --noise 0 --solver plugin-gn --json -" + p);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   EXPECT_LT(nlohmann::json::parse(sim.out)["parameter_rms_error_mm"].get<double>(), 1e-6);
+}
+
+TEST(Plugins, CheckAllPassesOnEveryBuiltInPresetAndNeedsASubject) {
+  const auto all = run_cli("check --all");
+  EXPECT_EQ(all.exit_code, 0) << all.out << all.err;
+  EXPECT_TRUE(contains(all.out, "pass  preset cube-hexapod: zero-noise recovery with lm"))
+      << all.out;
+  EXPECT_FALSE(contains(all.out, "FAIL")) << all.out;
+  const auto nothing = run_cli("check");
+  EXPECT_EQ(nothing.exit_code, 2);
+  EXPECT_TRUE(contains(nothing.err, "nothing to check")) << nothing.err;
+  const auto unknown = run_cli("check --preset no-such-robot");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_TRUE(contains(unknown.err, "no-such-robot")) << unknown.err;
+  const auto two = run_cli("check --all --preset puma560");
+  EXPECT_EQ(two.exit_code, 2);
+}
+
+// The library's one call, into registries of the caller's: everything or nothing.
+TEST(PluginLibrary, LoadsIntoTheRegistriesGivenEverythingOrNothing) {
+  ModelRegistry models;
+  SolverRegistry solvers;
+  load_plugin(kFiveBar, models, solvers);
+  ASSERT_EQ(models.presets().size(), 1u);
+  EXPECT_EQ(models.make_preset("five-bar-demo")->mechanism().type(), "five-bar");
+  EXPECT_EQ(models.mechanisms().size(), 1u);
+  EXPECT_EQ(models.sensors().size(), 1u);
+  ASSERT_NE(models.export_format("five-bar", "arm-table"), nullptr);
+  load_plugin(kFiveBar, models, solvers);  // again: nothing happens
+  EXPECT_EQ(models.presets().size(), 1u);
+
+  ModelRegistry builtin;
+  register_builtin_models(builtin);
+  const std::size_t before = builtin.presets().size();
+  EXPECT_THROW(load_plugin(KINCAL_CLASH_PLUGIN, builtin, solvers), PluginError);
+  EXPECT_EQ(builtin.presets().size(), before);
+  try {
+    load_plugin(KINCAL_WRONG_VERSION_PLUGIN, models, solvers);
+    FAIL() << "loaded";
+  } catch (const PluginError& e) {
+    EXPECT_TRUE(contains(e.what(), "0.0.0-elsewhere")) << e.what();
+    EXPECT_TRUE(contains(e.what(), plugin_abi_description())) << e.what();
+  }
+  load_plugin(KINCAL_SOLVER_PLUGIN, models, solvers);
+  EXPECT_TRUE(solvers.contains("plugin-gn"));
 }
 
 }  // namespace
