@@ -66,7 +66,7 @@ std::vector<std::string> clashes(const ModelRegistry& scratch,
   return out;
 }
 
-template <class Registry, class Entries, class NameOf>
+template <class Entries, class NameOf>
 void remember_owner(std::map<std::string, std::string>& owners, const Entries& entries,
                     NameOf name_of, const char* kind, const std::string& file) {
   for (const auto& e : entries) owners[std::string(kind) + " '" + name_of(e) + "'"] = file;
@@ -146,12 +146,12 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
   solvers.add_all(scratch_solvers);
 
   auto& owners = state.owner_of_name;
-  remember_owner<ModelRegistry>(
+  remember_owner(
       owners, scratch_models.mechanisms(), [](const auto& t) { return t.type; }, "mechanism type",
       file);
-  remember_owner<ModelRegistry>(
+  remember_owner(
       owners, scratch_models.sensors(), [](const auto& t) { return t.type; }, "sensor type", file);
-  remember_owner<ModelRegistry>(
+  remember_owner(
       owners, scratch_models.presets(), [](const auto& p) { return p.name; }, "preset", file);
   for (const auto& info_entry : scratch_solvers.list())
     owners["solver '" + info_entry.name.substr(0, info_entry.name.find(':')) + "'"] = file;
