@@ -92,7 +92,9 @@ bool parse_command_line(const std::string& command, const Args& args,
   }
   resolve_deprecated_aliases(command, options, vm);
   if (vm.count("help")) {
-    std::cout << "usage: kincal " << command << " [options]\n" << options << "\n";
+    std::cout << "usage: kincal " << command << " [options]\n"
+              << options << "\nEvery command also takes --plugin FILE (a kincal plug-in, "
+              << "repeatable) and loads those KINCAL_PLUGIN_PATH names.\n";
     return false;
   }
   if (vm.count("version")) {

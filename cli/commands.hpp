@@ -42,5 +42,6 @@ int run_export(const Args& args);
 int run_validate(const Args& args);
 int run_design(const Args& args);
 int run_compare(const Args& args);
+int run_check(const Args& args);
 
 }  // namespace kincal::cli

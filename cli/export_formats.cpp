@@ -9,6 +9,7 @@
 #include "kincal/cli/urdf_io.hpp"
 #include "kincal/framework/pose.hpp"
 #include "kincal/framework/units.hpp"
+#include "kincal/models/model_io.hpp"
 #include "kincal/models/serial_arm.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
@@ -350,7 +351,35 @@ std::string export_json(const MeasurementModel& model, const ExportSource& sourc
     out["tool"] = pose_json(frame_from_parameters(g.tool));
     return out.dump(2) + "\n";
   }
-  const std::vector<Leg> legs = parallel_legs(model);
+  std::vector<Leg> legs;
+  try {
+    legs = parallel_legs(model);
+  } catch (const ExportError&) {
+    // Any other mechanism (a plug-in's): its own model-file description with the calibrated
+    // values, which its type's reader defines, and the parameters by name.
+    const VectorXd values = model.parameters().nominal_values();
+    const Mechanism& m = model.mechanism();
+    out["convention"] =
+        "description: the mechanism as in a kincal model file (the fields its type defines), "
+        "with the calibrated values; parameters: the same values by name with their units; "
+        "actuators: their values at the home pose";
+    Json description = model_to_json(model, values)["mechanism"];
+    out["description"] = description;
+    out["home_pose"] = pose_json(m.home_pose());
+    out["parameters"] = Json::array();
+    for (std::size_t i = 0; i < m.parameters().size(); ++i)
+      out["parameters"].push_back({{"name", m.parameters()[i].name},
+                                   {"value", values[static_cast<int>(i)]},
+                                   {"unit", m.parameters()[i].unit}});
+    VectorXd home(m.num_actuators());
+    const bool home_ok = m.home_actuators(values.head(m.num_parameters()), home).ok();
+    out["actuators"] = Json::array();
+    for (int a = 0; a < m.num_actuators(); ++a)
+      out["actuators"].push_back({{"name", m.actuators()[static_cast<std::size_t>(a)].name},
+                                  {"unit", m.actuators()[static_cast<std::size_t>(a)].unit},
+                                  {"home", home_ok ? Json(home[a]) : Json()}});
+    return out.dump(2) + "\n";
+  }
   out["convention"] = kLegConvention;
   out["home_pose"] = pose_json(model.mechanism().home_pose());
   out["legs"] = Json::array();

@@ -16,6 +16,7 @@
 #include "kincal/cli/output_files.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/plugin.hpp"
 
 namespace kincal::cli {
 
@@ -40,6 +41,7 @@ const std::vector<Command>& commands() {
        run_verify},
       {"export", "a calibrated model as URDF (serial arms), joint-coordinate CSV or JSON",
        run_export},
+      {"check", "conformance checks of a preset or model file (e.g. a plug-in's types)", run_check},
   };
   return table;
 }
@@ -47,8 +49,12 @@ const std::vector<Command>& commands() {
 namespace {
 
 void print_usage(std::ostream& out) {
-  out << "usage: kincal <command> [options]   (kincal <command> --help for its options)\n"
+  out << "usage: kincal <command> [options] [--plugin FILE ...]   (kincal <command> --help for "
+         "its options)\n"
          "       kincal --version\n\n"
+         "--plugin FILE (any command, repeatable) loads a plug-in with further mechanism, sensor\n"
+         "and solver types, after those named by KINCAL_PLUGIN_PATH (files or folders, ':'\n"
+         "between them).\n\n"
          "commands:\n";
   for (const auto& c : commands()) {
     std::string name = c.name;
@@ -60,6 +66,38 @@ void print_usage(std::ostream& out) {
 // One line whatever the message holds (a path with a line break, a 60 KB field).
 void print_error(const std::string& command, const std::string& what) {
   std::cerr << "kincal " << command << ": error: " << message_excerpt(what, 4000) << "\n";
+}
+
+// Takes every `--plugin FILE` / `--plugin=FILE` out of `args`: a global option, so that no
+// command spells it. Returns the files in the order given.
+std::vector<std::string> take_plugin_options(Args& args) {
+  std::vector<std::string> files;
+  Args rest;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--") {  // the rest are operands
+      rest.insert(rest.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+      break;
+    }
+    if (args[i] == "--plugin") {
+      if (i + 1 == args.size()) throw CliError("--plugin needs a file (a kincal plug-in)");
+      files.push_back(args[++i]);
+    } else if (args[i].rfind("--plugin=", 0) == 0) {
+      files.push_back(args[i].substr(9));
+      if (files.back().empty()) throw CliError("--plugin needs a file (a kincal plug-in)");
+    } else {
+      rest.push_back(args[i]);
+    }
+  }
+  args = std::move(rest);
+  return files;
+}
+
+// KINCAL_PLUGIN_PATH's plug-ins, then --plugin's, into the global registries.
+void load_plugins(Args& args) {
+  std::vector<std::string> files = plugins_from_environment();
+  const std::vector<std::string> given = take_plugin_options(args);
+  files.insert(files.end(), given.begin(), given.end());
+  for (const auto& file : files) load_plugin(file);
 }
 
 }  // namespace
@@ -100,7 +138,9 @@ int run(int argc, const char* const* argv) {
     if (name != command.name) continue;
     deprecation_notes().clear();
     try {
-      const int code = command.run(Args(argv + 2, argv + argc));
+      Args args(argv + 2, argv + argc);
+      load_plugins(args);
+      const int code = command.run(args);
       check_standard_output();  // what was printed after the last file: never lost silently
       for (const std::string& line : deprecation_notes()) std::cerr << line << "\n";
       return code;

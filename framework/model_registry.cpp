@@ -63,6 +63,25 @@ void ModelRegistry::add_preset(ModelPreset preset) {
   presets_.push_back(std::move(preset));
 }
 
+void ModelRegistry::add_export_format(ExportFormat format) {
+  if (format.format.empty() || format.mechanism_type.empty())
+    throw std::logic_error("export format registered without a format or mechanism type name");
+  if (format.format == "urdf" || format.format == "csv" || format.format == "json")
+    throw std::logic_error("export format '" + format.format + "' is kincal's own");
+  if (export_format(format.mechanism_type, format.format))
+    throw std::logic_error("export format '" + format.format + "' of mechanism type '" +
+                           format.mechanism_type + "' registered twice");
+  if (!format.write) throw std::logic_error("export format '" + format.format + "' needs a writer");
+  export_formats_.push_back(std::move(format));
+}
+
+const ExportFormat* ModelRegistry::export_format(const std::string& mechanism_type,
+                                                 const std::string& format) const {
+  for (const auto& f : export_formats_)
+    if (f.mechanism_type == mechanism_type && f.format == format) return &f;
+  return nullptr;
+}
+
 const MechanismType& ModelRegistry::mechanism(const std::string& type) const {
   return find(
       mechanisms_, type, [](const MechanismType& t) { return t.type; }, "mechanism type");

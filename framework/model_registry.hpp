@@ -46,6 +46,24 @@ struct ModelPreset {
   std::function<std::shared_ptr<MeasurementModel>()> make;
 };
 
+/// Where an exported model came from, written into the export.
+struct ExportOrigin {
+  std::string model_file;
+  std::string sha256;  ///< of the model file's bytes
+};
+
+/// A further `kincal export --format` for one mechanism type (urdf, csv and json are
+/// kincal's own; json works for every mechanism). The model's nominal values are the ones
+/// to export (a calibrated model file's).
+struct ExportFormat {
+  std::string format;          ///< as given to --format, e.g. "five-bar-csv"
+  std::string mechanism_type;  ///< the mechanism type it writes
+  std::string description;     ///< one line
+  /// The whole text of the export; throws std::invalid_argument with one sentence when the
+  /// model cannot be written so.
+  std::function<std::string(const MeasurementModel& model, const ExportOrigin& origin)> write;
+};
+
 class ModelRegistry {
  public:
   /// The process-wide registry with the built-in types and presets registered.
@@ -55,6 +73,9 @@ class ModelRegistry {
   void add_mechanism(MechanismType type);
   void add_sensor(SensorType type);
   void add_preset(ModelPreset preset);
+  /// Throws std::logic_error when the mechanism type already has that format, when the
+  /// format is one of kincal's own (urdf, csv, json) or when `write` is missing.
+  void add_export_format(ExportFormat format);
 
   /// Throw std::invalid_argument listing the registered names when `name` is unknown.
   const MechanismType& mechanism(const std::string& type) const;
@@ -66,11 +87,16 @@ class ModelRegistry {
   const std::vector<MechanismType>& mechanisms() const { return mechanisms_; }
   const std::vector<SensorType>& sensors() const { return sensors_; }
   const std::vector<ModelPreset>& presets() const { return presets_; }
+  const std::vector<ExportFormat>& export_formats() const { return export_formats_; }
+  /// The registered format `format` of `mechanism_type`, or nullptr.
+  const ExportFormat* export_format(const std::string& mechanism_type,
+                                    const std::string& format) const;
 
  private:
   std::vector<MechanismType> mechanisms_;
   std::vector<SensorType> sensors_;
   std::vector<ModelPreset> presets_;
+  std::vector<ExportFormat> export_formats_;
 };
 
 /// Defined in models/builtin_models.cpp: registers every mechanism type, sensor type and

@@ -49,6 +49,24 @@ void SolverRegistry::add_unavailable(const std::string& name, SolverKind kind,
   unavailable_.push_back({name, kind, reason});
 }
 
+void SolverRegistry::add_all(const SolverRegistry& other) {
+  for (std::size_t i = 0; i < other.infos_.size(); ++i) {
+    const SolverInfo& info = other.infos_[i];
+    require_new_name(info.name.substr(0, info.name.find(':')));
+    add_entry(info, other.entries_[i].is_family, other.entries_[i].factory);
+  }
+  for (const auto& missing : other.unavailable_)
+    add_unavailable(missing.name, missing.kind, missing.reason);
+}
+
+bool SolverRegistry::contains_name(const std::string& name) const {
+  for (const auto& info : infos_)
+    if (info.name == name || info.name == name + ":<ALGORITHM>") return true;
+  for (const auto& missing : unavailable_)
+    if (missing.name == name) return true;
+  return false;
+}
+
 bool SolverRegistry::contains(const std::string& name) const {
   try {
     create(name);

@@ -61,7 +61,12 @@ class SolverRegistry {
   /// InvalidSolverOptions with `reason`.
   void add_unavailable(const std::string& name, SolverKind kind, const std::string& reason);
 
+  /// Adds every backend of `other` (a plug-in's), with the same checks as add().
+  void add_all(const SolverRegistry& other);
+
   bool contains(const std::string& name) const;
+  /// Whether `name` (an exact name or a family, without a colon) is taken, available or not.
+  bool contains_name(const std::string& name) const;
   /// Throws InvalidSolverOptions listing the registered names when `name` is unknown, or
   /// giving the reason when it belongs to an unavailable backend.
   std::unique_ptr<Solver> create(const std::string& name) const;

@@ -41,6 +41,7 @@ TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
        "design --model " + m + " --poses 30 --candidates 60 --noise-std 0.0072mm --out /dev/null"},
       {"solver-suite", "solver-suite --solver gn --problem mgh01*"},
       {"verify", "verify --report " + r + " --model " + c},
+      {"check", "check --preset planar-3rpr"},
       {"compare", "compare --truth " + dir / "D.truth.json" + " --model " + c + " --poses 5"},
   };
   // Commands whose result is a file of their own format, not a --json report.

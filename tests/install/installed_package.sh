@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The installed kincal package, used as a project outside the tree would use it
 # (cmake/KincalInstallTest.cmake registers the three steps as ctest tests).
-#   installed_package.sh install|cmake|pkg-config WORK_DIR SOURCE_DIR BUILD_DIR
+#   installed_package.sh install|cmake|pkg-config|plugin WORK_DIR SOURCE_DIR BUILD_DIR
 # Environment (set by the test): CMAKE_COMMAND, CXX, CMAKE_GENERATOR, KINCAL_LAUNCHER
 # (the build's compiler launcher, e.g. ccache; may be empty), KINCAL_BUILD_TYPE.
 set -euo pipefail
@@ -22,6 +22,8 @@ case $step in
     mkdir -p "$work"
     "$cmake_cmd" --install "$build" --prefix "$prefix" >"$work/install.log"
     for f in include/kincal/version.hpp include/kincal/framework/solver_registry.hpp \
+      include/kincal/framework/plugin.hpp include/kincal/models/conformance.hpp \
+      lib*/cmake/kincal/KincalPlugin.cmake \
       include/kincal/cli/run.hpp lib*/cmake/kincal/kincalConfig.cmake \
       lib*/cmake/kincal/kincalConfigVersion.cmake lib*/pkgconfig/kincal.pc bin/kincal; do
       compgen -G "$prefix/$f" >/dev/null || fail "not installed: $f"
@@ -98,7 +100,40 @@ PY
     cd "$example" && ./tour
     ;;
 
+  plugin)
+    # examples/plugin/ built with find_package(kincal) + kincal_add_plugin, and used by the
+    # installed, stock kincal: the done-when of a plug-in.
+    example=$work/plugin-example
+    args=(-S "$source/examples/plugin" -B "$example" -G "$CMAKE_GENERATOR"
+      -DCMAKE_CXX_COMPILER="$CXX" -DCMAKE_BUILD_TYPE="${KINCAL_BUILD_TYPE:-Release}"
+      -DCMAKE_PREFIX_PATH="$prefix")
+    if [ -n "${KINCAL_LAUNCHER:-}" ]; then args+=(-DCMAKE_CXX_COMPILER_LAUNCHER="$KINCAL_LAUNCHER"); fi
+    "$cmake_cmd" "${args[@]}" >"$work/plugin-configure.log" ||
+      { cat "$work/plugin-configure.log"; fail "configure failed"; }
+    "$cmake_cmd" --build "$example" >"$work/plugin-build.log" ||
+      { cat "$work/plugin-build.log"; fail "build failed"; }
+    plugin=$example/libkincal_five_bar.so
+    [ -f "$plugin" ] || fail "no $plugin"
+    kincal=$prefix/bin/kincal
+    run=$work/plugin-run
+    rm -rf "$run" && mkdir -p "$run" && cd "$run"
+    "$kincal" list --plugin "$plugin" | grep -q '^five-bar ' || fail "list shows no five-bar"
+    "$kincal" simulate --plugin "$plugin" --preset five-bar-demo --noise-half-width 0 --json sim.json >/dev/null
+    python3 -c 'import json, sys; r = json.load(open("sim.json")); e = max(r["parameter_rms_error_mm"], r["parameter_rms_error_rad"]); print(f"five-bar-demo, no noise: parameter RMS error {e:.1e}"); sys.exit(0 if e < 1e-6 else 1)' ||
+      fail "simulate --noise-half-width 0 did not recover the truth"
+    export KINCAL_PLUGIN_PATH=$plugin  # the other way to name it
+    "$kincal" model --preset five-bar-demo --out five-bar.json
+    "$kincal" simulate --model five-bar.json --noise-half-width 0 --seed 2 --write-data data.csv >/dev/null
+    "$kincal" calibrate --model five-bar.json --data data.csv --out calibrated.json >/dev/null
+    "$kincal" observability --model five-bar.json --data data.csv >/dev/null
+    "$kincal" design --model five-bar.json --poses 12 --candidates 60 --noise-std 0.01mm \
+      --out design.csv >/dev/null
+    "$kincal" export --model calibrated.json --format json | grep -q '"mechanism": "five-bar"' ||
+      fail "export --format json"
+    "$kincal" check | tail -n 1
+    ;;
+
   *)
-    fail "unknown step (expected install, cmake or pkg-config)"
+    fail "unknown step (expected install, cmake, pkg-config or plugin)"
     ;;
 esac
