@@ -41,14 +41,28 @@ struct PoseT {
   Eigen::Matrix<T, 3, 3> rotation = Eigen::Matrix<T, 3, 3>::Identity();
   Eigen::Matrix<T, 3, 1> translation = Eigen::Matrix<T, 3, 1>::Zero();
 
-  Eigen::Matrix<T, 3, 1> transform_point(const Eigen::Matrix<T, 3, 1>& p) const {
-    return rotation * p + translation;
+  /// R p + t. Written out: Eigen's generic product does not unroll over dual numbers (their
+  /// cost exceeds its unrolling limit) and would call a kernel per coefficient.
+  template <class Vector>
+  Eigen::Matrix<T, 3, 1> transform_point(const Vector& p) const {
+    Eigen::Matrix<T, 3, 1> out;
+    for (int i = 0; i < 3; ++i)
+      out[i] =
+          rotation(i, 0) * p[0] + rotation(i, 1) * p[1] + rotation(i, 2) * p[2] + translation[i];
+    return out;
   }
   /// Composition: (this * other).transform_point(p) = transform_point(other.transform_point(p)).
   PoseT operator*(const PoseT& other) const {
     PoseT out;
-    out.rotation = rotation * other.rotation;
-    out.translation = rotation * other.translation + translation;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j)
+        out.rotation(i, j) = rotation(i, 0) * other.rotation(0, j) +
+                             rotation(i, 1) * other.rotation(1, j) +
+                             rotation(i, 2) * other.rotation(2, j);
+      out.translation[i] = rotation(i, 0) * other.translation[0] +
+                           rotation(i, 1) * other.translation[1] +
+                           rotation(i, 2) * other.translation[2] + translation[i];
+    }
     return out;
   }
 };
@@ -60,6 +74,19 @@ template <class D>
 double value(const Eigen::AutoDiffScalar<D>& x) {
   return x.value();
 }
+template <int N>
+Eigen::Matrix<double, N, 1>& grad(Jet<N>& x) {
+  return x.derivatives();
+}
+template <int N>
+const Eigen::Matrix<double, N, 1>& grad(const Jet<N>& x) {
+  return x.derivatives();
+}
+
+/// The number of derivatives to carry for n: n rounded up to a multiple of 4. GCC inlines
+/// the derivative arithmetic of 4 and 8 doubles (whole SSE/AVX packets) but calls a kernel
+/// per operation for 6, which made the 6-DOF evaluations twice as slow (docs/benchmarks.md).
+constexpr int padded(int n) { return (n + 3) / 4 * 4; }
 
 /// A constant: value v, every derivative zero.
 template <int N>
@@ -115,12 +142,12 @@ PoseT<T> frame(const T* p) {
 /// The pose as PoseT<double>, and back.
 inline PoseT<double> to_pose_t(const Pose& pose) { return {pose.rotation, pose.translation}; }
 inline Pose to_pose(const PoseT<double>& pose) { return {pose.rotation, pose.translation}; }
-template <class D>
-Pose value(const PoseT<Eigen::AutoDiffScalar<D>>& pose) {
+template <int N>
+Pose value(const PoseT<Jet<N>>& pose) {
   Pose out;
   for (int r = 0; r < 3; ++r) {
-    out.translation[r] = pose.translation[r].value();
-    for (int c = 0; c < 3; ++c) out.rotation(r, c) = pose.rotation(r, c).value();
+    out.translation[r] = ad::value(pose.translation[r]);
+    for (int c = 0; c < 3; ++c) out.rotation(r, c) = ad::value(pose.rotation(r, c));
   }
   return out;
 }
@@ -133,14 +160,14 @@ PoseT<Jet<N>> perturbed(const Pose& pose, const Eigen::Matrix<double, 6, Dof>& b
   PoseT<Jet<N>> out;
   for (int i = 0; i < 3; ++i) {
     out.translation[i] = constant<N>(pose.translation[i]);
-    out.translation[i].derivatives().template segment<Dof>(offset) = basis.row(i).transpose();
+    ad::grad(out.translation[i]).template segment<Dof>(offset) = basis.row(i).transpose();
   }
   // d(R e_j)/d(dw) = d(dw x c_j)/d(dw) = -[c_j]x, c_j the column j of R.
   for (int j = 0; j < 3; ++j) {
     const Eigen::Matrix<double, 3, Dof> d = -skew(pose.rotation.col(j)) * basis.bottomRows(3);
     for (int i = 0; i < 3; ++i) {
       out.rotation(i, j) = constant<N>(pose.rotation(i, j));
-      out.rotation(i, j).derivatives().template segment<Dof>(offset) = d.row(i).transpose();
+      ad::grad(out.rotation(i, j)).template segment<Dof>(offset) = d.row(i).transpose();
     }
   }
   return out;
@@ -153,8 +180,8 @@ Vector6d tangent(const PoseT<Jet<N>>& pose, const Matrix3d& R, int k) {
   Vector6d out;
   Matrix3d dR;
   for (int i = 0; i < 3; ++i) {
-    out[i] = pose.translation[i].derivatives()[k];
-    for (int j = 0; j < 3; ++j) dR(i, j) = pose.rotation(i, j).derivatives()[k];
+    out[i] = ad::grad(pose.translation[i])[k];
+    for (int j = 0; j < 3; ++j) dR(i, j) = ad::grad(pose.rotation(i, j))[k];
   }
   const Matrix3d W = dR * R.transpose();
   out.tail<3>() << 0.5 * (W(2, 1) - W(1, 2)), 0.5 * (W(0, 2) - W(2, 0)), 0.5 * (W(1, 0) - W(0, 1));
@@ -176,13 +203,14 @@ std::vector<Jet<N>>& scratch(int n) {
 /// predicted - measured) whose predict() derives both Jacobians from
 ///   template <class T> void autodiff_readings(const T* params, const PoseT<T>& pose,
 ///                                             T* readings) const;
-/// in one evaluation on dual numbers with 6 + NumParameters derivatives.
+/// in one evaluation on dual numbers with 6 + NumParameters derivatives (padded).
 template <class Derived, int NumParameters, int NumReadings>
 class AutoDiffSensor : public Sensor {
  public:
   static constexpr int kNumParameters = NumParameters;
   static constexpr int kNumReadings = NumReadings;
-  using Dual = Jet<6 + NumParameters>;
+  static constexpr int kDerivatives = ad::padded(6 + NumParameters);
+  using Dual = Jet<kDerivatives>;
 
   int num_readings() const override { return NumReadings; }
 
@@ -197,18 +225,17 @@ class AutoDiffSensor : public Sensor {
     }
     std::array<Dual, NumParameters> p;
     for (int k = 0; k < NumParameters; ++k) {
-      p[k] = ad::constant<6 + NumParameters>(params[k]);
-      p[k].derivatives()[6 + k] = 1.0;
+      p[k] = ad::constant<kDerivatives>(params[k]);
+      ad::grad(p[k])[6 + k] = 1.0;
     }
-    const PoseT<Dual> x = ad::perturbed<6 + NumParameters, 6>(pose, Matrix6d::Identity(), 0);
+    const PoseT<Dual> x = ad::perturbed<kDerivatives, 6>(pose, Matrix6d::Identity(), 0);
     std::array<Dual, NumReadings> out;
     self.autodiff_readings(p.data(), x, out.data());
     for (int r = 0; r < NumReadings; ++r) {
-      reading[r] = out[r].value();
-      if (J_reading_pose)
-        J_reading_pose->row(r) = out[r].derivatives().template head<6>().transpose();
+      reading[r] = ad::value(out[r]);
+      if (J_reading_pose) J_reading_pose->row(r) = ad::grad(out[r]).template head<6>().transpose();
       if (J_reading_params)
-        J_reading_params->row(r) = out[r].derivatives().template tail<NumParameters>().transpose();
+        J_reading_params->row(r) = ad::grad(out[r]).template segment<NumParameters>(6).transpose();
     }
   }
 };
@@ -228,6 +255,7 @@ class AutoDiffClosedChain : public ClosedChainMechanism<Dof> {
   using typename Base::ConstraintJacobian;
   using typename Base::ConstraintVector;
   using typename Base::ParamsJacobian;
+  static constexpr int kPoseDerivatives = ad::padded(Dof);
 
   void constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                    ConstraintVector& g, ConstraintJacobian* J_g_pose) const override {
@@ -236,14 +264,15 @@ class AutoDiffClosedChain : public ClosedChainMechanism<Dof> {
       self.autodiff_constraints(params.data(), q, ad::to_pose_t(pose), g.data());
       return;
     }
-    std::vector<Jet<Dof>>& p = ad::scratch<Dof>(static_cast<int>(params.size()));
-    for (Eigen::Index k = 0; k < params.size(); ++k) p[k] = ad::constant<Dof>(params[k]);
-    const PoseT<Jet<Dof>> x = ad::perturbed<Dof, Dof>(pose, this->motion_basis(), 0);
-    std::array<Jet<Dof>, Dof> out;
+    constexpr int N = kPoseDerivatives;
+    std::vector<Jet<N>>& p = ad::scratch<N>(static_cast<int>(params.size()));
+    for (Eigen::Index k = 0; k < params.size(); ++k) p[k] = ad::constant<N>(params[k]);
+    const PoseT<Jet<N>> x = ad::perturbed<N, Dof>(pose, this->motion_basis(), 0);
+    std::array<Jet<N>, Dof> out;
     self.autodiff_constraints(p.data(), q, x, out.data());
     for (int i = 0; i < Dof; ++i) {
-      g[i] = out[i].value();
-      J_g_pose->row(i) = out[i].derivatives().transpose();
+      g[i] = ad::value(out[i]);
+      J_g_pose->row(i) = ad::grad(out[i]).template head<Dof>().transpose();
     }
   }
 
@@ -261,11 +290,11 @@ class AutoDiffClosedChain : public ClosedChainMechanism<Dof> {
     std::array<Jet<Chunk>, Dof> out;
     for (int start = 0; start < n; start += Chunk) {
       const int count = std::min(Chunk, n - start);
-      for (int k = 0; k < count; ++k) p[start + k].derivatives()[k] = 1.0;
+      for (int k = 0; k < count; ++k) ad::grad(p[start + k])[k] = 1.0;
       self.autodiff_constraints(p.data(), q, x, out.data());
       for (int i = 0; i < Dof; ++i)
-        J_g_params.row(i).segment(start, count) = out[i].derivatives().head(count).transpose();
-      for (int k = 0; k < count; ++k) p[start + k].derivatives()[k] = 0.0;
+        J_g_params.row(i).segment(start, count) = ad::grad(out[i]).head(count).transpose();
+      for (int k = 0; k < count; ++k) ad::grad(p[start + k])[k] = 0.0;
     }
   }
 
@@ -314,28 +343,31 @@ class AutoDiffSerialChain : public Mechanism {
     const Pose end = end_pose(params, q);
     const int joints = self.num_joints();
     PoseT<double> prefix;
-    // Base and tool: a frame block over six dual numbers.
+    // Base and tool: a frame block over six dual numbers (eight derivatives: see
+    // ad::padded).
     auto frame_block = [&](int index) {
-      std::array<Jet<6>, 6> p;
+      constexpr int N = ad::padded(6);
+      std::array<Jet<N>, 6> p;
       for (int k = 0; k < 6; ++k) {
-        p[k] = ad::constant<6>(params[index + k]);
-        p[k].derivatives()[k] = 1.0;
+        p[k] = ad::constant<N>(params[index + k]);
+        ad::grad(p[k])[k] = 1.0;
       }
-      const PoseT<Jet<6>> block = ad::frame(p.data());
-      move_to_end(prefix, block, end, J_pose_params.template middleCols<6>(index));
+      const PoseT<Jet<N>> block = ad::frame(p.data());
+      move_to_end<6>(prefix, block, end, J_pose_params.template middleCols<6>(index));
       return ad::to_pose_t(ad::value(block));
     };
     prefix = frame_block(0);
     for (int i = 0; i < joints; ++i) {
       const int index = joint_index(i);
-      std::array<Jet<LinkParameters>, LinkParameters> p;
+      constexpr int N = ad::padded(LinkParameters);
+      std::array<Jet<N>, LinkParameters> p;
       for (int k = 0; k < LinkParameters; ++k) {
-        p[k] = ad::constant<LinkParameters>(params[index + k]);
-        p[k].derivatives()[k] = 1.0;
+        p[k] = ad::constant<N>(params[index + k]);
+        ad::grad(p[k])[k] = 1.0;
       }
-      const PoseT<Jet<LinkParameters>> link =
-          self.autodiff_link(i, p.data(), ad::constant<LinkParameters>(q[i]));
-      move_to_end(prefix, link, end, J_pose_params.template middleCols<LinkParameters>(index));
+      const PoseT<Jet<N>> link = self.autodiff_link(i, p.data(), ad::constant<N>(q[i]));
+      move_to_end<LinkParameters>(prefix, link, end,
+                                  J_pose_params.template middleCols<LinkParameters>(index));
       prefix = prefix * ad::to_pose_t(ad::value(link));
     }
     frame_block(joint_index(joints));
@@ -351,9 +383,9 @@ class AutoDiffSerialChain : public Mechanism {
       std::array<Jet<1>, LinkParameters> p;
       for (int k = 0; k < LinkParameters; ++k) p[k] = ad::constant<1>(params[joint_index(i) + k]);
       Jet<1> qi = ad::constant<1>(q[i]);
-      qi.derivatives()[0] = 1.0;
+      ad::grad(qi)[0] = 1.0;
       const PoseT<Jet<1>> link = self.autodiff_link(i, p.data(), qi);
-      move_to_end(prefix, link, end, J_pose_q.col(i));
+      move_to_end<1>(prefix, link, end, J_pose_q.col(i));
       prefix = prefix * ad::to_pose_t(ad::value(link));
     }
     return end;
@@ -368,14 +400,15 @@ class AutoDiffSerialChain : public Mechanism {
     return ad::to_pose(pose * ad::frame(params.data() + joint_index(self.num_joints())));
   }
 
-  template <int N, class Columns>
+  /// Columns 0..Count-1 of J: the derivatives 0..Count-1 of `block` moved to the end pose.
+  template <int Count, int N, class Columns>
   static void move_to_end(const PoseT<double>& prefix, const PoseT<Jet<N>>& block, const Pose& end,
                           Columns&& J) {
     const Pose value = ad::value(block);
     // Where the end sits relative to the block's origin, in the prefix's frame.
     const Vector3d lever =
         prefix.rotation.transpose() * (end.translation - prefix.translation) - value.translation;
-    for (int k = 0; k < N; ++k) {
+    for (int k = 0; k < Count; ++k) {
       const Vector6d local = ad::tangent(block, value.rotation, k);
       const Vector3d w = prefix.rotation * local.tail<3>();
       J.col(k).template head<3>() =

@@ -213,10 +213,10 @@ TEST(AutoDiff, LmOnTheTwinLandsWhereTheHandWrittenModelDoes) {
   const Summary a = solver->solve(*hand.make_problem(), x_hand, {});
   const Summary b = solver->solve(*twin.make_problem(), x_twin, {});
   ASSERT_TRUE(a.converged() && b.converged());
-  EXPECT_EQ(a.iterations, b.iterations);
-  EXPECT_NEAR(a.final_cost, b.final_cost, 1e-9 * a.final_cost);
   // Case 5 is flat (parameters 4.8 mm RMS from the truth at the optimum): Jacobians equal to
-  // rounding move the solution by ~1e-5 mm, as any reordering of the arithmetic does.
+  // rounding change the end game (12 or 16 iterations) and move the solution by ~1e-5 mm, as
+  // any reordering of the arithmetic does; the minimum is the same.
+  EXPECT_NEAR(a.final_cost, b.final_cost, 1e-9 * a.final_cost);
   EXPECT_LT((x_hand - x_twin).cwiseAbs().maxCoeff(), 1e-4);
 }
 
