@@ -13,6 +13,8 @@
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
+#include "kincal/models/serial_arm_presets.hpp"
+#include "tests/models/autodiff_twins.hpp"
 
 namespace kincal {
 namespace {
@@ -35,6 +37,35 @@ const Scenario& scenario_with(int num_configurations) {
 }
 
 const Scenario& case5() { return scenario_with(paper_case(5).num_configurations); }
+
+// Case 5 with the hexapod and the gauge replaced by their automatic-derivative twins
+// (tests/models/autodiff_twins.hpp): the same data, configurations and start.
+const Scenario& case5_autodiff() {
+  static const Scenario twin = [] {
+    Scenario s = case5();
+    s.model = testing::autodiff_twin(*s.model);
+    return s;
+  }();
+  return twin;
+}
+const Scenario& case5_of(bool autodiff) { return autodiff ? case5_autodiff() : case5(); }
+
+// A serial arm (PUMA 560, point tracker) as `kincal simulate --preset puma560` draws it.
+const Scenario& puma560(bool autodiff) {
+  static const Scenario hand = [] {
+    ScenarioOptions o;
+    o.num_configurations = 60;
+    o.num_validation = 0;
+    o.seed = 1;
+    return make_scenario(make_puma560(), o);
+  }();
+  static const Scenario twin = [] {
+    Scenario s = hand;
+    s.model = testing::autodiff_twin(*s.model);
+    return s;
+  }();
+  return autodiff ? twin : hand;
+}
 
 void BM_ForwardKinematics(benchmark::State& state) {
   const Scenario& s = case5();
@@ -85,6 +116,49 @@ void BM_ResidualsAndJacobian(benchmark::State& state) {
 }
 BENCHMARK(BM_ResidualsAndJacobian)->Arg(60)->Unit(benchmark::kMicrosecond);
 
+// Hand-written against automatic derivatives (docs/benchmarks.md): forward kinematics of one
+// configuration with J_pose_params, on the hexapod of case 5 and on the PUMA 560.
+void BM_MechanismWithJacobian(benchmark::State& state, const Scenario& s) {
+  const Mechanism& mechanism = s.model->mechanism();
+  const VectorXd truth = s.truth.head(mechanism.num_parameters());
+  const auto& fk_options = s.model->forward_kinematics_options();
+  Matrix6Xd J(6, mechanism.num_parameters());
+  int j = 0;
+  for (auto _ : state) {
+    const ForwardKinematicsResult fk = mechanism.forward_kinematics(
+        truth, s.calibration.actuators.row(j).transpose(), mechanism.home_pose(), fk_options);
+    mechanism.pose_jacobian_params(truth, s.calibration.actuators.row(j).transpose(), fk.pose, J);
+    benchmark::DoNotOptimize(J.data());
+    j = (j + 1) % s.calibration.size();
+  }
+}
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, hexapod_hand, case5_of(false));
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, hexapod_autodiff, case5_of(true));
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, puma560_hand, puma560(false));
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, puma560_autodiff, puma560(true));
+
+// The whole per-configuration kernel of a calibration: forward kinematics, the readings and
+// the reading Jacobian (adjoint form for the hexapod).
+void BM_PredictWithJacobianOf(benchmark::State& state, const Scenario& s) {
+  const MeasurementModel& model = *s.model;
+  auto ws = model.make_workspace();
+  VectorXd readings(model.num_readings());
+  MatrixXd J(model.num_readings(), model.num_parameters());
+  Eigen::Ref<MatrixXd> J_ref(J);
+  int j = 0;
+  for (auto _ : state) {
+    const auto fk =
+        model.predict(s.nominal, s.calibration.actuators.row(j).transpose(), readings, &J_ref, ws);
+    benchmark::DoNotOptimize(fk.iterations);
+    benchmark::DoNotOptimize(J.data());
+    j = (j + 1) % s.calibration.size();
+  }
+}
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, hexapod_hand, case5_of(false));
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, hexapod_autodiff, case5_of(true));
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, puma560_hand, puma560(false));
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, puma560_autodiff, puma560(true));
+
 SolverOptions calibration_options(const std::string& solver, int threads) {
   SolverOptions o;
   o.num_threads = threads;
@@ -95,9 +169,8 @@ SolverOptions calibration_options(const std::string& solver, int threads) {
 
 // A full calibration from nominal. Counters let the reader check that the backends reach the
 // same solution: final cost, parameter RMS error against the truth, iterations.
-void calibrate(benchmark::State& state, const std::string& name, int num_configurations,
-               int threads) {
-  const Scenario& s = scenario_with(num_configurations);
+void calibrate_scenario(benchmark::State& state, const Scenario& s, const std::string& name,
+                        int threads) {
   const auto problem = s.make_problem();
   const auto solver = SolverRegistry::global().create(name);
   const SolverOptions options = calibration_options(name, threads);
@@ -115,6 +188,11 @@ void calibrate(benchmark::State& state, const std::string& name, int num_configu
   state.counters["converged"] = summary.converged() ? 1 : 0;
 }
 
+void calibrate(benchmark::State& state, const std::string& name, int num_configurations,
+               int threads) {
+  calibrate_scenario(state, scenario_with(num_configurations), name, threads);
+}
+
 bool is_derivative_free(const std::string& name) { return name.rfind("nlopt:LN_", 0) == 0; }
 
 void register_dynamic_benchmarks() {
@@ -126,6 +204,15 @@ void register_dynamic_benchmarks() {
                                                                             benchmark::State& st) {
       calibrate(st, name, 60, 1);
     })->Unit(benchmark::kMillisecond);
+  }
+  if (registry.contains("lm")) {
+    // lm on case 5 with hand-written and with automatic derivatives, the same data.
+    for (const bool autodiff : {false, true})
+      benchmark::RegisterBenchmark(
+          (std::string("BM_CalibrateCase5Derivatives/lm/") + (autodiff ? "autodiff" : "hand"))
+              .c_str(),
+          [autodiff](benchmark::State& st) { calibrate_scenario(st, case5_of(autodiff), "lm", 1); })
+          ->Unit(benchmark::kMillisecond);
   }
   const std::string scaling_solver = registry.contains("lm") ? "lm" : "gn";
   for (int threads : {1, hardware_threads()}) {

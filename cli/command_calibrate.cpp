@@ -287,6 +287,7 @@ int run_calibrate(const Args& args) {
   report.data_file = data_file;
   report.fixed_by_identifiability = fixed_by_identifiability;
   report.skipped_lines = loaded.skipped_lines;
+  report.dropped_readings = loaded.dropped_readings;
   if (home_check.far) report.warnings.push_back(home_check.warning);
 
   const bool solved = summary.termination == TerminationType::kConverged ||

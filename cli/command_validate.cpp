@@ -399,6 +399,7 @@ int run_validate(const Args& args) {
     out["configurations"] = v.configurations;
     out["readings"] = v.readings;
     out["skipped_lines"] = loaded.skipped_lines;
+    out["dropped_readings"] = loaded.dropped_readings;
     const bool one_unit = v.rms_by_unit.size() == 1;
     out["residual_rms"] = one_unit ? Json(v.rms_by_unit.begin()->second) : Json();
     out["residual_max"] = one_unit ? Json(v.max_by_unit.begin()->second) : Json();

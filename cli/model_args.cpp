@@ -187,6 +187,17 @@ LoadedData load_measurements(const std::string& command, const std::string& path
                       ": skipped, forward kinematics " + b.reason);
   }
   if (!stroke_hint.empty()) note(command, stroke_hint);
+  // Readings a sensor cannot take (no reading: beam misses the plane), in rows that keep
+  // others: dropped with a note, as unreachable rows are, and listed in the report.
+  const auto missed = find_missed_readings(model, params, table.data);
+  for (const auto& m : missed) {
+    const std::string line = std::to_string(table.line_numbers[m.row]);
+    const std::string& sensor = model.sensors()[m.sensor]->name();
+    loaded.dropped_readings.push_back("line " + line + ": " + sensor + ": " + m.reason);
+    note(command,
+         path + ":" + line + ": reading of " + sensor + " dropped, no reading: " + m.reason);
+  }
+  drop_readings(model, missed, table.data);
   loaded.data = drop_rows(table.data, rows);
   std::size_t next = 0;
   for (int r = 0; r < table.data.size(); ++r) {

@@ -51,11 +51,16 @@ struct LoadedData {
   Measurements data;
   std::vector<int> lines;          ///< file line of each kept row
   std::vector<int> skipped_lines;  ///< lines dropped as unreachable
+  /// Readings a sensor cannot take at the model's values (Sensor::reads_at), dropped from
+  /// rows that other readings keep: "line 12: laser: beam misses the plane".
+  std::vector<std::string> dropped_readings;
 };
 /// Reads `path` for `model` (unit suffixes converted), refuses data that look like the wrong
 /// unit (check_data_units), then checks that forward kinematics works at `params` for
 /// every row: unreachable rows are an error naming their lines, or, with `skip_bad_rows`,
-/// dropped with a note. When no row at all is reachable the message names the model file
+/// dropped with a note. A reading that its sensor cannot take there (a beam that misses) is
+/// dropped with a note (set to NaN, not measured) whatever `skip_bad_rows`, as long as the
+/// row keeps another reading. When no row at all is reachable the message names the model file
 /// `model_file` too: then its values are as likely to be wrong as the data.
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,

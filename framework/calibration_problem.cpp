@@ -1,5 +1,6 @@
 #include "kincal/framework/calibration_problem.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace kincal {
@@ -92,6 +93,30 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
     if (why)
       *why = "configuration " + std::to_string(block + 1) + ": forward kinematics " + fk.describe();
     return false;
+  }
+  if (model_->sensors_can_miss()) {
+    // A measured reading that the sensor cannot take at x fails the evaluation, as forward
+    // kinematics does: dropping it instead would let the solver lower the cost by moving the
+    // parameters until a sensor misses. Readings missed at the start were dropped from the
+    // data when it was read (find_missed_readings).
+    for (int i = 0; i < k; ++i) {
+      if (!std::isnan(scratch.predicted[i]) || std::isnan(scratch.measured[i])) continue;
+      if (why) {
+        const int s = model_->sensor_of_reading(i);
+        std::string reason;
+        const Pose pose =
+            model_->mechanism()
+                .forward_kinematics(scratch.full.head(model_->mechanism().num_parameters()),
+                                    data_.actuators.row(block).transpose(),
+                                    model_->mechanism().home_pose(),
+                                    model_->forward_kinematics_options())
+                .pose;
+        model_->sensor_reads_at(scratch.full, pose, s, &reason);
+        *why = "configuration " + std::to_string(block + 1) + ": sensor " +
+               model_->sensors()[s]->name() + ": no reading: " + reason;
+      }
+      return false;
+    }
   }
   model_->reading_errors(scratch.predicted, scratch.measured, residuals,
                          jacobian ? &J_ref : nullptr);

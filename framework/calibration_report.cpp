@@ -257,6 +257,7 @@ Json to_json(const CalibrationReport& r) {
   for (const auto& [name, count] : r.readings_per_sensor) per_sensor[name] = count;
   out["readings_per_sensor"] = per_sensor;
   out["skipped_lines"] = r.skipped_lines;
+  out["dropped_readings"] = r.dropped_readings;
   // One unit: plain numbers, as always; several: the pooled figure would mix mm and rad.
   const bool one_unit = r.residual_rms.size() == 1;
   out["residual_rms"] = one_unit ? Json(r.residual_rms.begin()->second) : Json();
@@ -408,6 +409,8 @@ std::string to_text(const CalibrationReport& r) {
   out << "calibration of " << printable(r.model_file) << " from " << printable(r.data_file) << ": "
       << r.num_configurations << " configurations";
   if (!r.skipped_lines.empty()) out << " (" << r.skipped_lines.size() << " rows skipped)";
+  if (!r.dropped_readings.empty())
+    out << " (" << r.dropped_readings.size() << " readings dropped: no reading)";
   out << "\n" << r.summary.brief_report() << "\n";
   out << "readings:";
   for (const auto& [name, count] : r.readings_per_sensor) out << " " << name << " " << count;

@@ -70,6 +70,9 @@ struct CalibrationReport {
   /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
   std::vector<std::string> fixed_by_identifiability;
   std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)
+  /// Readings dropped because their sensor gives none there (Sensor::reads_at), one line
+  /// each: "line 12: laser: beam misses the plane".
+  std::vector<std::string> dropped_readings;
   /// Plain-language warnings about the data or the model found by the checks around the
   /// solve (e.g. forward kinematics of the data far from home_pose); one sentence each.
   std::vector<std::string> warnings;

@@ -399,9 +399,59 @@ std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
     if (data.readings.row(r).array().isNaN().all()) continue;  // nothing measured: not used
     const ForwardKinematicsResult fk =
         model.predict(params, data.actuators.row(r).transpose(), readings, nullptr, ws);
-    if (!fk.ok()) bad.push_back({r, fk.describe()});
+    if (!fk.ok()) {
+      bad.push_back({r, fk.describe()});
+      continue;
+    }
+    if (!model.sensors_can_miss()) continue;
+    // Every measured reading missed: nothing of the row can be used.
+    std::string reasons;
+    bool any_read = false;
+    for (int i = 0; i < model.num_readings() && !any_read; ++i)
+      any_read = !std::isnan(data.readings(r, i)) && !std::isnan(readings[i]);
+    if (any_read) continue;
+    for (int s = 0; s < static_cast<int>(model.sensors().size()); ++s) {
+      std::string reason;
+      if (model.sensor_reads_at(params, fk.pose, s, &reason)) continue;
+      reasons += (reasons.empty() ? "" : "; ") + model.sensors()[s]->name() + ": " + reason;
+    }
+    bad.push_back({r, "gives no reading (" + reasons + ")"});
   }
   return bad;
+}
+
+std::vector<MissedReading> find_missed_readings(const MeasurementModel& model,
+                                                const VectorXd& params, const Measurements& data) {
+  std::vector<MissedReading> missed;
+  if (!model.sensors_can_miss()) return missed;
+  const Mechanism& mechanism = model.mechanism();
+  for (int r = 0; r < data.size(); ++r) {
+    const ForwardKinematicsResult fk = mechanism.forward_kinematics(
+        params.head(mechanism.num_parameters()), data.actuators.row(r).transpose(),
+        mechanism.home_pose(), model.forward_kinematics_options());
+    if (!fk.ok()) continue;  // find_unreachable_rows reports it
+    std::vector<MissedReading> row;
+    bool any_read = false;
+    for (int s = 0; s < static_cast<int>(model.sensors().size()); ++s) {
+      const int o = model.sensor_reading_offset(s), k = model.sensors()[s]->num_readings();
+      if (data.readings.row(r).segment(o, k).array().isNaN().all()) continue;  // not measured
+      std::string reason;
+      if (model.sensor_reads_at(params, fk.pose, s, &reason))
+        any_read = true;
+      else
+        row.push_back({r, s, reason});
+    }
+    if (any_read) missed.insert(missed.end(), row.begin(), row.end());
+  }
+  return missed;
+}
+
+void drop_readings(const MeasurementModel& model, const std::vector<MissedReading>& missed,
+                   Measurements& data) {
+  for (const MissedReading& m : missed)
+    data.readings.row(m.row)
+        .segment(model.sensor_reading_offset(m.sensor), model.sensors()[m.sensor]->num_readings())
+        .setConstant(std::numeric_limits<double>::quiet_NaN());
 }
 
 Measurements drop_rows(const Measurements& data, const std::vector<int>& rows) {

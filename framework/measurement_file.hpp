@@ -100,15 +100,30 @@ std::string measurements_to_csv(const Measurements& data,
                                 const std::vector<std::string>& reading_names,
                                 const std::string& comment = "");
 
-/// Rows whose readings the model cannot predict at `params` (forward kinematics fails),
-/// with the reason, in row order. Rows without any reading are not checked: they are not
-/// used.
+/// Rows whose readings the model cannot predict at `params` (forward kinematics fails, or
+/// no sensor reads any of the row's measured readings), with the reason, in row order. Rows without
+/// any reading are not checked: they are not used.
 struct UnreachableRow {
   int row = 0;  ///< 0-based row of the Measurements
   std::string reason;
 };
 std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
                                                   const VectorXd& params, const Measurements& data);
+
+/// Measured readings that a sensor cannot take at `params` (Sensor::reads_at: a beam
+/// missing its target, a reading out of range) in rows that forward kinematics reaches, one
+/// per sensor and row, with the sensor's reason, in row order. A row in which every measured
+/// reading is missed is unusable: find_unreachable_rows reports it instead.
+struct MissedReading {
+  int row = 0;     ///< 0-based row of the Measurements
+  int sensor = 0;  ///< index in the model's sensors
+  std::string reason;
+};
+std::vector<MissedReading> find_missed_readings(const MeasurementModel& model,
+                                                const VectorXd& params, const Measurements& data);
+/// The readings of `missed` set to NaN (not measured), so that they contribute no residual.
+void drop_readings(const MeasurementModel& model, const std::vector<MissedReading>& missed,
+                   Measurements& data);
 
 /// `data` without the listed 0-based rows (`rows` sorted ascending).
 Measurements drop_rows(const Measurements& data, const std::vector<int>& rows);

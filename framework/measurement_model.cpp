@@ -1,6 +1,7 @@
 #include "kincal/framework/measurement_model.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace kincal {
@@ -18,6 +19,7 @@ MeasurementModel::MeasurementModel(std::shared_ptr<const Mechanism> mechanism,
     reading_offsets_.push_back(num_readings_);
     num_readings_ += sensor->num_readings();
     has_manifold_readings_ = has_manifold_readings_ || sensor->has_manifold_readings();
+    sensors_can_miss_ = sensors_can_miss_ || sensor->can_miss();
   }
   reading_std_ = VectorXd::Ones(num_readings_);
   const auto& actuators = mechanism_->actuators();
@@ -103,6 +105,17 @@ ForwardKinematicsResult MeasurementModel::predict(const Eigen::Ref<const VectorX
     const Sensor& sensor = *sensors_[s];
     const int k = sensor.num_readings();
     const auto sensor_params = params.segment(sensor_offsets_[s], sensor.num_parameters());
+    if (sensors_can_miss_ && sensor.can_miss() &&
+        !sensor.reads_at(sensor_params, fk.pose, nullptr)) {
+      // No reading: NaN, and no gradient through it (reading_errors then drops it).
+      readings.segment(row, k).setConstant(std::numeric_limits<double>::quiet_NaN());
+      if (J) {
+        ws.J_readings_pose.middleRows(row, k).setZero();
+        J->middleRows(row, k).setZero();
+      }
+      row += k;
+      continue;
+    }
     sensor.predict(sensor_params, fk.pose, readings.segment(row, k),
                    J ? &ws.J_reading_pose[s] : nullptr, J ? &ws.J_reading_params[s] : nullptr);
     if (J) {
@@ -126,10 +139,28 @@ void MeasurementModel::predict_at_pose(const Eigen::Ref<const VectorXd>& params,
   for (std::size_t s = 0; s < sensors_.size(); ++s) {
     const Sensor& sensor = *sensors_[s];
     const auto sensor_params = params.segment(sensor_offsets_[s], sensor.num_parameters());
-    sensor.predict(sensor_params, pose, readings.segment(row, sensor.num_readings()), nullptr,
-                   nullptr);
+    if (sensor.can_miss() && !sensor.reads_at(sensor_params, pose, nullptr))
+      readings.segment(row, sensor.num_readings())
+          .setConstant(std::numeric_limits<double>::quiet_NaN());
+    else
+      sensor.predict(sensor_params, pose, readings.segment(row, sensor.num_readings()), nullptr,
+                     nullptr);
     row += sensor.num_readings();
   }
+}
+
+bool MeasurementModel::sensor_reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                                       int sensor_index, std::string* reason) const {
+  const Sensor& sensor = *sensors_.at(sensor_index);
+  return !sensor.can_miss() ||
+         sensor.reads_at(params.segment(sensor_offsets_[sensor_index], sensor.num_parameters()),
+                         pose, reason);
+}
+
+int MeasurementModel::sensor_of_reading(int reading_index) const {
+  int s = 0;
+  while (s + 1 < static_cast<int>(sensors_.size()) && reading_offsets_[s + 1] <= reading_index) ++s;
+  return s;
 }
 
 void MeasurementModel::reading_errors(const Eigen::Ref<const VectorXd>& predicted,

@@ -67,12 +67,14 @@ class MeasurementModel {
   /// Predicted readings for actuator values q (forward kinematics from the home pose) and,
   /// when J is non-null, their Jacobian (num_readings x num_parameters, presized) with
   /// respect to the full parameter vector. Returns the forward kinematics result: when it
-  /// failed, the readings are left unspecified.
+  /// failed, the readings are left unspecified. The readings of a sensor that does not read
+  /// at the pose reached (Sensor::reads_at) are NaN, their Jacobian rows zero.
   ForwardKinematicsResult predict(const Eigen::Ref<const VectorXd>& params, const ActuatorsRef& q,
                                   Eigen::Ref<VectorXd> readings, Eigen::Ref<MatrixXd>* J,
                                   Workspace& ws) const;
 
-  /// Readings at a known pose (no forward kinematics): used to simulate sensors.
+  /// Readings at a known pose (no forward kinematics): used to simulate sensors. NaN for a
+  /// sensor that does not read there, as in predict().
   void predict_at_pose(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                        Eigen::Ref<VectorXd> readings) const;
 
@@ -87,6 +89,15 @@ class MeasurementModel {
   /// `readings` moved by the tangent perturbation `delta`, sensor by sensor (Sensor::retract).
   void retract(Eigen::Ref<VectorXd> readings, const Eigen::Ref<const VectorXd>& delta) const;
 
+  /// Whether any sensor can fail to read (Sensor::can_miss).
+  bool sensors_can_miss() const { return sensors_can_miss_; }
+  /// Sensor `sensor_index` reads at `pose` (Sensor::reads_at with its slice of `params`);
+  /// when not, the reason in `reason` (non-null).
+  bool sensor_reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose, int sensor_index,
+                       std::string* reason) const;
+  /// Index of the sensor that owns reading `reading_index`.
+  int sensor_of_reading(int reading_index) const;
+
   /// Offsets of the sensor parameter blocks in the combined vector.
   int sensor_parameter_offset(int sensor_index) const { return sensor_offsets_[sensor_index]; }
 
@@ -98,6 +109,7 @@ class MeasurementModel {
   std::vector<int> reading_offsets_;
   int num_readings_ = 0;
   bool has_manifold_readings_ = false;
+  bool sensors_can_miss_ = false;
   VectorXd actuator_ranges_;
   VectorXd reading_std_;
   ForwardKinematicsOptions fk_options_;

@@ -9,6 +9,10 @@ void Sensor::reading_error(const Eigen::Ref<const VectorXd>& predicted,
   if (J_error_predicted) J_error_predicted->setIdentity();
 }
 
+bool Sensor::reads_at(const Eigen::Ref<const VectorXd>&, const Pose&, std::string*) const {
+  return true;
+}
+
 void Sensor::retract(Eigen::Ref<VectorXd> reading, const Eigen::Ref<const VectorXd>& delta) const {
   reading += delta;
 }

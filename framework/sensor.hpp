@@ -40,6 +40,18 @@ class Sensor {
                        Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,
                        MatrixXd* J_reading_params) const = 0;
 
+  /// Whether the sensor can fail to read at some poses (a beam grazing or missing its
+  /// target, a reading out of range). Only then is reads_at() called, so sensors that always
+  /// read cost nothing.
+  virtual bool can_miss() const { return false; }
+  /// Whether the sensor gives a reading at `pose`; when not, a short reason without the
+  /// sensor's name in `reason` (when non-null), e.g. "beam misses the plane". A reading the
+  /// sensor cannot take is dropped for that configuration, like an unmeasured one (NaN in
+  /// the predicted readings; see MeasurementModel::predict), and reported when data are read
+  /// (find_missed_readings in measurement_file.hpp). Default: always.
+  virtual bool reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                        std::string* reason) const;
+
   /// Whether reading_error() is more than predicted - measured. Only then is it called with
   /// a Jacobian, so plain sensors cost nothing.
   virtual bool has_manifold_readings() const { return false; }

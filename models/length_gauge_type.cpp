@@ -1,39 +1,24 @@
-// The length gauge in model files:
+// The length gauge in model files (framework/generic_model_file.hpp, from its parameters):
 //   { "type": "length-gauge", "name": "gauge", "base": [x, y, z], "platform": [x, y, z],
 //     "offset": 0 }
 
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/generic_model_file.hpp"
 #include "kincal/models/length_gauge.hpp"
 
 namespace kincal {
 
-namespace {
-
-using namespace json_field;
-
-std::shared_ptr<const Sensor> read_gauge(const Json& j, const JsonPath& where) {
-  check_keys(j, where, {"type", "name", "base", "platform", "offset"});
-  const std::string gauge_name = name(member(j, "name", where), where / "name");
-  return std::make_shared<LengthGauge>(gauge_name,
-                                       vector3(member(j, "base", where), where / "base"),
-                                       vector3(member(j, "platform", where), where / "platform"),
-                                       number_or(j, "offset", 0.0, where));
-}
-
-Json write_gauge(const Sensor& sensor, const Eigen::Ref<const VectorXd>& values) {
-  return {{"name", sensor.name()},
-          {"base", array3(values.segment<3>(LengthGauge::kBaseIndex))},
-          {"platform", array3(values.segment<3>(LengthGauge::kPlatformIndex))},
-          {"offset", values[LengthGauge::kOffsetIndex]}};
-}
-
-}  // namespace
-
 void register_length_gauge(ModelRegistry& registry) {
-  registry.add_sensor({"length-gauge",
-                       "distance between a base point and a platform point (draw-wire encoder, "
-                       "ball-bar); one reading in mm",
-                       read_gauge, write_gauge});
+  const LengthGauge prototype("gauge", Vector3d::Zero(), Vector3d::Zero());
+  registry.add_sensor(generic_sensor_type(
+      "length-gauge",
+      "distance between a base point and a platform point (draw-wire encoder, ball-bar); one "
+      "reading in mm",
+      sensor_layout(prototype, {"offset"}),
+      [](const std::string& name, const VectorXd& v, const ModelFileOptions&) {
+        return std::make_shared<LengthGauge>(name, v.segment<3>(LengthGauge::kBaseIndex),
+                                             v.segment<3>(LengthGauge::kPlatformIndex),
+                                             v[LengthGauge::kOffsetIndex]);
+      }));
 }
 
 }  // namespace kincal

@@ -10,6 +10,8 @@
 
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/serial_arm_presets.hpp"
+#include "models/autodiff_twins.hpp"
 #include "solvers/solver_fixtures.hpp"
 
 // Counts heap allocations so that a test can check that the iteration loop makes none. It
@@ -94,6 +96,30 @@ TEST(CalibrationProblemEvaluation, AllocatesNothingOnceWarm) {
   ASSERT_TRUE(problem->evaluate(x, &r, &J));
   ASSERT_TRUE(problem->evaluate(x, &r, nullptr));
   EXPECT_EQ(g_allocations.load(), before);
+}
+
+// Automatic derivatives (framework/autodiff.hpp) on fixed-size dual numbers and per-thread
+// scratch: the twins of the hexapod and gauge (case 5) and of the PUMA 560 allocate nothing
+// per configuration either.
+TEST(AutoDiffEvaluation, AllocatesNothingOnceWarm) {
+  ScenarioOptions options;
+  options.num_configurations = 20;
+  options.num_validation = 0;
+  Scenario puma = make_scenario(make_puma560(), options);
+  puma.model = kincal::testing::autodiff_twin(*puma.model);
+  Scenario hexapod = paper_scenario(5, 1);
+  hexapod.model = kincal::testing::autodiff_twin(*hexapod.model);
+  for (const Scenario* scenario : {&hexapod, &puma}) {
+    const auto problem = scenario->make_problem();
+    const VectorXd x = problem->initial_free_parameters();
+    VectorXd r;
+    MatrixXd J;
+    ASSERT_TRUE(problem->evaluate(x, &r, &J));
+    const long before = g_allocations.load();
+    ASSERT_TRUE(problem->evaluate(x, &r, &J));
+    ASSERT_TRUE(problem->evaluate(x, &r, nullptr));
+    EXPECT_EQ(g_allocations.load(), before) << scenario->model->mechanism().type();
+  }
 }
 
 }  // namespace
