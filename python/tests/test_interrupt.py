@@ -1,0 +1,81 @@
+"""Ctrl-C during a long solve: KeyboardInterrupt carrying the best point so far."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+LONG_SOLVE = textwrap.dedent(
+    """
+    import sys, time
+    import numpy as np
+    import kincal
+
+    # r(x) = exp(-x): each Gauss-Newton step moves x by +1 and no tolerance of 0 is met
+    # before exp(-x) underflows near x = 745, some 745 slow evaluations away.
+    def residuals(x):
+        time.sleep(0.005)
+        return np.exp(-x)
+
+    def jacobian(x):
+        return np.diag(-np.exp(-x))
+
+    problem = kincal.LeastSquaresProblem(residuals, jacobian, 1, 1)
+    print("solving", flush=True)
+    try:
+        kincal.solve(problem, np.zeros(1), "gn", max_iterations=100000, function_tolerance=0,
+                     parameter_tolerance=0, gradient_tolerance=0)
+    except KeyboardInterrupt as e:
+        r = e.result
+        print("interrupted", r.termination, r.x[0], r.iterations, flush=True)
+        sys.exit(0)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_sigint_during_a_long_solve_raises_keyboard_interrupt_with_the_best_point():
+    p = subprocess.Popen([sys.executable, "-c", LONG_SOLVE], stdout=subprocess.PIPE, text=True, env=os.environ)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "solving"
+    time.sleep(1.0)
+    start = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0, out
+    words = out.split()
+    assert words[0] == "interrupted", out
+    assert words[1] == "user_stopped"
+    x, iterations = float(words[2]), int(words[3])
+    assert 0 < iterations < 700 and abs(x - iterations) < 1e-6  # x moved by 1 per step
+    assert time.monotonic() - start < 30  # stopped, did not run to the end
+
+
+LONG_COMMAND = textwrap.dedent(
+    """
+    import kincal
+
+    print("solving", flush=True)
+    try:
+        # A derivative-free method on 24 parameters: seconds of evaluations.
+        kincal.simulate(case=5, seed=2, solver="nlopt:LN_NELDERMEAD", max_iterations=10**9)
+    except KeyboardInterrupt as e:
+        r = e.result
+        print("interrupted", r.termination, r.iterations, r.final_cost < r.initial_cost, flush=True)
+        raise SystemExit(0)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_sigint_during_a_command_stops_its_solve_with_the_report_of_the_best_point():
+    p = subprocess.Popen([sys.executable, "-c", LONG_COMMAND], stdout=subprocess.PIPE, text=True, env=os.environ)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "solving"
+    time.sleep(2.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0, out
+    assert out.split() == ["interrupted", "user_stopped", out.split()[2], "True"], out
