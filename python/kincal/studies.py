@@ -20,7 +20,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 from . import _kincal
 from ._commands import KincalInterrupt, _on_main_thread, option_args
 
-__all__ = ["reproduce", "calibrate_fleet"]
+__all__ = ["reproduce", "accuracy", "design_study", "calibrate_fleet"]
 
 NUM_CASES = 5  # the paper's Table 2
 
@@ -130,18 +130,70 @@ def reproduce(
     return document
 
 
+def accuracy(
+    solvers: Sequence[str], trials: int = 100, client: Any = None, **options: Any
+) -> Dict[str, Dict[str, Any]]:
+    """The accuracy study over backends: ``reproduce`` once per solver (the same seeds, so
+    the same scenarios for every solver), as ``kincal reproduce --solver S`` for each;
+    returns solver -> document. Options as ``reproduce``'s."""
+    return {s: reproduce(trials, client, solver=s, **options) for s in solvers}
+
+
+def _portable(model: Any) -> Any:
+    """A model as it travels to the workers: a file name, or a Model's model-file text."""
+    return ("model-json", model.to_json()) if isinstance(model, _kincal.Model) else model
+
+
+def _unpacked(model: Any) -> Any:
+    if isinstance(model, tuple) and model[0] == "model-json":
+        return _kincal.Model.from_json(model[1])
+    return model
+
+
+def _design_one(model: Any, count: int, criterion: str, options: Dict[str, Any]) -> Dict[str, Any]:
+    from .commands import design
+
+    return design(_unpacked(model), count=count, criterion=criterion, **options).to_dict()
+
+
+def _calibrate_one(model: Any, data: Any, options: Dict[str, Any]) -> Dict[str, Any]:
+    from .commands import calibrate
+
+    return calibrate(_unpacked(model), data, **options).to_dict()
+
+
+def design_study(
+    model: Any,
+    counts: Sequence[int],
+    criteria: Sequence[str] = ("D",),
+    client: Any = None,
+    *,
+    retries: int = 3,
+    **options: Any,
+) -> List[Dict[str, Any]]:
+    """A design study: ``kincal design`` for every (count, criterion) pair, on the client's
+    workers when one is given; returns their JSON reports in the order of the pairs
+    (criteria varying fastest). ``model`` is a model file (readable on the workers) or a
+    Model; options as the command's (``noise_std=``, ``seed=``, ``bound=True``...)."""
+    pairs = [(n, c) for n in counts for c in criteria]
+    if client is None:
+        return [_design_one(model, n, c, options) for n, c in pairs]
+    m = _portable(model)
+    futures = [client.submit(_design_one, m, n, c, options, pure=False, retries=retries) for n, c in pairs]
+    return list(client.gather(futures))
+
+
 def calibrate_fleet(
     jobs: Sequence[Tuple[Any, Any]], client: Any = None, *, retries: int = 3, **options: Any
 ) -> List[Dict[str, Any]]:
-    """Calibrates each (model file, measurement file) pair, as ``kincal calibrate``, and
-    returns their JSON reports in order; on the client's workers when one is given (files
-    must then be readable there), else one after the other here."""
-    from .commands import calibrate
-
-    def one(model: Any, data: Any) -> Dict[str, Any]:
-        return calibrate(model, data, **options).to_dict()
-
+    """Calibrates each (model, measurement file) pair, as ``kincal calibrate``, and returns
+    their JSON reports in order; on the client's workers when one is given (files must then
+    be readable there; a Model travels as its model file's text), else one after the other
+    here."""
     if client is None:
-        return [one(m, d) for m, d in jobs]
-    futures = [client.submit(one, m, d, pure=False, retries=retries) for m, d in jobs]
+        return [_calibrate_one(m, d, options) for m, d in jobs]
+    futures = [
+        client.submit(_calibrate_one, _portable(m), d, options, pure=False, retries=retries)
+        for m, d in jobs
+    ]
     return list(client.gather(futures))

@@ -6,9 +6,17 @@ import signal
 
 import pytest
 
+import kincal
+from conftest import without_timing
+
 import kincal.studies
 
 TRIALS = 12  # the CI's budget; docs/python.md reports the 200-trial run
+
+
+def without_paths(doc):
+    """A report without timing and the names of the temporary files a Model is passed in."""
+    return {k: v for k, v in without_timing(doc).items() if k not in ("model", "template")}
 
 
 def without_out(doc):
@@ -73,3 +81,32 @@ def test_a_worker_killed_mid_study_loses_and_duplicates_nothing(expected, cluste
 def test_bad_options_fail_before_any_work():
     with pytest.raises(ValueError, match="param-error"):
         kincal.studies.reproduce(trials=2, param_error="5parsecs")
+
+
+def test_accuracy_over_backends_is_reproduce_per_solver(cli_json, tmp_path):
+    docs = kincal.studies.accuracy(["lm", "gn"], trials=2)
+    for solver in ("lm", "gn"):
+        expected = cli_json(["reproduce", "--trials", "2", "--solver", solver, "--out", str(tmp_path / solver)])
+        assert without_out(docs[solver]) == without_out(expected)
+
+
+def test_design_study_on_workers_matches_the_command(cluster, program, tmp_path):
+    model = kincal.Model.preset("cube-hexapod")
+    reports = kincal.studies.design_study(model, counts=[30, 40], criteria=["D", "A"], client=cluster,
+                                          noise_std="0.0007mm", seed=1)
+    assert len(reports) == 4
+    local = kincal.design(model, count=40, criterion="A", noise_std="0.0007mm", seed=1).to_dict()
+    assert (reports[3]["count"], reports[3]["criterion"]) == (40, "A")
+    assert without_paths(reports[3]) == without_paths(local)
+
+
+def test_fleet_calibration_on_workers(cluster, tmp_path):
+    jobs = []
+    for seed in (1, 2):
+        data = tmp_path / f"robot{seed}.csv"
+        kincal.simulate(case=3, seed=seed, write_data=str(data))
+        jobs.append((kincal.Model.preset("cube-hexapod"), str(data)))
+    reports = kincal.studies.calibrate_fleet(jobs, client=cluster)
+    local = [kincal.calibrate(m, d).to_dict() for m, d in jobs]
+    assert [without_paths(r) for r in reports] == [without_paths(r) for r in local]
+    assert reports[0]["parameters"] != reports[1]["parameters"]  # two robots, two geometries
