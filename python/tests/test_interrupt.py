@@ -79,3 +79,32 @@ def test_sigint_during_a_command_stops_its_solve_with_the_report_of_the_best_poi
     out, _ = p.communicate(timeout=60)
     assert p.returncode == 0, out
     assert out.split() == ["interrupted", "user_stopped", out.split()[2], "True"], out
+
+
+LONG_STUDY = textwrap.dedent(
+    """
+    import kincal.studies
+
+    print("running", flush=True)
+    try:
+        kincal.studies.reproduce(trials=5000)
+    except KeyboardInterrupt as e:
+        doc = e.result
+        print("interrupted", doc["partial"], min(c["trials"] for c in doc["cases"]), flush=True)
+        raise SystemExit(0)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_sigint_during_an_in_process_study_gives_the_partial_document():
+    p = subprocess.Popen([sys.executable, "-c", LONG_STUDY], stdout=subprocess.PIPE, text=True, env=os.environ)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "running"
+    time.sleep(1.5)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    assert p.returncode == 0, out
+    words = out.split()
+    assert words[:2] == ["interrupted", "True"], out
+    assert 0 < int(words[2]) < 5000
