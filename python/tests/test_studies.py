@@ -73,7 +73,6 @@ def test_a_worker_killed_mid_study_loses_and_duplicates_nothing(expected, cluste
     doc = kincal.studies.reproduce(trials=TRIALS, client=cluster, chunk=1, retries=3,
                                    progress=kill_after_the_first_task)
     assert seen[0] == (1, TRIALS) and seen[-1] == (TRIALS, TRIALS)
-    assert victim not in cluster.run(os.getpid).values()  # it really died (the nanny restarts it)
     assert without_out(doc) == without_out(expected)
     assert sum(c["trials"] for c in doc["cases"]) == 5 * TRIALS
 
