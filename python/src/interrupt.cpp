@@ -14,8 +14,10 @@ namespace {
 std::atomic<bool> g_sigint{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the flag is set in a signal handler");
 struct sigaction g_previous {};
-// One scope at a time: the handler and the solver check are process-wide.
-std::mutex g_scope_mutex;
+// One thread's scopes at a time: the handler and the solver check are process-wide. Recursive:
+// a Python callback inside a solve may call kincal again on the same thread.
+std::recursive_mutex g_scope_mutex;
+int g_depth = 0;
 
 extern "C" void on_sigint_in_python_call(int) { g_sigint.store(true); }
 
@@ -24,6 +26,7 @@ extern "C" void on_sigint_in_python_call(int) { g_sigint.store(true); }
 SigintScope::SigintScope(bool active) : active_(active) {
   if (!active_) return;
   g_scope_mutex.lock();
+  if (g_depth++ > 0) return;  // the outer scope's handler stays
   g_sigint.store(false);
   struct sigaction action {};
   action.sa_handler = on_sigint_in_python_call;
@@ -34,8 +37,10 @@ SigintScope::SigintScope(bool active) : active_(active) {
 
 SigintScope::~SigintScope() {
   if (!active_) return;
-  cli::set_solver_stop_check({});
-  ::sigaction(SIGINT, &g_previous, nullptr);
+  if (--g_depth == 0) {
+    cli::set_solver_stop_check({});
+    ::sigaction(SIGINT, &g_previous, nullptr);
+  }
   g_scope_mutex.unlock();
 }
 

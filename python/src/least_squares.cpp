@@ -167,10 +167,15 @@ Jacobian given as Python callables: residuals(x) -> (num_residuals,), jacobian(x
 held. A callable that raises stops the solve and the exception propagates from solve().)doc")
       .def(py::init<py::object, py::object, int, int, std::vector<std::string>>(),
            py::arg("residuals"), py::arg("jacobian"), py::arg("num_parameters"),
-           py::arg("num_residuals"), py::arg("parameter_names") = std::vector<std::string>{})
-      .def_property_readonly("num_parameters", &CallableProblem::num_parameters)
-      .def_property_readonly("num_residuals", &CallableProblem::num_residuals)
-      .def_property_readonly("parameter_names", &CallableProblem::parameter_names);
+           py::arg("num_residuals"), py::arg("parameter_names") = std::vector<std::string>{},
+           "The problem of residuals(x) and jacobian(x) over num_parameters unknowns (named "
+           "parameter_names, default x0, x1, ...) and num_residuals residuals.")
+      .def_property_readonly("num_parameters", &CallableProblem::num_parameters,
+                             "Number of unknowns.")
+      .def_property_readonly("num_residuals", &CallableProblem::num_residuals,
+                             "Number of residuals.")
+      .def_property_readonly("parameter_names", &CallableProblem::parameter_names,
+                             "The unknowns' names, for reports.");
   m.def("_solve", &solve, py::arg("problem"), py::arg("x0"), py::arg("solver"),
         py::arg("max_iterations"), py::arg("function_tolerance"), py::arg("parameter_tolerance"),
         py::arg("gradient_tolerance"), py::arg("lower"), py::arg("upper"),
@@ -184,7 +189,8 @@ held. A callable that raises stops the solve and the exception propagates from s
           out.emplace_back(info.name, info.description);
         return out;
       },
-      "The registered solvers as (name, description) pairs; a family's name ends in ':'.");
+      "The registered solvers as (name, description) pairs; a family is named as "
+      "nlopt:<ALGORITHM>.");
 }
 
 }  // namespace kincal::python
