@@ -105,6 +105,20 @@ kincal.Model.from_json().)doc")
           "The model file's text, with the nominal values or `values` (one per parameter).")
       .def(
           "copy", [](const ModelHandle& h) { return h.copy(); }, "An independent copy.")
+      // Pickled as its model file's text (to a Dask worker, say); a model no file can hold
+      // (Python sensors) raises ValueError.
+      .def(py::pickle(
+          [](const ModelHandle& h) {
+            return py::make_tuple(
+                model_to_json(*h.model, h.model->parameters().nominal_values()).dump(), h.source);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 2) throw py::value_error("kincal.Model: a pickle of 2 items expected");
+            const auto source = t[1].cast<std::string>();
+            return ModelHandle{
+                model_from_json(nlohmann::ordered_json::parse(t[0].cast<std::string>()), source),
+                source};
+          }))
       .def(
           "with_values",
           [](const ModelHandle& h, const py::object& values) {

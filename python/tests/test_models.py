@@ -112,3 +112,14 @@ def test_errors_are_python_exceptions_never_aborts(tmp_path):
         kincal.Model.load(str(tmp_path / "bad.json"))
     with pytest.raises(ValueError, match="not JSON"):
         kincal.Model.from_json("{")
+
+
+def test_a_model_pickles_as_its_model_file():
+    import pickle
+
+    m = kincal.Model.preset("ur5")
+    m.set_free("base.*", False)
+    again = pickle.loads(pickle.dumps(m))
+    assert again.parameter_names == m.parameter_names and again.source == "ur5"
+    np.testing.assert_allclose(again.nominal, m.nominal, rtol=1e-15, atol=1e-15)
+    np.testing.assert_array_equal(again.free, m.free)
