@@ -108,3 +108,37 @@ def test_sigint_during_an_in_process_study_gives_the_partial_document():
     words = out.split()
     assert words[:2] == ["interrupted", "True"], out
     assert 0 < int(words[2]) < 5000
+
+
+GIL_RELEASED = textwrap.dedent(
+    """
+    import os, threading, time
+    import kincal.studies
+
+    started = threading.Event()
+
+    def study():
+        started.set()
+        kincal.studies.reproduce(trials=500, threads=1)  # some 20 s of C++ on one core
+
+    t = threading.Thread(target=study, daemon=True)
+    t.start()
+    started.wait()
+    time.sleep(0.5)
+    # Python runs here only if the study released the GIL: with it held, this thread would
+    # wait for the whole study and find it finished.
+    ticks, start = 0, time.monotonic()
+    while time.monotonic() - start < 0.2:
+        ticks += 1
+    print("alive" if t.is_alive() else "finished", ticks, flush=True)
+    os._exit(0)
+    """
+)
+
+
+def test_the_gil_is_released_while_kincal_computes():
+    p = subprocess.run([sys.executable, "-c", GIL_RELEASED], capture_output=True, text=True, env=os.environ,
+                       timeout=120)
+    words = p.stdout.split()
+    assert words and words[0] == "alive", p.stdout + p.stderr
+    assert int(words[1]) > 1000
