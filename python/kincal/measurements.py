@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import List, Union
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -46,6 +46,16 @@ class Measurements:
     def to_csv(self, model: "_kincal.Model", comment: str = "") -> str:
         """The CSV text for ``model``'s columns, at full precision."""
         return str(_kincal.measurements_to_csv(self.actuators, self.readings, model, comment))
+
+    def residuals(
+        self, model: "_kincal.Model", values: Optional[np.ndarray] = None
+    ) -> Tuple[np.ndarray, np.ndarray, List[str]]:
+        """The calibration problem of these measurements for ``model``: the residuals
+        (predicted - measured, weighted by the model's reading_std, one per reading, 0 where
+        missing) and their Jacobian with respect to the free parameters, at the nominal
+        values or ``values`` (one per parameter), and the free parameters' names."""
+        r, J, names = _kincal.calibration_residuals(model, self.actuators, self.readings, values)
+        return r, J, list(names)
 
     def write(self, path: Union[str, "os.PathLike[str]"], comment: str = "") -> None:
         """Writes the file (the column names are this object's)."""

@@ -45,3 +45,22 @@ def test_rows_must_agree():
     model = kincal.Model.preset("cube-hexapod")
     with pytest.raises(ValueError, match=r"readings: expected 2 rows"):
         kincal._kincal.measurements_to_csv(np.zeros((2, 6)), np.zeros((3, 1)), model)
+
+
+def test_calibration_residuals_and_jacobian_match_finite_differences(tmp_path):
+    model = kincal.Model.preset("cube-hexapod")
+    path = tmp_path / "d.csv"
+    kincal.simulate(case=3, seed=7, write_data=str(path))
+    m = kincal.Measurements.read(path, model)
+    r, J, names = m.residuals(model)
+    assert r.shape == (40,) and J.shape == (40, 24) and len(names) == 24
+    free = np.flatnonzero(model.free)
+    x = model.nominal
+    numeric = np.empty_like(J)
+    for k, i in enumerate(free):
+        up, down = x.copy(), x.copy()
+        up[i] += 1e-6
+        down[i] -= 1e-6
+        numeric[:, k] = (kincal._kincal.calibration_residuals(model, m.actuators, m.readings, up)[0]
+                         - kincal._kincal.calibration_residuals(model, m.actuators, m.readings, down)[0]) / 2e-6
+    assert np.max(np.abs(J - numeric) / (1 + np.abs(numeric))) < 1e-6
