@@ -142,3 +142,30 @@ def test_the_gil_is_released_while_kincal_computes():
     words = p.stdout.split()
     assert words and words[0] == "alive", p.stdout + p.stderr
     assert int(words[1]) > 1000
+
+
+LONG_DESIGN = textwrap.dedent(
+    """
+    import kincal
+
+    model = kincal.Model.preset("cube-hexapod")
+    print("designing", flush=True)
+    try:
+        kincal.design(model, count=200, noise_std="0.0007mm", candidates=2000000)
+    except KeyboardInterrupt as e:
+        print("interrupted", e.result["partial"], flush=True)
+        raise SystemExit(0)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_sigint_during_a_design_gives_the_best_design_so_far_marked_partial():
+    p = subprocess.Popen([sys.executable, "-c", LONG_DESIGN], stdout=subprocess.PIPE, text=True, env=os.environ)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "designing"
+    time.sleep(2.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    assert p.returncode == 0, out
+    assert out.split() == ["interrupted", "True"], out
