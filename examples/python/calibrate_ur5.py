@@ -18,11 +18,11 @@ print(model, "| actuators:", ", ".join(model.actuator_names))
 work = tempfile.mkdtemp(prefix="kincal-ur5-")
 if len(sys.argv) == 3:
     grid, heldout = sys.argv[1], sys.argv[2]
-else:  # a simulated tracker: 0.01 mm noise, errors of up to 0.5 mm and 0.002 rad
+else:  # a simulated tracker: noise of std 0.006 mm, errors of up to 0.5 mm and 0.002 rad
     grid, heldout = os.path.join(work, "grid.csv"), os.path.join(work, "heldout.csv")
-    kincal.simulate(model=model, poses=120, noise="0.01mm", param_error="0.5mm,0.002rad", seed=4,
+    kincal.simulate(model=model, poses=120, noise_std="0.006mm", param_error="0.5mm,0.002rad", seed=4,
                     write_data=grid, allow_rank_deficient=True)
-    kincal.simulate(model=model, poses=40, noise="0.01mm", seed=5, truth=grid.replace(".csv", ".truth.json"),
+    kincal.simulate(model=model, poses=40, noise_std="0.006mm", seed=5, truth=grid.replace(".csv", ".truth.json"),
                     write_data=heldout, allow_rank_deficient=True)
 
 data = kincal.Measurements.read(grid, model)
