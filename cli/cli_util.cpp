@@ -146,6 +146,15 @@ void add_solver_options(po::options_description& options) {
       "Ceres' log and Ipopt's own output");
 }
 
+namespace {
+std::function<bool()>& solver_stop_check() {
+  static std::function<bool()> check;
+  return check;
+}
+}  // namespace
+
+void set_solver_stop_check(std::function<bool()> check) { solver_stop_check() = std::move(check); }
+
 SolverChoice make_solver_choice(const po::variables_map& vm) {
   SolverChoice choice;
   choice.name = vm["solver"].as<std::string>();
@@ -159,6 +168,10 @@ SolverChoice make_solver_choice(const po::variables_map& vm) {
     choice.options.verbosity = vm["verbose"].as<int>();
     if (choice.options.verbosity < 0 || choice.options.verbosity > 2)
       throw CliError("--verbose must be 0, 1 or 2");
+    if (const std::function<bool()> stop = solver_stop_check())
+      choice.options.callback = [stop](const IterationRecord&, const VectorXd&) {
+        return stop() ? CallbackAction::kStop : CallbackAction::kContinue;
+      };
     choice.solver->check_options(choice.options);
   } catch (const InvalidSolverOptions& e) {
     throw CliError(e.what());

@@ -4,6 +4,7 @@
 
 #include <boost/program_options.hpp>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -72,5 +73,11 @@ struct SolverChoice {
   SolverOptions options;
 };
 SolverChoice make_solver_choice(const po::variables_map& vm);
+
+/// A check asked after every iteration of the solves that make_solver_choice sets up, when
+/// one is set: true stops the solve, which then ends user_stopped at the best point so far.
+/// The program sets none; the Python module sets one for Ctrl-C (python/src/interrupt.cpp).
+/// Empty: no check. Set it before a command runs, not during one.
+void set_solver_stop_check(std::function<bool()> check);
 
 }  // namespace kincal::cli

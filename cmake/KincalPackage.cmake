@@ -3,7 +3,8 @@
 #                  name the Debian runtime packages it loads (libceres3, libboost-program-
 #                  options1.74.0, libipopt..., as built);
 #   libkincal-dev  headers, static libraries, the CMake package and kincal.pc; it Depends on
-#                  the -dev packages find_package(kincal) and pkg-config need.
+#                  the -dev packages find_package(kincal) and pkg-config need;
+#   python3-kincal the Python module (KINCAL_BUILD_PYTHON), in /usr/lib/python3/dist-packages.
 # Installed under /usr. docs/library.md says how to build and install them.
 
 set(CPACK_PACKAGE_NAME kincal)
@@ -48,5 +49,16 @@ set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION
     "kincal: kinematic calibration library (development files)\n"
     "Headers <kincal/...>, the static libraries kincal and kincal_cli, the CMake package\n"
     "(find_package(kincal)) and kincal.pc.")
+
+if(KINCAL_BUILD_PYTHON)
+  list(APPEND CPACK_COMPONENTS_ALL python)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-kincal)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SHLIBDEPS ON)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS "python3, python3-numpy")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-distributed, python3-matplotlib")
+  set(CPACK_COMPONENT_PYTHON_DESCRIPTION
+      "kincal: kinematic calibration from Python\n"
+      "import kincal: models, kinematics, measurements, calibrations and studies on Dask.")
+endif()
 
 include(CPack)

@@ -12,6 +12,8 @@ packages=(
   liburdfdom-dev liburdfdom-tools  # URDF import/export; check_urdf in the tests
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib
+  # the Python module (python/, docs/python.md), its tests and its studies on Dask
+  pybind11-dev python3-dev python3-numpy python3-pytest mypy python3-distributed
   chromium  # tests: the HTML report rendered headless (ctest html_report_renders_in_chromium)
 )
 # shellcheck source=scripts/install_packages.sh

@@ -31,6 +31,15 @@ case $step in
     # The CLI's internals (which include Boost) are not public.
     [ ! -e "$prefix/include/kincal/cli/cli_util.hpp" ] || fail "cli/cli_util.hpp installed"
     "$prefix/bin/kincal" list solvers >/dev/null || fail "the installed kincal does not run"
+    # The Python module, when this build has it (KINCAL_BUILD_PYTHON): installed and importable
+    # from the prefix alone, not from the build tree.
+    if compgen -G "$build/python/kincal/_kincal*.so" >/dev/null; then
+      site=$prefix/lib/python3/dist-packages
+      compgen -G "$site/kincal/_kincal*.so" >/dev/null || fail "not installed: the Python module"
+      (cd "$work" && PYTHONPATH=$site /usr/bin/python3 -c \
+        "import kincal, sys; assert kincal.__file__.startswith(sys.argv[1]); kincal.Model.preset('ur5')" \
+        "$site") || fail "the installed Python module does not import"
+    fi
     ;;
 
   cmake)

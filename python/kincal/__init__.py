@@ -1,0 +1,55 @@
+"""kincal from Python: kinematic calibration (docs/python.md).
+
+    import kincal
+    report = kincal.simulate(case=3, seed=7)        # kincal simulate --case 3 --seed 7
+    report.parameters.estimate                       # numpy array, model order
+    report.to_dict()                                 # the program's JSON, exactly
+
+Models (``Model.preset``, ``Model.load``, ``model_from_urdf``), forward and inverse
+kinematics over arrays, ``Measurements`` in kincal's CSV format, the commands (``simulate``,
+``calibrate``, ``observability``, ``design``, ``validate``, ``compare``, ``export``,
+``html_report``), the generic least-squares layer (``LeastSquaresProblem``, ``solve``) and
+studies on Dask (``kincal.studies``).
+"""
+
+from . import _kincal
+from ._commands import KincalError, KincalInterrupt
+from ._kincal import Model, __version__, presets
+from ._reports import Report, Table
+from .commands import (
+    calibrate,
+    compare,
+    design,
+    export,
+    html_report,
+    model_from_urdf,
+    observability,
+    simulate,
+    validate,
+)
+from .least_squares import LeastSquaresProblem, SolveResult, solve, solvers
+from .measurements import Measurements
+
+__all__ = [
+    "KincalError",
+    "KincalInterrupt",
+    "LeastSquaresProblem",
+    "Measurements",
+    "Model",
+    "Report",
+    "SolveResult",
+    "Table",
+    "__version__",
+    "calibrate",
+    "compare",
+    "design",
+    "export",
+    "html_report",
+    "model_from_urdf",
+    "observability",
+    "presets",
+    "simulate",
+    "solve",
+    "solvers",
+    "validate",
+]

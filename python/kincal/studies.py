@@ -1,0 +1,199 @@
+"""Studies: many independent calibrations, on a Dask cluster or in this process.
+
+``reproduce(trials=200, client=client)`` is the paper's Monte Carlo, ``kincal reproduce``:
+it returns what ``kincal reproduce --json -`` writes, with the same numbers whatever the
+number of workers, since trial t of a case is a function of (options, case, t) alone. With a
+``dask.distributed`` Client the trials are spread over its workers in chunks (``chunk``
+trials of every case per task); a task whose worker dies is run again elsewhere
+(``retries``), and each trial's result is stored under its (case, trial) index, so nothing
+is lost or counted twice. Without a client they run on this machine's cores, the GIL
+released (``threads``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+from . import _kincal
+from ._commands import KincalInterrupt, _on_main_thread, option_args
+
+__all__ = ["reproduce", "accuracy", "design_study", "calibrate_fleet"]
+
+NUM_CASES = 5  # the paper's Table 2
+
+
+def _study_args(solver: str, seed: int, validation: int, options: Dict[str, Any]) -> List[str]:
+    args = option_args({"solver": solver, "seed": seed, "validation": validation})
+    return args + option_args(options)
+
+
+def _run_chunk(args: Sequence[str], tasks: Sequence[Tuple[int, int]]) -> List[Any]:
+    """One Dask task: trials of (case index, trial), one thread (the worker's slot)."""
+    return list(_kincal.reproduce_trials(list(args), list(tasks), 1, False))
+
+
+def _chunks(trials: int, chunk: int) -> List[List[Tuple[int, int]]]:
+    out = []
+    for first in range(0, trials, chunk):
+        out.append([(c, t) for t in range(first, min(first + chunk, trials)) for c in range(NUM_CASES)])
+    return out
+
+
+def _progress(done: int, total: int) -> None:
+    sys.stderr.write(f"\rkincal.studies.reproduce: {done}/{total} tasks")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def reproduce(
+    trials: int = 100,
+    client: Any = None,
+    *,
+    solver: str = "lm",
+    seed: int = 1,
+    validation: int = 200,
+    out: Optional[str] = None,
+    chunk: int = 10,
+    retries: int = 3,
+    threads: int = 0,
+    progress: Union[bool, Callable[[int, int], None]] = False,
+    **options: Any,
+) -> Dict[str, Any]:
+    """The paper's five cases as a Monte Carlo of ``trials`` seeds, as ``kincal reproduce
+    --trials TRIALS``; returns its JSON document (a dict). Options are the command's
+    (``param_error="5mm,0.01rad"``, ``config_range=``, ``solver_option={...}``,
+    ``max_iterations=``). ``out``: also write summary.csv, trials.csv and trace.csv there
+    (the document's "out" is then that directory, else None). ``progress``: True reports
+    tasks done on stderr (with a client, also see the Dask dashboard); a callable is called
+    as progress(done, total) after each task (a notebook's progress bar). Ctrl-C raises
+    KincalInterrupt whose ``result`` is the partial document."""
+    if trials < 1:
+        raise ValueError("trials: expected at least 1")
+    if chunk < 1:
+        raise ValueError("chunk: expected at least 1")
+    args = _study_args(solver, seed, validation, options)
+    # Bad options fail here, before any work: the same parse the trials make.
+    _kincal.reproduce_report(args, 1, [[None]] * NUM_CASES, "")
+    results: List[List[Any]] = [[None] * trials for _ in range(NUM_CASES)]
+    report: Optional[Callable[[int, int], None]] = None
+    if callable(progress):
+        report = progress
+    elif progress:
+        report = _progress
+    interrupted = False
+    chunks = _chunks(trials, chunk)
+    if client is None:
+        done = 0
+        for tasks in chunks if report else [[task for c in chunks for task in c]]:
+            values = _kincal.reproduce_trials(args, tasks, threads, _on_main_thread())
+            for (c, t), value in zip(tasks, values):
+                results[c][t] = value
+            if any(v is None for v in values):
+                interrupted = True
+                break
+            done += 1
+            if report:
+                report(done, len(chunks))
+    else:
+        from distributed import as_completed
+
+        futures = {
+            client.submit(_run_chunk, args, tasks, pure=False, retries=retries): tasks
+            for tasks in chunks
+        }
+        done = 0
+        try:
+            for future in as_completed(list(futures)):
+                for (c, t), value in zip(futures[future], future.result()):
+                    results[c][t] = value
+                done += 1
+                if report:
+                    report(done, len(chunks))
+        except KeyboardInterrupt:
+            client.cancel(list(futures))
+            interrupted = True
+    text, _rows, summary, trials_csv, trace = _kincal.reproduce_report(args, trials, results, out or "")
+    document: Dict[str, Any] = json.loads(text)
+    if out is None:
+        document["out"] = None
+    else:
+        os.makedirs(out, exist_ok=True)
+        for name, content in (("summary.csv", summary), ("trials.csv", trials_csv), ("trace.csv", trace)):
+            with open(os.path.join(out, name), "w", encoding="utf-8") as f:
+                f.write(content)
+    if interrupted:
+        raise KincalInterrupt("kincal.studies.reproduce interrupted: partial results", document)
+    return document
+
+
+def accuracy(
+    solvers: Sequence[str], trials: int = 100, client: Any = None, **options: Any
+) -> Dict[str, Dict[str, Any]]:
+    """The accuracy study over backends: ``reproduce`` once per solver (the same seeds, so
+    the same scenarios for every solver), as ``kincal reproduce --solver S`` for each;
+    returns solver -> document. Options as ``reproduce``'s."""
+    return {s: reproduce(trials, client, solver=s, **options) for s in solvers}
+
+
+def _portable(model: Any) -> Any:
+    """A model as it travels to the workers: a file name, or a Model's model-file text."""
+    return ("model-json", model.to_json()) if isinstance(model, _kincal.Model) else model
+
+
+def _unpacked(model: Any) -> Any:
+    if isinstance(model, tuple) and model[0] == "model-json":
+        return _kincal.Model.from_json(model[1])
+    return model
+
+
+def _design_one(model: Any, count: int, criterion: str, options: Dict[str, Any]) -> Dict[str, Any]:
+    from .commands import design
+
+    return design(_unpacked(model), count=count, criterion=criterion, **options).to_dict()
+
+
+def _calibrate_one(model: Any, data: Any, options: Dict[str, Any]) -> Dict[str, Any]:
+    from .commands import calibrate
+
+    return calibrate(_unpacked(model), data, **options).to_dict()
+
+
+def design_study(
+    model: Any,
+    counts: Sequence[int],
+    criteria: Sequence[str] = ("D",),
+    client: Any = None,
+    *,
+    retries: int = 3,
+    **options: Any,
+) -> List[Dict[str, Any]]:
+    """A design study: ``kincal design`` for every (count, criterion) pair, on the client's
+    workers when one is given; returns their JSON reports in the order of the pairs
+    (criteria varying fastest). ``model`` is a model file (readable on the workers) or a
+    Model; options as the command's (``noise_std=``, ``seed=``, ``bound=True``...)."""
+    pairs = [(n, c) for n in counts for c in criteria]
+    if client is None:
+        return [_design_one(model, n, c, options) for n, c in pairs]
+    m = _portable(model)
+    futures = [client.submit(_design_one, m, n, c, options, pure=False, retries=retries) for n, c in pairs]
+    return list(client.gather(futures))
+
+
+def calibrate_fleet(
+    jobs: Sequence[Tuple[Any, Any]], client: Any = None, *, retries: int = 3, **options: Any
+) -> List[Dict[str, Any]]:
+    """Calibrates each (model, measurement file) pair, as ``kincal calibrate``, and returns
+    their JSON reports in order; on the client's workers when one is given (files must then
+    be readable there; a Model travels as its model file's text), else one after the other
+    here."""
+    if client is None:
+        return [_calibrate_one(m, d, options) for m, d in jobs]
+    futures = [
+        client.submit(_calibrate_one, _portable(m), d, options, pure=False, retries=retries)
+        for m, d in jobs
+    ]
+    return list(client.gather(futures))

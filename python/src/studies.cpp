@@ -1,0 +1,164 @@
+// The studies' C++ side (python/kincal/studies.py drives them, in-process or on Dask): the
+// trials of the paper's Monte Carlo one at a time, as plain tuples that pickle exactly, and
+// the report of a set of them, made by the same functions as `kincal reproduce`
+// (cli/reproduce_study.hpp).
+
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.hpp"
+#include "interrupt.hpp"
+#include "kincal/cli/cli_util.hpp"
+#include "kincal/cli/reproduce_study.hpp"
+#include "kincal/cli/simulation_report.hpp"
+#include "kincal/framework/parallel.hpp"
+#include "kincal/models/presets.hpp"
+
+namespace kincal::python {
+
+namespace {
+
+// The study's options, parsed by the code that parses `kincal reproduce`'s.
+struct ReproduceSetup {
+  ScenarioOptions base;
+  cli::SolverChoice choice;
+};
+
+ReproduceSetup reproduce_setup(const std::vector<std::string>& args) {
+  cli::po::options_description options("kincal.studies.reproduce");
+  cli::add_scenario_options(options, false);
+  cli::add_solver_options(options);
+  cli::po::variables_map vm;
+  cli::parse_command_line("reproduce", args, options, vm);
+  ReproduceSetup setup;
+  int unused_case = 0;
+  setup.base = cli::scenario_options_from(vm, &unused_case);
+  setup.choice = cli::make_solver_choice(vm);
+  setup.choice.options.callback = nullptr;  // a trial always runs to its end
+  return setup;
+}
+
+py::tuple stats_tuple(const PoseErrorStats& s) {
+  return py::make_tuple(s.position_mean_mm, s.position_max_mm, s.orientation_mean_rad,
+                        s.orientation_max_rad, s.fk_failures);
+}
+
+PoseErrorStats stats_from(const py::handle& h) {
+  const auto t = h.cast<py::tuple>();
+  PoseErrorStats s;
+  s.position_mean_mm = t[0].cast<double>();
+  s.position_max_mm = t[1].cast<double>();
+  s.orientation_mean_rad = t[2].cast<double>();
+  s.orientation_max_rad = t[3].cast<double>();
+  s.fk_failures = t[4].cast<int>();
+  return s;
+}
+
+TerminationType termination_from(const std::string& word) {
+  for (TerminationType t :
+       {TerminationType::kConverged, TerminationType::kMaxIterations, TerminationType::kDiverged,
+        TerminationType::kFailed, TerminationType::kUserStopped})
+    if (word == to_string(t)) return t;
+  throw py::value_error("trial: unknown termination '" + word + "'");
+}
+
+py::object trial_tuple(const cli::ReproduceTrial& r) {
+  if (!r.done) return py::none();
+  py::list trace;
+  for (const auto& e : r.trace) trace.append(stats_tuple(e));
+  return py::make_tuple(std::string(to_string(r.termination)), r.iterations, r.parameter_rms,
+                        r.seconds, stats_tuple(r.before), stats_tuple(r.after), trace);
+}
+
+cli::ReproduceTrial trial_from(const py::handle& h) {
+  cli::ReproduceTrial r;
+  if (h.is_none()) return r;
+  const auto t = h.cast<py::tuple>();
+  if (t.size() != 7) throw py::value_error("trial: expected a tuple of 7 from reproduce_trials");
+  r.done = true;
+  r.termination = termination_from(t[0].cast<std::string>());
+  r.iterations = t[1].cast<int>();
+  r.parameter_rms = t[2].cast<double>();
+  r.seconds = t[3].cast<double>();
+  r.before = stats_from(t[4]);
+  r.after = stats_from(t[5]);
+  for (const auto& e : t[6].cast<py::list>()) r.trace.push_back(stats_from(e));
+  return r;
+}
+
+// Runs the (case index, trial) pairs on `threads` threads with the GIL released; a pair not
+// started before Ctrl-C is None.
+py::list reproduce_trials(const std::vector<std::string>& args,
+                          const std::vector<std::pair<int, int>>& tasks, int threads,
+                          bool catch_sigint) {
+  const ReproduceSetup setup = reproduce_setup(args);
+  const auto& cases = paper_cases();
+  for (const auto& [case_index, trial] : tasks)
+    if (case_index < 0 || case_index >= static_cast<int>(cases.size()) || trial < 0)
+      throw py::value_error("tasks: (case index, trial) out of range: (" +
+                            std::to_string(case_index) + ", " + std::to_string(trial) + ")");
+  const std::shared_ptr<const MeasurementModel> model = make_cube_hexapod();
+  std::vector<cli::ReproduceTrial> results(tasks.size());
+  {
+    py::gil_scoped_release release;
+    SigintScope sigint(catch_sigint);
+    parallel_for(static_cast<int>(tasks.size()), threads, [&](int i) {
+      if (sigint_received()) return;  // as the program: finish the trials under way
+      const auto& [case_index, trial] = tasks[i];
+      results[i] = cli::run_reproduce_trial(model, setup.base, cases[case_index], trial,
+                                            *setup.choice.solver, setup.choice.options);
+    });
+  }
+  py::list out;
+  for (const auto& r : results) out.append(trial_tuple(r));
+  return out;
+}
+
+// results[case index][trial]: a tuple from reproduce_trials, or None (not run).
+py::tuple reproduce_report(const std::vector<std::string>& args, int num_trials,
+                           const py::list& results, const std::string& out_dir) {
+  const ReproduceSetup setup = reproduce_setup(args);
+  const auto& paper = paper_cases();
+  if (results.size() != paper.size())
+    throw py::value_error("results: expected one list per case (" + std::to_string(paper.size()) +
+                          ")");
+  std::vector<cli::ReproduceCase> cases;
+  bool partial = false;
+  for (std::size_t c = 0; c < paper.size(); ++c) {
+    cli::ReproduceCase rc{paper[c], {}};
+    const auto trials = results[c].cast<py::list>();
+    if (static_cast<int>(trials.size()) != num_trials)
+      throw py::value_error("results: expected " + std::to_string(num_trials) + " trials per case");
+    for (const auto& t : trials) {
+      rc.trials.push_back(trial_from(t));
+      partial = partial || !rc.trials.back().done;
+    }
+    cases.push_back(std::move(rc));
+  }
+  const cli::ReproduceTables tables =
+      cli::reproduce_tables(cases, num_trials, partial, setup.choice.name);
+  const nlohmann::ordered_json json = cli::reproduce_json(setup.choice.name, num_trials, partial,
+                                                          setup.base, out_dir, tables.json_cases);
+  return py::make_tuple(json.dump(2) + "\n", tables.text_rows, tables.summary_csv,
+                        tables.trials_csv, tables.trace_csv);
+}
+
+}  // namespace
+
+void bind_studies(py::module_& m) {
+  m.def("reproduce_trials", &reproduce_trials, py::arg("args"), py::arg("tasks"),
+        py::arg("threads") = 0, py::arg("catch_sigint") = false,
+        "Trials of the paper's Monte Carlo: `args` are `kincal reproduce`'s scenario and "
+        "solver options, `tasks` (case index 0..4, trial) pairs. Returns one plain tuple per "
+        "task (None when Ctrl-C came first). The GIL is released.");
+  m.def("reproduce_report", &reproduce_report, py::arg("args"), py::arg("trials"),
+        py::arg("results"), py::arg("out"),
+        "The report of reproduce_trials' results, per case and trial: (JSON text as "
+        "`kincal reproduce --json` writes it, text rows, summary.csv, trials.csv, trace.csv).");
+}
+
+}  // namespace kincal::python
