@@ -66,6 +66,24 @@ class Report:
         """The fields, in the JSON's order."""
         return list(self._doc)
 
+    def covariance(self) -> np.ndarray:
+        """The estimated parameters' covariance (n x n, in their units, in the order of
+        ``parameters``), rebuilt from the report's standard deviations and correlation
+        matrix: cov_ij = std_i corr_ij std_j. NaN where the report has no std (a parameter
+        the data cannot determine). ``ValueError`` for a report without both (only a
+        calibration report has them)."""
+        if "parameters" not in self._doc or "correlation" not in self._doc:
+            raise ValueError("covariance(): this report has no 'parameters' and 'correlation'; "
+                             "expected a calibration report (kincal.calibrate)")
+        std = np.array([np.nan if p.get("std") is None else p["std"]
+                        for p in self._doc["parameters"]], dtype=np.float64)
+        corr = np.array([[np.nan if x is None else x for x in row]
+                         for row in self._doc["correlation"]], dtype=np.float64)
+        if corr.shape != (std.size, std.size):
+            raise ValueError(f"covariance(): correlation is {corr.shape}, expected "
+                             f"({std.size}, {std.size}) for {std.size} parameters")
+        return std[:, None] * corr * std[None, :]
+
     def to_dict(self) -> Dict[str, Any]:
         """A copy of the JSON document, exactly as the program writes it."""
         return copy.deepcopy(self._doc)

@@ -111,3 +111,26 @@ def test_every_backend_runs_through_simulate():
         report = kincal.simulate(case=3, seed=7, solver=solver, max_iterations=500)
         assert report.solver == solver
         assert report.termination in {"converged", "max_iterations"}
+
+
+def test_report_covariance_is_sigma_squared_times_the_inverse_normal_matrix(tmp_path):
+    # An independent computation: sigma_hat^2 (J^T J)^-1 from the residuals and Jacobian at
+    # the estimate, through the problem's own evaluation (Measurements.residuals), not the report.
+    data = tmp_path / "d.csv"
+    kincal.simulate(case=5, seed=3, write_data=str(data))
+    model = kincal.Model.preset("cube-hexapod")
+    report = kincal.calibrate(model, str(data))
+    cov = report.covariance()
+    assert cov.shape == (24, 24)
+    m = kincal.Measurements.read(str(data), model)
+    values = np.array(model.nominal, dtype=np.float64)
+    values[model.free] = report.parameters.estimate
+    r, J, names = m.residuals(model, values)
+    assert names == list(report.parameters.name)
+    dof = r.size - J.shape[1]
+    sigma2 = float(r @ r) / dof
+    expected = sigma2 * np.linalg.inv(J.T @ J)
+    np.testing.assert_allclose(cov, expected, rtol=1e-4)
+    np.testing.assert_allclose(np.sqrt(np.diag(cov)), report.parameters.std, rtol=1e-12)
+    with pytest.raises(ValueError, match="calibration report"):
+        kincal.simulate(case=1, seed=1).covariance()
