@@ -14,7 +14,7 @@ studies on Dask (``kincal.studies``).
 
 from . import _kincal
 from ._commands import KincalError, KincalInterrupt
-from ._kincal import Model, __version__, presets
+from ._kincal import Model, __version__, load_plugin, loaded_plugins, presets
 from ._reports import Report, Table
 from .commands import (
     calibrate,
@@ -45,6 +45,8 @@ __all__ = [
     "design",
     "export",
     "html_report",
+    "load_plugin",
+    "loaded_plugins",
     "model_from_urdf",
     "observability",
     "presets",

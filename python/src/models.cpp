@@ -13,6 +13,7 @@
 
 #include "bindings.hpp"
 #include "kincal/cli/kinematics_rows.hpp"
+#include "kincal/framework/plugin.hpp"
 #include "kincal/framework/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
@@ -236,6 +237,24 @@ kincal.Model.from_json().)doc")
         return out;
       },
       "The built-in models as (name, description) pairs.");
+  m.def(
+      "load_plugin",
+      [](const std::string& path) {
+        try {
+          load_plugin(path);
+        } catch (const PluginError& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      py::arg("path"),
+      "Loads a kincal plug-in (a shared library built with kincal_add_plugin) into the "
+      "registries every model and command of this module uses: its mechanisms, sensors, "
+      "presets, export formats and solvers become usable by name, as with `kincal --plugin`. "
+      "ValueError, with nothing added, for a file that is not a plug-in, one built for another "
+      "kincal version or ABI, or a name that clashes with a registered one. Loading the same "
+      "file again does nothing.");
+  m.def("loaded_plugins", &loaded_plugins,
+        "The plug-ins loaded in this process so far (absolute paths, in load order).");
   m.def(
       "_array_address",
       [](const py::object& value, const char* argument, py::ssize_t cols) {
