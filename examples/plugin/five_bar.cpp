@@ -22,47 +22,10 @@ FiveBar::MotionBasis planar_translation_basis() {
   return basis;
 }
 
-struct ArmState {
-  double theta;               // joint angle, q + offset
-  Eigen::Vector2d direction;  // (cos theta, sin theta)
-  Eigen::Vector2d to_end;     // P - E
-  double distance;            // |P - E|
-};
-
-ArmState arm_state(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose, int arm) {
-  ArmState s;
-  s.theta = q[arm] + params[FiveBar::offset_index(arm)];
-  s.direction = Eigen::Vector2d(std::cos(s.theta), std::sin(s.theta));
-  const Eigen::Vector2d elbow = params.segment<2>(FiveBar::base_index(arm)) +
-                                params[FiveBar::proximal_index(arm)] * s.direction;
-  s.to_end = pose.translation.head<2>() - elbow;
-  s.distance = s.to_end.norm();
-  return s;
-}
-
-// The Jacobians, one function each, written by hand (each is held to finite differences by
-// `kincal check`). d g_i / d(dx, dy): the unit vector from the elbow to the end effector.
-Eigen::RowVector2d constraint_row_pose(const ArmState& s) {
-  return (s.to_end / s.distance).transpose();
-}
-
-// d g_i / d(arm i's parameters): base x, base y, proximal, distal, offset.
-Eigen::Matrix<double, 1, 5> constraint_row_params(const ArmState& s, double proximal) {
-  const Eigen::Vector2d n = s.to_end / s.distance;
-  const Eigen::Vector2d d_elbow_d_theta =
-      proximal * Eigen::Vector2d(-s.direction.y(), s.direction.x());
-  Eigen::Matrix<double, 1, 5> row;
-  row << -n.x(), -n.y(), -n.dot(s.direction), -1.0, -n.dot(d_elbow_d_theta);
-#ifdef FIVE_BAR_FLIP_A_SIGN  // kincal's own test builds this to see `kincal check` fail
-  row(4) = -row(4);
-#endif
-  return row;
-}
-
 }  // namespace
 
 FiveBar::FiveBar(const FiveBarGeometry& geometry)
-    : ClosedChainMechanism<2>(planar_translation_basis()), geometry_(geometry) {
+    : AutoDiffClosedChain<FiveBar, 2>(planar_translation_basis()), geometry_(geometry) {
   home_.translation = Vector3d(geometry.home.x(), geometry.home.y(), 0.0);
   for (int arm = 0; arm < kArms; ++arm) {
     const std::string prefix = "arm" + std::to_string(arm + 1);
@@ -107,22 +70,15 @@ InverseKinematicsResult FiveBar::inverse_kinematics(const ParamsRef& params, con
   return result;
 }
 
-void FiveBar::constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
-                          ConstraintVector& g, ConstraintJacobian* J_g_pose) const {
-  for (int arm = 0; arm < kArms; ++arm) {
-    const ArmState s = arm_state(params, q, pose, arm);
-    g[arm] = s.distance - params[distal_index(arm)];
-    if (J_g_pose) J_g_pose->row(arm) = constraint_row_pose(s);
-  }
-}
-
+#ifdef FIVE_BAR_FLIP_A_SIGN
+// The automatic d g_i / d arm<i>.offset with its sign flipped: `kincal check` must name it.
 void FiveBar::constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef& q,
                                          const Pose& pose,
                                          Eigen::Ref<ParamsJacobian> J_g_params) const {
-  J_g_params.setZero();
+  AutoDiffClosedChain<FiveBar, 2>::constraint_jacobian_params(params, q, pose, J_g_params);
   for (int arm = 0; arm < kArms; ++arm)
-    J_g_params.block<1, kParametersPerArm>(arm, base_index(arm)) =
-        constraint_row_params(arm_state(params, q, pose, arm), params[proximal_index(arm)]);
+    J_g_params(arm, offset_index(arm)) = -J_g_params(arm, offset_index(arm));
 }
+#endif
 
 }  // namespace five_bar_plugin
