@@ -180,11 +180,17 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
   std::vector<Pose> calibration_poses;
   const bool planned = options.planned.size() > 0;
   if (planned) {
-    if (options.planned.size() != options.num_configurations ||
-        options.planned.actuators.cols() != mechanism.num_actuators() ||
-        options.planned.readings.cols() != model->num_readings())
-      throw std::invalid_argument(
-          "the planned configurations do not fit the model or the number of configurations");
+    const auto mismatch = [](const std::string& what, long long planned, long long expected) {
+      return std::invalid_argument("the planned configurations have " + std::to_string(planned) +
+                                   " " + what + ", expected " + std::to_string(expected));
+    };
+    if (options.planned.size() != options.num_configurations)
+      throw mismatch("rows", options.planned.size(), options.num_configurations);
+    if (options.planned.actuators.cols() != mechanism.num_actuators())
+      throw mismatch("actuator columns", options.planned.actuators.cols(),
+                     mechanism.num_actuators());
+    if (options.planned.readings.cols() != model->num_readings())
+      throw mismatch("reading columns", options.planned.readings.cols(), model->num_readings());
     s.calibration.actuators = options.planned.actuators;
     for (int j = 0; j < options.planned.size(); ++j) {
       const ForwardKinematicsResult fk = mechanism.forward_kinematics(

@@ -45,7 +45,9 @@ struct ScenarioOptions {
 
   /// When it has rows: the calibration configurations (actuators) and which readings are
   /// taken (a NaN reading is not taken, anything else is simulated), e.g. from experiment
-  /// design, instead of num_configurations random draws. Every row must be reachable with
+  /// design, instead of random draws. num_configurations must equal its number of rows, and
+  /// it must have one column per actuator and per reading (make_scenario throws
+  /// std::invalid_argument naming the size that differs). Every row must be reachable with
   /// the true parameters.
   Measurements planned;
 

@@ -54,3 +54,39 @@ TEST(Simulation, AGivenTruthIsUsedAsGiven) {
 
 }  // namespace
 }  // namespace kincal
+
+namespace kincal {
+namespace {
+
+// The planned configurations must match num_configurations and the model's columns; the
+// error names the size that differs (issue 22: the doc comment and the code disagreed).
+TEST(Simulation, PlannedConfigurationsOfTheWrongSizeNameWhatDiffers) {
+  const auto model = make_cube_hexapod();
+  ScenarioOptions options;
+  options.seed = 3;
+  options.num_configurations = 4;
+  options.planned.actuators = MatrixXd::Constant(4, 6, 0.0);
+  options.planned.readings = MatrixXd::Zero(4, 1);
+  VectorXd q(6);
+  model->mechanism().home_actuators(
+      model->parameters().nominal_values().head(model->mechanism().num_parameters()), q);
+  for (int r = 0; r < 4; ++r) options.planned.actuators.row(r) = q.transpose();
+  EXPECT_NO_THROW(make_scenario(model, options));
+  const auto message = [&](const ScenarioOptions& o) {
+    try {
+      make_scenario(model, o);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  ScenarioOptions rows = options;
+  rows.num_configurations = 5;
+  EXPECT_EQ(message(rows), "the planned configurations have 4 rows, expected 5");
+  ScenarioOptions readings = options;
+  readings.planned.readings = MatrixXd::Zero(4, 2);
+  EXPECT_EQ(message(readings), "the planned configurations have 2 reading columns, expected 1");
+}
+
+}  // namespace
+}  // namespace kincal
