@@ -169,3 +169,41 @@ def test_sigint_during_a_design_gives_the_best_design_so_far_marked_partial():
     out, _ = p.communicate(timeout=120)
     assert p.returncode == 0, out
     assert out.split() == ["interrupted", "True"], out
+
+
+DASK_STUDY = textwrap.dedent(
+    """
+    import os
+    from distributed import Client, LocalCluster
+    import kincal.studies
+
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                           dashboard_address=None)
+    client = Client(cluster)
+    print("running", flush=True)
+    try:
+        kincal.studies.reproduce(trials=5000, client=client, chunk=5)
+    except KeyboardInterrupt as e:
+        doc = e.result
+        print("interrupted", doc["partial"], min(c["trials"] for c in doc["cases"]),
+              max(c["trials"] for c in doc["cases"]), flush=True)
+        os._exit(0)  # the cluster's teardown is not what is tested
+    print("finished", flush=True)
+    os._exit(0)
+    """
+)
+
+
+def test_sigint_during_a_study_on_dask_cancels_it_and_gives_the_partial_document():
+    p = subprocess.Popen([sys.executable, "-c", DASK_STUDY], stdout=subprocess.PIPE, text=True,
+                         env=os.environ, start_new_session=True)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "running"
+    time.sleep(4.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    assert p.returncode == 0, out
+    words = out.split()
+    assert words[:2] == ["interrupted", "True"], out
+    # Trials that finished on the workers are in the document; the study did not finish.
+    assert 0 <= int(words[2]) <= int(words[3]) < 5000, out
