@@ -20,6 +20,7 @@ void bind_models(py::module_& m);
 void bind_measurements(py::module_& m);
 void bind_least_squares(py::module_& m);
 void bind_sensors(py::module_& m);
+void bind_mechanisms(py::module_& m);
 void bind_studies(py::module_& m);
 
 /// Row-major view of a float64 matrix: what numpy gives without a copy.

@@ -17,6 +17,7 @@ PYBIND11_MODULE(_kincal, m) {
   kp::bind_measurements(m);
   kp::bind_least_squares(m);
   kp::bind_sensors(m);
+  kp::bind_mechanisms(m);
   kp::bind_studies(m);
   m.attr("__version__") = KINCAL_VERSION_STRING;
 }

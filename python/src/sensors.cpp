@@ -21,6 +21,7 @@
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
 #include "model_handle.hpp"
+#include "python_mechanism.hpp"
 
 namespace kincal::python {
 
@@ -131,9 +132,28 @@ class PythonSensor : public Sensor {
   mutable std::exception_ptr error_;
 };
 
-void rethrow_sensor_errors(const MeasurementModel& model) {
+}  // namespace
+
+void rethrow_python_errors(const MeasurementModel& model) {
+  if (const auto* mechanism = dynamic_cast<const PythonMechanism*>(&model.mechanism()))
+    mechanism->rethrow();
   for (const auto& s : model.sensors())
     if (const auto* py_sensor = dynamic_cast<const PythonSensor*>(s.get())) py_sensor->rethrow();
+}
+
+namespace {
+
+// A model of a Python mechanism and Python sensors; every parameter free that the mechanism
+// marks free, and every sensor parameter.
+ModelHandle python_model(const py::object& mechanism, const py::list& sensors) {
+  auto mech = std::make_shared<PythonMechanism>(mechanism);
+  std::vector<std::shared_ptr<const Sensor>> list;
+  for (const auto& s : sensors)
+    list.push_back(std::make_shared<PythonSensor>(py::reinterpret_borrow<py::object>(s)));
+  auto model = std::make_shared<MeasurementModel>(mech, list);
+  ParameterSet& to = model->parameters();
+  for (int i = mech->num_parameters(); i < to.size(); ++i) to.set_free(to[i].name, true);
+  return {model, "Python mechanism " + mech->type()};
 }
 
 // `base`'s mechanism with `sensors` (Python sensors or the base model's own, by name).
@@ -190,7 +210,7 @@ py::dict check_sensors(const ModelHandle& h, std::uint64_t seed) {
     o.num_validation = 1;
     o.seed = seed;
     const Scenario s = make_scenario(h.model, o);
-    rethrow_sensor_errors(*h.model);
+    rethrow_python_errors(*h.model);
     const Mechanism& mechanism = s.model->mechanism();
     const auto fk = mechanism.forward_kinematics(
         s.truth.head(mechanism.num_parameters()), s.calibration.actuators.row(0).transpose(),
@@ -236,7 +256,7 @@ py::dict check_sensors(const ModelHandle& h, std::uint64_t seed) {
       return values;
     };
     worst_residuals = worst_error(J, central_differences(residuals_at, x, 1e-6));
-    rethrow_sensor_errors(*h.model);
+    rethrow_python_errors(*h.model);
   }
   out["J_reading_params"] = worst_params;
   out["J_reading_pose"] = worst_pose;
@@ -262,7 +282,7 @@ py::dict simulate_direct(const ModelHandle& h, int poses, double noise_mm, doubl
     o.seed = seed;
     o.num_validation = 50;
     scenario = make_scenario(h.model, o);
-    rethrow_sensor_errors(*h.model);
+    rethrow_python_errors(*h.model);
     SigintScope sigint(catch_sigint);
     SolverOptions options;
     options.callback = [](const IterationRecord&, const VectorXd&) {
@@ -270,7 +290,7 @@ py::dict simulate_direct(const ModelHandle& h, int poses, double noise_mm, doubl
     };
     run = run_calibration(scenario, *solver, options, false);
     interrupted = sigint.interrupted();
-    rethrow_sensor_errors(*h.model);
+    rethrow_python_errors(*h.model);
   }
   py::dict d;
   d["termination"] = std::string(to_string(run.summary.termination));
@@ -294,6 +314,8 @@ void bind_sensors(py::module_& m) {
   m.def("_with_sensors", &with_sensors, py::arg("model"), py::arg("sensors"),
         "`model`'s mechanism (values and free mask) with these Python sensors, whose "
         "parameters are free.");
+  m.def("_python_model", &python_model, py::arg("mechanism"), py::arg("sensors"),
+        "A model of a Python mechanism (kincal.mechanisms.Mechanism) with Python sensors.");
   m.def("_check_sensors", &check_sensors, py::arg("model"), py::arg("seed") = 1,
         "Finite-difference checks of the model's sensors and residual Jacobian: worst "
         "relative errors (pass when each is <= tolerance).");
