@@ -1,9 +1,9 @@
 // Sensors written in Python (prototypes): a kincal.Sensor subclass gives its readings and
 // their Jacobians in numpy; PythonSensor makes it a C++ Sensor, so that simulation,
 // calibration and every backend use it as a built-in one (slow path: each prediction takes
-// the GIL). check_sensor holds it to the finite-difference checks every registered sensor
-// passes (tests/models/model_conformance_test.cpp: central differences, step 1e-6,
-// |analytic - numeric| <= 1e-6 (1 + |numeric|) entrywise).
+// the GIL). check_sensors holds it to the finite-difference checks every registered sensor
+// passes, kincal's own (models/conformance.hpp, as `kincal check`: central differences, step
+// 1e-6, |analytic - numeric| <= 1e-6 (1 + |numeric|) entrywise).
 
 #include <pybind11/stl.h>
 
@@ -20,6 +20,7 @@
 #include "kincal/framework/pose.hpp"
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/conformance.hpp"
 #include "model_handle.hpp"
 #include "python_mechanism.hpp"
 
@@ -176,88 +177,31 @@ ModelHandle with_sensors(const ModelHandle& base, const py::list& sensors) {
   return {model, base.source + " with Python sensors"};
 }
 
-double worst_error(const MatrixXd& analytic, const MatrixXd& numeric) {
-  double worst = 0;
-  for (int r = 0; r < analytic.rows(); ++r)
-    for (int c = 0; c < analytic.cols(); ++c)
-      worst =
-          std::max(worst, std::abs(analytic(r, c) - numeric(r, c)) / (1 + std::abs(numeric(r, c))));
-  return worst;
-}
-
-MatrixXd central_differences(const std::function<VectorXd(const VectorXd&)>& f, const VectorXd& x,
-                             double h) {
-  const VectorXd f0 = f(x);
-  MatrixXd J(f0.size(), x.size());
-  for (int i = 0; i < x.size(); ++i) {
-    VectorXd xp = x, xm = x;
-    xp[i] += h;
-    xm[i] -= h;
-    J.col(i) = (f(xp) - f(xm)) / (2 * h);
-  }
-  return J;
-}
-
-// The conformance checks of a model's sensors at a simulated scenario (seed `seed`): worst
-// relative errors of J_reading_params, J_reading_pose and of the residual Jacobian.
-py::dict check_sensors(const ModelHandle& h, std::uint64_t seed) {
-  py::dict out;
-  double worst_params = 0, worst_pose = 0, worst_residuals = 0;
+// kincal's own checks of a model's sensors and residual Jacobian (models/conformance.hpp,
+// those of `kincal check`): the worst relative error of each kind, over every sensor.
+py::dict check_sensors(const ModelHandle& h, std::uint64_t /*seed: kincal check's own*/) {
+  std::vector<ConformanceCheck> checks;
   {
     py::gil_scoped_release release;
-    ScenarioOptions o;
-    o.num_configurations = 5;
-    o.num_validation = 1;
-    o.seed = seed;
-    const Scenario s = make_scenario(h.model, o);
-    rethrow_python_errors(*h.model);
-    const Mechanism& mechanism = s.model->mechanism();
-    const auto fk = mechanism.forward_kinematics(
-        s.truth.head(mechanism.num_parameters()), s.calibration.actuators.row(0).transpose(),
-        mechanism.home_pose(), s.model->forward_kinematics_options());
-    if (!fk.ok()) throw std::runtime_error("check_sensor: forward kinematics " + fk.describe());
-    for (std::size_t k = 0; k < s.model->sensors().size(); ++k) {
-      const Sensor& sensor = *s.model->sensors()[k];
-      const int n = sensor.num_readings();
-      const VectorXd params = s.truth.segment(s.model->sensor_parameter_offset(static_cast<int>(k)),
-                                              sensor.num_parameters());
-      VectorXd reading(n);
-      MatrixXd J_pose(n, 6), J_params(n, sensor.num_parameters());
-      sensor.predict(params, fk.pose, reading, &J_pose, &J_params);
-      auto error_from_reading = [&](const VectorXd& other) -> VectorXd {
-        VectorXd e(n);
-        sensor.reading_error(other, reading, e, nullptr);
-        return e;
-      };
-      auto at_params = [&](const VectorXd& p) {
-        VectorXd r(n);
-        sensor.predict(p, fk.pose, r, nullptr, nullptr);
-        return error_from_reading(r);
-      };
-      auto at_pose = [&](const VectorXd& delta) {
-        VectorXd r(n);
-        sensor.predict(params, perturb(fk.pose, delta), r, nullptr, nullptr);
-        return error_from_reading(r);
-      };
-      worst_params = std::max(worst_params,
-                              worst_error(J_params, central_differences(at_params, params, 1e-6)));
-      worst_pose = std::max(
-          worst_pose, worst_error(J_pose, central_differences(at_pose, VectorXd::Zero(6), 1e-6)));
-    }
-    const auto problem = s.make_problem();
-    const VectorXd x = problem->initial_free_parameters();
-    VectorXd r;
-    MatrixXd J;
-    std::string why;
-    if (!problem->evaluate(x, &r, &J, &why)) throw std::runtime_error("check_sensor: " + why);
-    auto residuals_at = [&](const VectorXd& p) {
-      VectorXd values;
-      problem->evaluate(p, &values, nullptr, &why);
-      return values;
-    };
-    worst_residuals = worst_error(J, central_differences(residuals_at, x, 1e-6));
+    const ModelFactory make = [&] { return std::make_shared<MeasurementModel>(*h.model); };
+    checks = check_sensor_jacobians(make);
+    for (const auto& c : check_residual_jacobian(make)) checks.push_back(c);
     rethrow_python_errors(*h.model);
   }
+  double worst_params = 0, worst_pose = 0, worst_residuals = 0;
+  for (const auto& c : checks) {
+    // A check that could not run (e.g. forward kinematics failed) is a failure, not a pass.
+    const double worst = c.passed || std::isfinite(c.worst) ? c.worst : INFINITY;
+    if (!c.passed && !std::isfinite(c.worst))
+      throw std::runtime_error("kincal.sensors.check: " + c.name + ": " + c.detail);
+    if (c.name.rfind("J_reading_params", 0) == 0)
+      worst_params = std::max(worst_params, worst);
+    else if (c.name.rfind("J_reading_pose", 0) == 0)
+      worst_pose = std::max(worst_pose, worst);
+    else
+      worst_residuals = std::max(worst_residuals, worst);
+  }
+  py::dict out;
   out["J_reading_params"] = worst_params;
   out["J_reading_pose"] = worst_pose;
   out["residual_jacobian"] = worst_residuals;
