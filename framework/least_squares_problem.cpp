@@ -30,9 +30,15 @@ bool LeastSquaresProblem::evaluate(const VectorXd& x, VectorXd* residuals, Matri
   if (jacobian) jacobian->resize(blocks * k, n);
 
   auto run_range = [&](int begin, int end, std::string* reason) {
+    // With no parameters the Jacobian has no storage, and a block of it would offset a null
+    // pointer (undefined behaviour, found by UBSan): each block gets an empty k x 0 matrix.
+    MatrixXd no_columns(k, 0);
     for (int b = begin; b < end; ++b) {
       bool ok;
-      if (jacobian) {
+      if (jacobian && n == 0) {
+        Eigen::Ref<MatrixXd> rows(no_columns);
+        ok = evaluate_block(b, x, r.segment(b * k, k), &rows, reason);
+      } else if (jacobian) {
         Eigen::Ref<MatrixXd> rows = jacobian->middleRows(b * k, k);
         ok = evaluate_block(b, x, r.segment(b * k, k), &rows, reason);
       } else {

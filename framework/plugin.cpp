@@ -79,7 +79,8 @@ std::string plugin_abi_description() {
 }
 
 void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry& solvers) {
-  const std::string where = "plug-in '" + message_excerpt(path) + "'";
+  // The whole path (escaped, not cut): a clash must name the file the user gave.
+  const std::string where = "plug-in '" + printable(path) + "'";
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw PluginError(where + ": " + std::strerror(errno));
   if (!S_ISREG(st.st_mode)) throw PluginError(where + ": not a file");
