@@ -7,27 +7,15 @@
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/html_pose_accuracy.hpp"
 #include "kincal/cli/html_report.hpp"
+#include "kincal/cli/html_values.hpp"
 #include "kincal/cli/svg_plot.hpp"
 
 namespace kincal::cli {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
+using namespace html_values;
 using L = Verdict::Level;
-
-const Json& member(const Json& j, const char* key) {
-  static const Json null_value;
-  return j.is_object() && j.contains(key) ? j[key] : null_value;
-}
-double number_at(const Json& j, const char* key) {
-  return member(j, key).is_number() ? j[key].get<double>() : NAN;
-}
-std::string text_at(const Json& j, const char* key) {
-  return member(j, key).is_string() ? j[key].get<std::string>() : "";
-}
-std::string fmt(double v, int digits = 4) { return format_number(v, digits); }
-std::string esc(const std::string& s) { return xml_escape(s); }
 
 std::vector<Verdict> design_verdicts(const Json& d) {
   const Json& predicted = member(d, "predicted_pose_error");

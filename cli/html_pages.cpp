@@ -6,24 +6,15 @@
 #include <vector>
 
 #include "kincal/cli/html_report.hpp"
+#include "kincal/cli/html_values.hpp"
 #include "kincal/cli/svg_plot.hpp"
 
 namespace kincal::cli {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
+using namespace html_values;
 using L = Verdict::Level;
-
-double number_at(const Json& j, const char* key) {
-  return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
-}
-
-std::string text_at(const Json& j, const char* key) {
-  return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
-}
-
-std::string fmt(double v, int digits = 4) { return format_number(v, digits); }
 
 }  // namespace
 

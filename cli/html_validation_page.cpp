@@ -8,23 +8,15 @@
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/html_pose_accuracy.hpp"
 #include "kincal/cli/html_report.hpp"
+#include "kincal/cli/html_values.hpp"
 #include "kincal/cli/svg_plot.hpp"
 
 namespace kincal::cli {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
+using namespace html_values;
 using L = Verdict::Level;
-
-double number_at(const Json& j, const std::string& key) {
-  return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
-}
-std::string text_at(const Json& j, const char* key) {
-  return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
-}
-std::string fmt(double v, int digits = 4) { return format_number(v, digits); }
-std::string esc(const std::string& s) { return xml_escape(s); }
 
 std::vector<Verdict> validation_verdicts(const Json& v) {
   std::vector<Verdict> verdicts;

@@ -27,6 +27,15 @@ inline const Json& member(const Json& j, const char* key) {
   return j.is_object() && j.contains(key) ? j[key] : null_value;
 }
 
+/// A number field, NaN when missing or not a number; a string field, "" when missing or not
+/// a string (text_of writes any value as text instead).
+inline double number_at(const Json& j, const std::string& key) {
+  return j.is_object() && j.contains(key) ? num(j[key]) : NAN;
+}
+inline std::string text_at(const Json& j, const char* key) {
+  return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "";
+}
+
 inline std::string esc(const std::string& s) { return xml_escape(s); }
 inline std::string fmt(double v, int digits = 4) { return format_number(v, digits); }
 
