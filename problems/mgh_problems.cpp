@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "kincal/framework/parameters.hpp"  // glob_match, linear in the pattern
 #include "kincal/problems/mgh_definitions.hpp"
 
 namespace kincal::problems {
@@ -58,14 +59,6 @@ std::vector<std::shared_ptr<const TestProblem>> build() {
           chebyquad(10)};
 }
 
-// '*' any run of characters, '?' one character.
-bool glob_match(const char* pattern, const char* text) {
-  if (*pattern == '\0') return *text == '\0';
-  if (*pattern == '*')
-    return glob_match(pattern + 1, text) || (*text && glob_match(pattern, text + 1));
-  return *text && (*pattern == '?' || *pattern == *text) && glob_match(pattern + 1, text + 1);
-}
-
 }  // namespace
 
 const std::vector<std::shared_ptr<const TestProblem>>& mgh_problems() {
@@ -77,7 +70,7 @@ std::vector<std::shared_ptr<const TestProblem>> select_problems(const std::strin
   const bool wildcard = pattern.find_first_of("*?") != std::string::npos;
   std::vector<std::shared_ptr<const TestProblem>> selected;
   for (const auto& problem : mgh_problems()) {
-    const bool match = wildcard ? glob_match(pattern.c_str(), problem->name().c_str())
+    const bool match = wildcard ? glob_match(pattern, problem->name())
                                 : problem->name().find(pattern) != std::string::npos;
     if (match) selected.push_back(problem);
   }
