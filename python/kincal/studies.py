@@ -101,20 +101,22 @@ def reproduce(
     else:
         from distributed import as_completed
 
-        futures = {
-            client.submit(_run_chunk, args, tasks, pure=False, retries=retries): tasks
-            for tasks in chunks
-        }
+        # One graph for all chunks (client.map), and Ctrl-C honoured from the first moment:
+        # an interrupt while the tasks are still being sent cancels what was sent.
+        futures: List[Any] = []
         done = 0
         try:
-            for future in as_completed(list(futures)):
-                for (c, t), value in zip(futures[future], future.result()):
+            futures = client.map(_run_chunk, [args] * len(chunks), chunks, pure=False, retries=retries)
+            tasks_of = {future.key: tasks for future, tasks in zip(futures, chunks)}
+            for future in as_completed(futures):
+                for (c, t), value in zip(tasks_of[future.key], future.result()):
                     results[c][t] = value
                 done += 1
                 if report:
                     report(done, len(chunks))
         except KeyboardInterrupt:
-            client.cancel(list(futures))
+            if futures:
+                client.cancel(futures)
             interrupted = True
     text, _rows, summary, trials_csv, trace = _kincal.reproduce_report(args, trials, results, out or "")
     document: Dict[str, Any] = json.loads(text)
