@@ -1,5 +1,6 @@
 // kincal list: what this build has: solver backends, preset models, mechanism and sensor
-// types. One line each, name first; with --json the same as one object.
+// types. One line each, name first, and the plug-in file for what a plug-in added; with
+// --json the same as one object.
 
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -7,6 +8,7 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/plugin.hpp"
 #include "kincal/framework/solver_registry.hpp"
 
 namespace kincal::cli {
@@ -17,52 +19,60 @@ constexpr const char* kUsage =
     "usage: kincal list [solvers|models|mechanisms|sensors] [--json FILE|-]   "
     "(everything when no section is given)";
 
-using Entries = std::vector<std::pair<std::string, std::string>>;  // name, description
+struct Entry {
+  std::string name;
+  std::string description;
+  std::string plugin;  ///< the plug-in file that added it; empty when built in
+};
+using Entries = std::vector<Entry>;
 
 Entries solvers() {
   Entries out;
   for (const auto& info : SolverRegistry::global().list())
-    out.push_back({info.name, info.description});
+    out.push_back({info.name, info.description, plugin_providing("solver", info.name)});
   // Backends left out of this build, so that a missing one is not a mystery.
   for (const auto& missing : SolverRegistry::global().unavailable())
-    out.push_back({missing.name, "not in this build: " + missing.reason});
+    out.push_back({missing.name, "not in this build: " + missing.reason, ""});
   return out;
 }
 
 Entries models() {
   Entries out;
   for (const auto& preset : ModelRegistry::global().presets())
-    out.push_back({preset.name, preset.description});
+    out.push_back({preset.name, preset.description, plugin_providing("preset", preset.name)});
   return out;
 }
 
 Entries mechanisms() {
   Entries out;
   for (const auto& type : ModelRegistry::global().mechanisms())
-    out.push_back({type.type, type.description});
+    out.push_back({type.type, type.description, plugin_providing("mechanism type", type.type)});
   return out;
 }
 
 Entries sensors() {
   Entries out;
   for (const auto& type : ModelRegistry::global().sensors())
-    out.push_back({type.type, type.description});
+    out.push_back({type.type, type.description, plugin_providing("sensor type", type.type)});
   return out;
 }
 
 void print(const Entries& entries) {
-  for (const auto& [name, text] : entries) {
-    std::string padded = name;
+  for (const auto& e : entries) {
+    std::string padded = e.name;
     if (padded.size() < 22) padded.resize(22, ' ');
-    std::cout << padded << " " << text << "\n";
+    std::cout << padded << " " << e.description;
+    if (!e.plugin.empty()) std::cout << " [plug-in " << e.plugin << "]";
+    std::cout << "\n";
   }
 }
 
 nlohmann::json to_json(const Entries& entries, bool solvers) {
   nlohmann::json out = nlohmann::json::array();
-  for (const auto& [name, text] : entries) {
-    nlohmann::json e = {{"name", name}, {"description", text}};
-    if (solvers) e["available"] = text.rfind("not in this build: ", 0) != 0;
+  for (const auto& entry : entries) {
+    nlohmann::json e = {{"name", entry.name}, {"description", entry.description}};
+    if (solvers) e["available"] = entry.description.rfind("not in this build: ", 0) != 0;
+    e["plugin"] = entry.plugin.empty() ? nlohmann::json() : nlohmann::json(entry.plugin);
     out.push_back(e);
   }
   return out;

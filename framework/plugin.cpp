@@ -198,6 +198,15 @@ std::vector<std::string> plugins_from_environment() {
   return files;
 }
 
+std::string plugin_providing(const std::string& kind, const std::string& name) {
+  auto& state = loaded();
+  std::lock_guard<std::mutex> lock(state.mutex);
+  const std::string key =
+      kind + " '" + (kind == "solver" ? name.substr(0, name.find(':')) : name) + "'";
+  const auto it = state.owner_of_name.find(key);
+  return it == state.owner_of_name.end() ? std::string() : it->second;
+}
+
 std::vector<std::string> loaded_plugins() {
   LoadedPlugins& state = loaded();
   std::lock_guard<std::mutex> lock(state.mutex);

@@ -27,6 +27,22 @@ TEST(Plugins, ListShowsThePluginsTypesAndPreset) {
   EXPECT_TRUE(contains(run.out, "five-bar-demo")) << run.out;
   EXPECT_TRUE(contains(run.out, "\nfive-bar ")) << run.out;
   EXPECT_TRUE(contains(run.out, "\nlaser-displacement ")) << run.out;
+  // Each added type names its plug-in; a built-in one names none.
+  const std::string from_plugin =
+      " [plug-in " + std::filesystem::canonical(kFiveBar).string() + "]";
+  const auto line_of = [&](const std::string& name) {
+    const std::size_t at = run.out.find("\n" + name + " ");
+    return at == std::string::npos ? std::string()
+                                   : run.out.substr(at + 1, run.out.find('\n', at + 1) - at - 1);
+  };
+  for (const char* type : {"five-bar-demo", "five-bar", "laser-displacement"})
+    EXPECT_TRUE(contains(line_of(type), from_plugin)) << type << ": " << line_of(type);
+  EXPECT_FALSE(line_of("hexapod-6ups").empty());
+  EXPECT_FALSE(contains(line_of("hexapod-6ups"), "[plug-in")) << line_of("hexapod-6ups");
+  const auto json =
+      nlohmann::json::parse(run_cli("list sensors --json - --plugin " + kFiveBar).out);
+  for (const auto& e : json["sensors"])
+    EXPECT_EQ(e["plugin"].is_null(), e["name"] != "laser-displacement") << e.dump();
   // Without the plug-in the stock kincal does not know the type.
   const auto without = run_cli("simulate --preset five-bar-demo");
   EXPECT_EQ(without.exit_code, 2);
@@ -65,7 +81,9 @@ TEST(Plugins, SimulateRecoversTheTruthAndTheWorkflowRuns) {
   const std::string m = dir / "five-bar.json", d = dir / "data.csv", c = dir / "calibrated.json";
   ASSERT_EQ(run_cli("model --preset five-bar-demo --out " + m + p).exit_code, 0);
   ASSERT_EQ(
-      run_cli("simulate --model " + m + " --noise-half-width 0 --seed 3 --write-data " + d + p).exit_code, 0);
+      run_cli("simulate --model " + m + " --noise-half-width 0 --seed 3 --write-data " + d + p)
+          .exit_code,
+      0);
   const auto cal = run_cli("calibrate --model " + m + " --data " + d + " --out " + c + p);
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   const auto obs = run_cli("observability --model " + m + " --data " + d + p);
