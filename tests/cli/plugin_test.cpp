@@ -125,6 +125,12 @@ TEST(Plugins, CheckPassesOnThePluginAndNamesAFlippedSign) {
   // Its sensors are right, and are not blamed.
   EXPECT_TRUE(contains(bad.out, "pass  preset five-bar-demo: J_reading_pose of sensor 'laser_x'"))
       << bad.out;
+  // With the residuals' Jacobian wrong, no backend is run to its limit: each recovery fails
+  // and says why.
+  EXPECT_TRUE(contains(bad.out, "FAIL  preset five-bar-demo: zero-noise recovery with lm"))
+      << bad.out;
+  EXPECT_TRUE(contains(bad.out, "not run: the Jacobian of the calibration residuals is wrong"))
+      << bad.out;
 }
 
 TEST(Plugins, AnotherKincalVersionIsRefusedWithAMessage) {
