@@ -305,6 +305,9 @@ TEST(LevenbergMarquardt, RejectsBadOptions) {
       {"geodesic_acceleration", "yes"},
       {"geodesic_step", "2"},
       {"min_relative_decrease", "1"},
+      {"uphill_steps", "yes"},
+      {"max_uphill_ratio", "0.5"},
+      {"max_uphill_ratio", "inf"},
       {"no_such_option", "1"},
   };
   for (const auto& [key, value] : bad) {
@@ -316,10 +319,9 @@ TEST(LevenbergMarquardt, RejectsBadOptions) {
     EXPECT_THROW(solver->solve(problem, x, options), InvalidSolverOptions) << key << "=" << value;
   }
   SolverOptions good;
-  good.backend_options = {{"loss", "cauchy:0.1"},
-                          {"linear_solver", "qr"},
-                          {"initial_trust_radius", "1e3"},
-                          {"max_invalid_steps", "3"}};
+  good.backend_options = {{"loss", "cauchy:0.1"},          {"linear_solver", "qr"},
+                          {"initial_trust_radius", "1e3"}, {"max_invalid_steps", "3"},
+                          {"uphill_steps", "false"},       {"max_uphill_ratio", "1"}};
   EXPECT_NO_THROW(solver->check_options(good));
 
   SolverOptions wrong_size;
