@@ -48,9 +48,12 @@ constexpr double kStationaryGradientRatio = 1e-4;
 // (Brown almost-linear from 100 x0: the product's derivatives fall from 2e15 to 3e5), and a
 // scale that large damps the parameter to a standstill even at the largest trust radius.
 constexpr double kStaleScaleRatio = 1e6;
-// Uphill steps are for the way to a minimum, not its end game: only when the model promised
-// at least this relative decrease (near a noisy minimum rejected trials are rounding noise).
+// Uphill steps are for the way to a minimum, not its end game, where rejected trials are
+// rounding noise: only when the model promised at least this relative decrease (a noisy
+// minimum) and the cost is this many times its rounding error (a zero-residual minimum: on
+// the noise-free hexapod an uphill step of rounding size at cost 1e-21 ended in a stall).
 constexpr double kUphillMinPredictedDecrease = 1e-6;
+constexpr double kUphillMinCostOverRounding = 1e6;
 
 LmSettings parse_settings(const SolverOptions& options) {
   using namespace solver_option;
@@ -559,7 +562,8 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     // (1 - beta)^2 cost_trial <= best cost. Capped at max_uphill_ratio times the best cost,
     // and kept out of the end game; the best point evaluated is still what is returned.
     bool uphill = false;
-    if (!downhill && settings.uphill_steps && predicted > kUphillMinPredictedDecrease * cost) {
+    if (!downhill && settings.uphill_steps && predicted > kUphillMinPredictedDecrease * cost &&
+        cost > kUphillMinCostOverRounding * cost_rounding(x, ws.r, ws.J)) {
       const double norms = ws.dx.norm() * ws.previous_step.norm();
       const double beta = norms > 0 ? ws.dx.dot(ws.previous_step) / norms : -1.0;
       uphill = (1.0 - beta) * (1.0 - beta) * cost_trial <= ws.best.cost() &&
