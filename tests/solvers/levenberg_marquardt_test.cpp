@@ -129,6 +129,20 @@ TEST(LevenbergMarquardt, RecoversTwentyMillimetreParameterErrors) {
   }
 }
 
+// Noise-free case 1 reaches a zero-residual minimum where, at cost ~1e-21, trials are rejected
+// by rounding noise. An uphill step taken there (trial 41 of `kincal reproduce`) left lm at
+// a point that fails its own test, a stall; uphill steps are now kept out of that end game.
+TEST(LevenbergMarquardt, TakesNoUphillStepInTheRoundingNoiseOfAZeroResidualMinimum) {
+  const Scenario scenario = paper_scenario(1, 17268152288442623880ULL);
+  const CalibrationRun run = run_calibration(scenario, *lm(), SolverOptions{}, false);
+  EXPECT_TRUE(run.summary.converged()) << run.summary.brief_report();
+  EXPECT_LT(run.parameter_rms_error, 1e-6);
+  for (std::size_t k = 1; k < run.summary.trace.size(); ++k)
+    if (run.summary.trace[k].cost < 1e-15) {
+      EXPECT_LE(run.summary.trace[k].cost, run.summary.trace[k - 1].cost) << "iterate " << k;
+    }
+}
+
 // ---- robust losses -------------------------------------------------------------------------
 
 TEST(LevenbergMarquardt, RobustLossesDownWeightOutliers) {
