@@ -364,11 +364,11 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   int failed_trials = 0, last_failed_iteration = -1;
   std::string first_failure;
   auto done = [&](TerminationType type, std::string message) {
-    // The lowest cost evaluated may be a geodesic probe or a trial the gain ratio rejected
-    // rather than the iterate: return it (the contract), and check a convergence claim again
-    // there, which needs its Jacobian. Not when it is lower by less than the cost's rounding
-    // error: near a noisy minimum (the hexapod's) that is noise, and the iterate is the point
-    // the tests were passed at.
+    // The lowest cost evaluated may be a geodesic probe, a trial the gain ratio rejected or
+    // an iterate before an uphill step rather than the current iterate: return it (the contract),
+    // and check a convergence claim again there, which needs its Jacobian. Not when it is lower by
+    // less than the cost's rounding error: near a noisy minimum (the hexapod's) that is noise, and
+    // the iterate is the point the tests were passed at.
     if (ws.best.cost() < cost - cost_rounding(x, ws.r, ws.J)) {
       x = ws.best.x();
       cost = ws.best.cost();
