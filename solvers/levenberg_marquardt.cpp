@@ -33,6 +33,8 @@ struct LmSettings {
   bool geodesic_acceleration = true;
   double geodesic_step = 0.1;      // h of the finite-difference second directional derivative
   double max_acceleration = 0.75;  // use only when 2|a| <= this * |v| (Transtrum's alpha)
+  bool uphill_steps = true;
+  double max_uphill_ratio = 2;  // an uphill step may cost at most this times the best cost
 };
 
 const char* const kSolverName = "lm";
@@ -46,14 +48,20 @@ constexpr double kStationaryGradientRatio = 1e-4;
 // (Brown almost-linear from 100 x0: the product's derivatives fall from 2e15 to 3e5), and a
 // scale that large damps the parameter to a standstill even at the largest trust radius.
 constexpr double kStaleScaleRatio = 1e6;
+// Uphill steps are for the way to a minimum, not its end game, where rejected trials are
+// rounding noise: only when the model promised at least this relative decrease (a noisy
+// minimum) and the cost is this many times its rounding error (a zero-residual minimum: on
+// the noise-free hexapod an uphill step of rounding size at cost 1e-21 ended in a stall).
+constexpr double kUphillMinPredictedDecrease = 1e-6;
+constexpr double kUphillMinCostOverRounding = 1e6;
 
 LmSettings parse_settings(const SolverOptions& options) {
   using namespace solver_option;
-  require_known_keys(
-      kSolverName, options,
-      {"loss", "linear_solver", "initial_trust_radius", "max_trust_radius", "min_trust_radius",
-       "min_relative_decrease", "max_radius_growth", "max_invalid_steps", "runaway_factor",
-       "geodesic_acceleration", "geodesic_step", "max_acceleration"});
+  require_known_keys(kSolverName, options,
+                     {"loss", "linear_solver", "initial_trust_radius", "max_trust_radius",
+                      "min_trust_radius", "min_relative_decrease", "max_radius_growth",
+                      "max_invalid_steps", "runaway_factor", "geodesic_acceleration",
+                      "geodesic_step", "max_acceleration", "uphill_steps", "max_uphill_ratio"});
   LmSettings s;
   const auto loss = options.backend_options.find("loss");
   if (loss != options.backend_options.end()) {
@@ -82,6 +90,9 @@ LmSettings parse_settings(const SolverOptions& options) {
                                        {"true", "false"}, "true") == "true";
   s.geodesic_step = get_double(kSolverName, options, "geodesic_step", s.geodesic_step);
   s.max_acceleration = get_double(kSolverName, options, "max_acceleration", s.max_acceleration);
+  s.uphill_steps =
+      get_choice(kSolverName, options, "uphill_steps", {"true", "false"}, "true") == "true";
+  s.max_uphill_ratio = get_double(kSolverName, options, "max_uphill_ratio", s.max_uphill_ratio);
 
   auto require = [](bool ok, const char* what) {
     if (!ok) throw InvalidSolverOptions(std::string(kSolverName) + ": " + what);
@@ -100,6 +111,8 @@ LmSettings parse_settings(const SolverOptions& options) {
   require(s.runaway_factor > 0, "runaway_factor must be > 0 (or none)");
   require(s.geodesic_step > 0 && s.geodesic_step <= 1, "geodesic_step must be in (0, 1]");
   require(s.max_acceleration > 0, "max_acceleration must be > 0");
+  require(s.max_uphill_ratio >= 1 && std::isfinite(s.max_uphill_ratio),
+          "max_uphill_ratio must be finite and >= 1");
   return s;
 }
 
@@ -153,6 +166,7 @@ class LmWorkspace {
         dx(n),
         dx_velocity(n),
         x_trial(n),
+        previous_step(n),
         active(n, 0),
         llt(n),
         scratch(m, n),
@@ -178,6 +192,7 @@ class LmWorkspace {
   VectorXd column_scale;  // running max of the column norms of J~ (Marquardt diagonal)
   VectorXd velocity, acceleration, y;  // in scaled variables
   VectorXd dx, dx_velocity, x_trial;
+  VectorXd previous_step;    // the last accepted step (uphill steps compare directions)
   std::vector<char> active;  // at a bound with the gradient pushing outwards
   Eigen::LLT<MatrixXd> llt;
   Eigen::HouseholderQR<MatrixXd> qr, augmented_qr;
@@ -337,6 +352,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   };
 
   double gradient_norm = prepare_iterate();
+  ws.previous_step.setZero();
   const double initial_gradient_norm = gradient_norm;
   double radius = settings.initial_trust_radius;
   double decrease_factor = 2;
@@ -348,11 +364,11 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   int failed_trials = 0, last_failed_iteration = -1;
   std::string first_failure;
   auto done = [&](TerminationType type, std::string message) {
-    // The lowest cost evaluated may be a geodesic probe or a trial the gain ratio rejected
-    // rather than the iterate: return it (the contract), and check a convergence claim again
-    // there, which needs its Jacobian. Not when it is lower by less than the cost's rounding
-    // error: near a noisy minimum (the hexapod's) that is noise, and the iterate is the point
-    // the tests were passed at.
+    // The lowest cost evaluated may be a geodesic probe, a trial the gain ratio rejected or
+    // an iterate before an uphill step rather than the current iterate: return it (the contract),
+    // and check a convergence claim again there, which needs its Jacobian. Not when it is lower by
+    // less than the cost's rounding error: near a noisy minimum (the hexapod's) that is noise, and
+    // the iterate is the point the tests were passed at.
     if (ws.best.cost() < cost - cost_rounding(x, ws.r, ws.J)) {
       x = ws.best.x();
       cost = ws.best.cost();
@@ -539,17 +555,34 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     const double actual = cost - cost_trial;
     const double rho = predicted > 0 ? actual / predicted : -1.0;
     const bool cost_flat = detail::small_cost_change(cost, cost_trial, options.function_tolerance);
+    const bool downhill = actual > 0 && rho > settings.min_relative_decrease;
+    // Uphill steps (Transtrum & Sethna 2012): a trial that raises the cost is still taken
+    // when it keeps the direction of the previous step, i.e. the iterates are following a
+    // curved valley rather than bouncing across it: cos(angle) = beta, accepted when
+    // (1 - beta)^2 cost_trial <= best cost. Capped at max_uphill_ratio times the best cost,
+    // and kept out of the end game; the best point evaluated is still what is returned.
+    bool uphill = false;
+    if (!downhill && settings.uphill_steps && predicted > kUphillMinPredictedDecrease * cost &&
+        cost > kUphillMinCostOverRounding * cost_rounding(x, ws.r, ws.J)) {
+      const double norms = ws.dx.norm() * ws.previous_step.norm();
+      const double beta = norms > 0 ? ws.dx.dot(ws.previous_step) / norms : -1.0;
+      uphill = (1.0 - beta) * (1.0 - beta) * cost_trial <= ws.best.cost() &&
+               cost_trial <= settings.max_uphill_ratio * ws.best.cost();
+    }
     if (options.verbosity > 1)
-      std::fprintf(stderr, "lm   trial %3d  cost %.9e  rho %+.3e  |dx| %.3e  lambda %.3e\n",
-                   iteration, cost_trial, rho, ws.dx.norm(), lambda);
-    if (actual > 0 && rho > settings.min_relative_decrease) {
+      std::fprintf(stderr, "lm   trial %3d  cost %.9e  rho %+.3e  |dx| %.3e  lambda %.3e%s\n",
+                   iteration, cost_trial, rho, ws.dx.norm(), lambda, uphill ? "  uphill" : "");
+    if (downhill || uphill) {
+      ws.previous_step = ws.dx;
       x.swap(ws.x_trial);
       ws.r.swap(ws.r_trial);
       ws.J.swap(ws.J_trial);
       cost = cost_trial;
-      radius = std::min(
-          settings.max_trust_radius,
-          radius / std::max(1.0 / settings.max_radius_growth, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
+      // An uphill step says nothing good about the model: the radius stays.
+      if (downhill)
+        radius = std::min(settings.max_trust_radius,
+                          radius / std::max(1.0 / settings.max_radius_growth,
+                                            1.0 - std::pow(2.0 * rho - 1.0, 3)));
       decrease_factor = 2;
       gradient_norm = prepare_iterate();
       if (!monitor.record({iteration, cost, gradient_norm, ws.dx.norm(), 1.0 / radius, 0}, x))

@@ -129,6 +129,20 @@ TEST(LevenbergMarquardt, RecoversTwentyMillimetreParameterErrors) {
   }
 }
 
+// Noise-free case 1 reaches a zero-residual minimum where, at cost ~1e-21, trials are rejected
+// by rounding noise. An uphill step taken there (trial 41 of `kincal reproduce`) left lm at
+// a point that fails its own test, a stall; uphill steps are now kept out of that end game.
+TEST(LevenbergMarquardt, TakesNoUphillStepInTheRoundingNoiseOfAZeroResidualMinimum) {
+  const Scenario scenario = paper_scenario(1, 17268152288442623880ULL);
+  const CalibrationRun run = run_calibration(scenario, *lm(), SolverOptions{}, false);
+  EXPECT_TRUE(run.summary.converged()) << run.summary.brief_report();
+  EXPECT_LT(run.parameter_rms_error, 1e-6);
+  for (std::size_t k = 1; k < run.summary.trace.size(); ++k)
+    if (run.summary.trace[k].cost < 1e-15) {
+      EXPECT_LE(run.summary.trace[k].cost, run.summary.trace[k - 1].cost) << "iterate " << k;
+    }
+}
+
 // ---- robust losses -------------------------------------------------------------------------
 
 TEST(LevenbergMarquardt, RobustLossesDownWeightOutliers) {
@@ -305,6 +319,9 @@ TEST(LevenbergMarquardt, RejectsBadOptions) {
       {"geodesic_acceleration", "yes"},
       {"geodesic_step", "2"},
       {"min_relative_decrease", "1"},
+      {"uphill_steps", "yes"},
+      {"max_uphill_ratio", "0.5"},
+      {"max_uphill_ratio", "inf"},
       {"no_such_option", "1"},
   };
   for (const auto& [key, value] : bad) {
@@ -316,10 +333,9 @@ TEST(LevenbergMarquardt, RejectsBadOptions) {
     EXPECT_THROW(solver->solve(problem, x, options), InvalidSolverOptions) << key << "=" << value;
   }
   SolverOptions good;
-  good.backend_options = {{"loss", "cauchy:0.1"},
-                          {"linear_solver", "qr"},
-                          {"initial_trust_radius", "1e3"},
-                          {"max_invalid_steps", "3"}};
+  good.backend_options = {{"loss", "cauchy:0.1"},          {"linear_solver", "qr"},
+                          {"initial_trust_radius", "1e3"}, {"max_invalid_steps", "3"},
+                          {"uphill_steps", "false"},       {"max_uphill_ratio", "1"}};
   EXPECT_NO_THROW(solver->check_options(good));
 
   SolverOptions wrong_size;

@@ -1,7 +1,10 @@
 // What the MGH suite taught the backends, one behaviour per test: each of these failed before
-// the fixes of issue 11 (docs/solvers.md).
+// the fixes of issue 11 or, for uphill steps, issue 24 (docs/solvers.md).
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
 
 #include "kincal/framework/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
@@ -75,6 +78,55 @@ TEST(LmOnTheSuite, AnAsymptoteIsNamed) {
   EXPECT_TRUE(contains(r.summary.message, "plateau")) << r.summary.message;
   EXPECT_EQ(problems::classify(*bard, r.summary.final_cost), problems::Outcome::kPublishedLocal);
   EXPECT_TRUE(r.contract.ok()) << r.contract.report();
+}
+
+// Osborne 1 from 100 x0: the iterates must follow a long curved valley, and every step that
+// kept going the same way raised the cost a little before the next one lowered it. Without
+// uphill steps lm bounced across the valley until the iteration limit; with them (the
+// default) it reaches the published minimum, and each uphill iterate kept the previous
+// step's direction and the cap on its cost (Transtrum & Sethna's criterion, checked here
+// from the iterates the callback sees).
+TEST(LmOnTheSuite, UphillStepsFollowACurvedValley) {
+  const auto osborne = problems::select_problems("mgh17_osborne_1").at(0);
+  SolverOptions options;
+  std::vector<VectorXd> iterates;
+  options.callback = [&](const IterationRecord&, const VectorXd& x) {
+    iterates.push_back(x);
+    return CallbackAction::kContinue;
+  };
+  const CheckedSolve r = run("lm", "mgh17_osborne_1", "100x0", options);
+  EXPECT_TRUE(r.summary.converged()) << r.summary.brief_report();
+  EXPECT_EQ(problems::classify(*osborne, r.summary.final_cost),
+            problems::Outcome::kPublishedMinimum)
+      << r.summary.brief_report();
+  EXPECT_TRUE(r.contract.ok()) << r.contract.report();
+
+  const auto& trace = r.summary.trace;
+  ASSERT_EQ(trace.size(), iterates.size());
+  int uphill = 0;
+  double lowest = trace[0].cost;
+  for (std::size_t k = 2; k < trace.size(); ++k) {
+    lowest = std::min(lowest, trace[k - 1].cost);
+    if (trace[k].cost <= trace[k - 1].cost) continue;
+    ++uphill;
+    const VectorXd step = iterates[k] - iterates[k - 1];
+    const VectorXd previous = iterates[k - 1] - iterates[k - 2];
+    const double beta = step.dot(previous) / (step.norm() * previous.norm());
+    // The best point evaluated (probes and trials included) is no higher than `lowest`.
+    EXPECT_LE((1 - beta) * (1 - beta) * trace[k].cost, lowest) << "iterate " << k;
+    EXPECT_LE(trace[k].cost, 2 * lowest) << "iterate " << k;
+  }
+  EXPECT_GT(uphill, 0);
+
+  SolverOptions downhill_only;
+  downhill_only.backend_options["uphill_steps"] = "false";
+  const CheckedSolve d = run("lm", "mgh17_osborne_1", "100x0", downhill_only);
+  EXPECT_NE(problems::classify(*osborne, d.summary.final_cost),
+            problems::Outcome::kPublishedMinimum)
+      << d.summary.brief_report();
+  for (std::size_t k = 1; k < d.summary.trace.size(); ++k)
+    EXPECT_LE(d.summary.trace[k].cost, d.summary.trace[k - 1].cost) << "iterate " << k;
+  EXPECT_TRUE(d.contract.ok()) << d.contract.report();
 }
 
 // gn's undamped steps may go uphill; a test that fires at a later, costlier iterate says
