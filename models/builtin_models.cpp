@@ -8,6 +8,7 @@
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
 #include "kincal/models/serial_arm.hpp"
+#include "kincal/models/socket.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {
@@ -20,6 +21,7 @@ void register_builtin_models(ModelRegistry& registry) {
   register_length_gauge(registry);
   register_point_tracker(registry);
   register_pose_tracker(registry);
+  register_socket(registry);
 }
 
 }  // namespace kincal
