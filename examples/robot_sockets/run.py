@@ -59,13 +59,17 @@ OUTLIER_ROWS = {("high", 0): range(9, 18), ("high", 1): range(22, 31)}
 #   panda_joint7.offset     the ball sits on joint 7's axis (0.09 mm off): tool.x, tool.y
 #   panda_joint7.origin.rx  for the same reason a tilt of joint 7 moves the ball as
 #                           panda_joint7.origin.y does (correlation 1.000 at the solution)
+# and one the check accepts but the data hardly determine:
+#   tool.z                  the ball's distance along the flange's axis: std 3 mm from every
+#                           session (75 mm from one), condition number 2600 against 220
+#                           without it, and the cost 0.02 % lower with it
 # so they stay at the URDF's values.
 NOT_IDENTIFIABLE = {"panda_joint2.origin.y", "panda_joint2.origin.ry", "panda_joint3.origin.ry", "panda_joint4.origin.ry",
                     "panda_joint5.origin.x", "panda_joint6.origin.ry", "panda_joint7.origin.ry",
-                    "panda_joint7.offset", "panda_joint7.origin.rx"}
+                    "panda_joint7.offset", "panda_joint7.origin.rx", "tool.z"}
 FREE = [p for p in ["%s.origin.%s" % (j, c) for j in JOINTS[1:] for c in ("x", "y", "rx", "ry")]
         + ["%s.offset" % j for j in JOINTS[1:]] if p not in NOT_IDENTIFIABLE] + [
-            "tool.x", "tool.y", "tool.z", "s_*"]
+            "tool.x", "tool.y", "s_*"]
 
 
 def run(cmd, allowed=(0,)):
