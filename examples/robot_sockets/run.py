@@ -3,6 +3,7 @@
 sockets 50 mm apart, the sockets' positions unknown (docs/fixtures.md walks through it).
 
     run.py DATASET_DIR [--kincal PATH] [--out DIR] [--session NAME]... [--hold-out-every 4]
+           [--hold-out-session NAME]... [--keep-outliers]
 
 DATASET_DIR is the repository platonics-delft/kinematics_calibration on GitHub (MIT licence;
 commit 05a05ab): data/panda_2/<session>/hole_0.csv and hole_1.csv (one configuration per row,
@@ -133,6 +134,9 @@ def main():
                     help="a panda_2 session (repeatable; default: every session)")
     ap.add_argument("--hold-out-every", type=int, default=4,
                     help="hold out configurations 0, N, 2N, ... of each socket")
+    ap.add_argument("--hold-out-session", action="append", default=[],
+                    help="hold out a whole session (repeatable): the tool placed where the "
+                         "calibration never saw it")
     ap.add_argument("--keep-outliers", action="store_true",
                     help="keep the two outlier blocks of session high")
     args = ap.parse_args()
@@ -147,6 +151,12 @@ def main():
     if args.hold_out_every < 2:
         ap.error("--hold-out-every must be at least 2")
     sessions = args.session or sorted(os.listdir(root))
+    for s in args.hold_out_session:
+        if s not in sessions:
+            sessions.append(s)
+    fitted = [s for s in sessions if s not in args.hold_out_session]
+    if not fitted:
+        ap.error("every session is held out: nothing to calibrate on")
     os.makedirs(args.out, exist_ok=True)
     k = args.kincal
     path = lambda name: os.path.join(args.out, name)
@@ -162,8 +172,9 @@ def main():
             all_rows = read_joints(f)
             rows = [q for i, q in enumerate(all_rows) if i not in left_out.get((s, hole), ())]
             outliers[(s, hole)] = [all_rows[i] for i in left_out.get((s, hole), ())]
-            train[(s, hole)] = [q for i, q in enumerate(rows) if i % args.hold_out_every]
-            held[(s, hole)] = [q for i, q in enumerate(rows) if not i % args.hold_out_every]
+            every = args.hold_out_every if s in fitted else 1
+            train[(s, hole)] = [q for i, q in enumerate(rows) if i % every]
+            held[(s, hole)] = [q for i, q in enumerate(rows) if not i % every]
 
     run([k, "model", "--urdf", urdf, "--tip", "ball_link", "--sensor", "point-tracker",
          "--out", path("panda-nominal.json")])
@@ -173,7 +184,7 @@ def main():
         model = json.load(f)
     # The sockets start where the nominal model puts the ball.
     sensors, constraints, columns = [], [], []
-    for s in sessions:
+    for s in fitted:
         for hole in (0, 1):
             start = mean_point(ball_positions(k, path("panda-nominal.json"), train[(s, hole)],
                                               path("nominal-start")))
@@ -193,7 +204,7 @@ def main():
     with open(path("train.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(JOINTS + columns)
-        for s in sessions:
+        for s in fitted:
             for hole in (0, 1):
                 name = sensor_name(s, hole)
                 for q in train[(s, hole)]:
@@ -215,8 +226,8 @@ def main():
               ("calibrated", path("panda-calibrated.json"))]
     if os.path.isfile(authors):
         models.append(("authors*", path("panda-authors.json")))
-    print("Panda, %d sessions, %d configurations for calibration, %d held out"
-          % (len(sessions), sum(len(v) for v in train.values()), sum(len(v) for v in held.values())))
+    print("Panda, %d sessions (%d held out whole), %d configurations for calibration, %d held out"
+          % (len(sessions), len(sessions) - len(fitted), sum(len(v) for v in train.values()), sum(len(v) for v in held.values())))
     print("calibration: %s after %d iterations, %d free parameters; constraints at the estimate:"
           % (report["termination"], report["iterations"], len(report["parameters"])))
     for c in report.get("constraints", []):
@@ -237,11 +248,11 @@ def main():
     print("%-14s %s   %s" % ("session", "spread: " + " ".join("%10s" % m[0] for m in models),
                              "50 mm: " + " ".join("%10s" % m[0] for m in models)))
     for i, s in enumerate(sessions):
-        print("%-14s         %s          %s" % (
-            s, " ".join("%10.3f" % ((totals[m][0][2 * i] + totals[m][0][2 * i + 1]) / 2)
+        print("%-20s   %s          %s" % (
+            s + ("" if s in fitted else " (whole)"), " ".join("%10.3f" % ((totals[m][0][2 * i] + totals[m][0][2 * i + 1]) / 2)
                         for m, _ in models),
             " ".join("%10.3f" % totals[m][1][i] for m, _ in models)))
-    print("%-14s         %s          %s" % (
+    print("%-20s   %s          %s" % (
         "mean", " ".join("%10.3f" % (sum(totals[m][0]) / len(totals[m][0])) for m, _ in models),
         " ".join("%10.3f" % (sum(totals[m][1]) / len(totals[m][1])) for m, _ in models)))
     if len(models) == 3:
@@ -249,7 +260,7 @@ def main():
     with open(path("panda-calibrated.json")) as f:
         sockets = {c["name"]: c["point"] for c in json.load(f)["sensors"]}
     for (s, hole), rows in sorted(outliers.items()):
-        if not rows:
+        if not rows or sensor_name(s, hole) not in sockets:
             continue
         name = sensor_name(s, hole)
         miss = [distance(p, sockets[name]) for p in
