@@ -199,7 +199,12 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
       } catch (const std::invalid_argument& e) {
         (at / "type").fail(e.what());
       }
-      model->add_constraint(entry->read((*constraints)[k], at, *model));
+      auto constraint = entry->read((*constraints)[k], at, *model);
+      try {
+        model->add_constraint(std::move(constraint));
+      } catch (const std::invalid_argument& e) {
+        at.fail(e.what());  // a type whose reader let through a parameter the model lacks
+      }
     }
   }
 
