@@ -16,6 +16,7 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/calibration_report.hpp"
+#include "kincal/framework/constrained_problem.hpp"
 #include "kincal/framework/cross_validation.hpp"
 #include "kincal/framework/data_checks.hpp"
 #include "kincal/framework/position_error.hpp"
@@ -258,6 +259,7 @@ int run_calibrate(const Args& args) {
     if (!probe.evaluate(probe.initial_free_parameters(), &r, &J, &why))
       throw CliError(data_file + ": " + why);
     check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
+    append_constraint_rows(probe, probe.initial_free_parameters(), J);
     const IdentifiabilityCheck check = check_identifiability(
         "calibrate", data_file, probe, J,
         when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(),
@@ -276,9 +278,7 @@ int run_calibrate(const Args& args) {
   VectorXd x = problem.initial_free_parameters();
   const Prior prior = model_prior(problem);
   // With a prior: the MAP estimate, through the same backend (docs/theory.md).
-  const Summary summary =
-      prior.any() ? choice.solver->solve(PriorProblem(problem, prior), x, choice.options)
-                  : choice.solver->solve(problem, x, choice.options);
+  const Summary summary = solve_calibration(*choice.solver, problem, prior, x, choice.options);
 
   CalibrationReport report =
       make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,

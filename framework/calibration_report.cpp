@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "kincal/framework/constrained_problem.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/units.hpp"
 
@@ -162,6 +163,20 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
       }
   }
 
+  // Constraints are measurements of the parameters: rows of their own, once.
+  append_constraint_rows(problem, x, measured_J, &measured_r);
+  if (!model.constraints().empty()) {
+    VectorXd whitened_constraints;
+    constraint_residuals(problem, x, whitened_constraints, nullptr);
+    int row = 0;
+    for (const auto& c : model.constraints()) {
+      const VectorXd std = c->residual_std();
+      const std::vector<std::string> units = c->residual_units();
+      for (int i = 0; i < c->num_residuals(); ++i, ++row)
+        r.constraints.push_back(
+            {c->type(), c->label(), units[i], whitened_constraints[row] * std[i], std[i]});
+    }
+  }
   r.identifiability = analyze_identifiability(measured_J, r.names, options);
   if (r.prior) {
     r.uncertainty = estimate_posterior_uncertainty(measured_J, measured_r, prior_precision, loss);
@@ -299,6 +314,15 @@ Json to_json(const CalibrationReport& r) {
          {"data_share", r.uncertainty.std.size() ? Json(share) : Json()}});
   }
   out["fixed_by_identifiability"] = r.fixed_by_identifiability;
+  if (!r.constraints.empty()) {
+    out["constraints"] = Json::array();
+    for (const auto& c : r.constraints)
+      out["constraints"].push_back({{"type", c.type},
+                                    {"label", c.label},
+                                    {"residual", number(c.residual)},
+                                    {"std", c.std},
+                                    {"unit", c.unit}});
+  }
   Json correlation = Json::array();
   for (int i = 0; i < r.uncertainty.correlation.rows(); ++i)
     correlation.push_back(numbers(r.uncertainty.correlation.row(i).transpose()));
@@ -418,6 +442,9 @@ std::string to_text(const CalibrationReport& r) {
   for (const auto& [unit, rms] : r.residual_rms)
     out << "residuals (" << unit << "): RMS " << format("%.4g", rms) << ", max "
         << format("%.4g", r.residual_max.at(unit)) << "\n";
+  for (const auto& c : r.constraints)
+    out << "constraint " << c.type << " " << c.label << ": residual " << format("%+.4g", c.residual)
+        << " " << c.unit << " (std " << format("%.4g", c.std) << ")\n";
   const std::string unit = sigma_unit(r);
   out << "sigma_hat " << format("%.4g", r.uncertainty.sigma) << " "
       << (unit == "reading_std" ? "x the stated reading std (1 = as stated)"

@@ -67,6 +67,14 @@ struct CalibrationReport {
   /// RMS and max |residual| over the measured readings of each unit.
   std::map<std::string, double> residual_rms, residual_max;
   Identifiability identifiability;  ///< at the estimate
+  /// The model's parameter-only constraints at the estimate, one entry per residual; they
+  /// count in the cost, the covariance and the identifiability like readings.
+  struct ConstraintResidual {
+    std::string type, label, unit;
+    double residual = 0;  ///< unweighted, in `unit`
+    double std = 0;       ///< as the model states it
+  };
+  std::vector<ConstraintResidual> constraints;
   /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
   std::vector<std::string> fixed_by_identifiability;
   std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)

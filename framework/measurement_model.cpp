@@ -35,6 +35,14 @@ std::vector<std::string> MeasurementModel::reading_units() const {
   return units;
 }
 
+void MeasurementModel::add_constraint(std::shared_ptr<const ParameterConstraint> constraint) {
+  std::vector<int> indices;
+  for (const auto& name : constraint->parameter_names())
+    indices.push_back(parameters_.index_of(name));
+  constraints_.push_back(std::move(constraint));
+  constraint_indices_.push_back(std::move(indices));
+}
+
 int MeasurementModel::set_reading_std(const std::string& pattern, double std) {
   if (!(std > 0) || !std::isfinite(std))
     throw std::invalid_argument("reading std for '" + pattern + "' must be a finite number > 0");

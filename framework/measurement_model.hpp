@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kincal/framework/mechanism.hpp"
+#include "kincal/framework/parameter_constraint.hpp"
 #include "kincal/framework/sensor.hpp"
 
 namespace kincal {
@@ -101,6 +102,19 @@ class MeasurementModel {
   /// Offsets of the sensor parameter blocks in the combined vector.
   int sensor_parameter_offset(int sensor_index) const { return sensor_offsets_[sensor_index]; }
 
+  /// Residuals on the parameters alone (framework/parameter_constraint.hpp), which a
+  /// calibration adds once (framework/constrained_problem.hpp). None unless added.
+  const std::vector<std::shared_ptr<const ParameterConstraint>>& constraints() const {
+    return constraints_;
+  }
+  /// Indices of constraint k's parameter_names() in the parameter vector.
+  const std::vector<int>& constraint_parameter_indices(int k) const {
+    return constraint_indices_[k];
+  }
+  /// Adds a constraint; throws std::invalid_argument naming a parameter it reads that the
+  /// model does not have.
+  void add_constraint(std::shared_ptr<const ParameterConstraint> constraint);
+
  private:
   std::shared_ptr<const Mechanism> mechanism_;
   std::vector<std::shared_ptr<const Sensor>> sensors_;
@@ -113,6 +127,8 @@ class MeasurementModel {
   VectorXd actuator_ranges_;
   VectorXd reading_std_;
   ForwardKinematicsOptions fk_options_;
+  std::vector<std::shared_ptr<const ParameterConstraint>> constraints_;
+  std::vector<std::vector<int>> constraint_indices_;
 };
 
 }  // namespace kincal

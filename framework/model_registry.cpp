@@ -56,6 +56,14 @@ void ModelRegistry::add_sensor(SensorType type) {
   sensors_.push_back(std::move(type));
 }
 
+void ModelRegistry::add_constraint(ConstraintType type) {
+  require_new(
+      constraints_, type.type, [](const ConstraintType& t) { return t.type; }, "constraint type");
+  if (!type.read || !type.write)
+    throw std::logic_error("constraint type '" + type.type + "' needs a reader and a writer");
+  constraints_.push_back(std::move(type));
+}
+
 void ModelRegistry::add_preset(ModelPreset preset) {
   require_new(
       presets_, preset.name, [](const ModelPreset& p) { return p.name; }, "preset");
@@ -90,6 +98,11 @@ const MechanismType& ModelRegistry::mechanism(const std::string& type) const {
 const SensorType& ModelRegistry::sensor(const std::string& type) const {
   return find(
       sensors_, type, [](const SensorType& t) { return t.type; }, "sensor type");
+}
+
+const ConstraintType& ModelRegistry::constraint(const std::string& type) const {
+  return find(
+      constraints_, type, [](const ConstraintType& t) { return t.type; }, "constraint type");
 }
 
 const ModelPreset& ModelRegistry::preset(const std::string& name) const {

@@ -38,6 +38,20 @@ struct SensorType {
   std::function<Json(const Sensor& sensor, const Eigen::Ref<const VectorXd>& values)> write;
 };
 
+/// A parameter-only constraint type (framework/parameter_constraint.hpp): how model files
+/// describe it, in their top-level "constraints" array.
+struct ConstraintType {
+  std::string type;         ///< e.g. "fixture-distance"
+  std::string description;  ///< one line
+  /// Builds a constraint on `model` (its mechanism and sensors, read first) from its JSON
+  /// object ("type" included); fails through `where` on bad input.
+  std::function<std::shared_ptr<const ParameterConstraint>(
+      const Json& object, const JsonPath& where, const MeasurementModel& model)>
+      read;
+  /// Its JSON object, without "type".
+  std::function<Json(const ParameterConstraint& constraint)> write;
+};
+
 /// A ready-made model: a mechanism with sensors, nominal values and a default free mask
 /// that the data of a default simulation can determine.
 struct ModelPreset {
@@ -76,6 +90,7 @@ class ModelRegistry {
   /// Throws std::logic_error when the mechanism type already has that format, when the
   /// format is one of kincal's own (urdf, csv, json) or when `write` is missing.
   void add_export_format(ExportFormat format);
+  void add_constraint(ConstraintType type);
 
   /// Throw std::invalid_argument listing the registered names when `name` is unknown.
   const MechanismType& mechanism(const std::string& type) const;
@@ -88,6 +103,9 @@ class ModelRegistry {
   const std::vector<SensorType>& sensors() const { return sensors_; }
   const std::vector<ModelPreset>& presets() const { return presets_; }
   const std::vector<ExportFormat>& export_formats() const { return export_formats_; }
+  /// Throws std::invalid_argument listing the registered names when `type` is unknown.
+  const ConstraintType& constraint(const std::string& type) const;
+  const std::vector<ConstraintType>& constraints() const { return constraints_; }
   /// The registered format `format` of `mechanism_type`, or nullptr.
   const ExportFormat* export_format(const std::string& mechanism_type,
                                     const std::string& format) const;
@@ -97,6 +115,7 @@ class ModelRegistry {
   std::vector<SensorType> sensors_;
   std::vector<ModelPreset> presets_;
   std::vector<ExportFormat> export_formats_;
+  std::vector<ConstraintType> constraints_;
 };
 
 /// Defined in models/builtin_models.cpp: registers every mechanism type, sensor type and

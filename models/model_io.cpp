@@ -92,6 +92,14 @@ Json model_to_json(const MeasurementModel& model, const VectorXd& values) {
                                           sensor.num_parameters())));
     out["sensors"].push_back(sensor_json);
   }
+  if (!model.constraints().empty()) {
+    out["constraints"] = Json::array();
+    for (const auto& constraint : model.constraints()) {
+      Json constraint_json = {{"type", constraint->type()}};
+      constraint_json.update(registry.constraint(constraint->type()).write(*constraint));
+      out["constraints"].push_back(constraint_json);
+    }
+  }
   out["free"] = Json::array();
   for (const int i : model.parameters().free_indices())
     out["free"].push_back(model.parameters()[i].name);
@@ -122,7 +130,7 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
   if (!j.is_object()) root.fail("expected a JSON object (a kincal model file)");
   check_keys(j, root,
              {"format", "version", "units", "mechanism", "sensors", "free", "param_error",
-              "prior_std", "config_range", "reading_std"});
+              "prior_std", "config_range", "reading_std", "constraints"});
   const Json& format = member(j, "format", root);
   if (format != kModelFormat)
     (root / "format")
@@ -179,6 +187,26 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     sensors_at.fail(std::string(e.what()) + "; expected a different sensor name");
   }
   check_columns(*model, root);
+  if (const Json* constraints = json_field::optional(j, "constraints")) {
+    const JsonPath constraints_at = root / "constraints";
+    if (!constraints->is_array()) constraints_at.fail("expected an array of constraint objects");
+    for (std::size_t k = 0; k < constraints->size(); ++k) {
+      const JsonPath at = constraints_at[k];
+      const std::string constraint_type = type_of((*constraints)[k], at);
+      const ConstraintType* entry = nullptr;
+      try {
+        entry = &registry.constraint(constraint_type);
+      } catch (const std::invalid_argument& e) {
+        (at / "type").fail(e.what());
+      }
+      auto constraint = entry->read((*constraints)[k], at, *model);
+      try {
+        model->add_constraint(std::move(constraint));
+      } catch (const std::invalid_argument& e) {
+        at.fail(e.what());  // a type whose reader let through a parameter the model lacks
+      }
+    }
+  }
 
   const Json& free = member(j, "free", root);
   if (!free.is_array()) (root / "free").fail("expected an array of parameter names or patterns");

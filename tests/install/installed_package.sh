@@ -126,7 +126,10 @@ PY
     kincal=$prefix/bin/kincal
     run=$work/plugin-run
     rm -rf "$run" && mkdir -p "$run" && cd "$run"
-    "$kincal" list --plugin "$plugin" | grep -q '^five-bar ' || fail "list shows no five-bar"
+    # Through a file: grep -q stops reading at the match, and a list longer than one stdio
+    # buffer then fails its next write (exit 2, which pipefail reports as no match).
+    "$kincal" list --plugin "$plugin" >list.txt
+    grep -q '^five-bar ' list.txt || fail "list shows no five-bar"
     "$kincal" simulate --plugin "$plugin" --preset five-bar-demo --noise-half-width 0 --json sim.json >/dev/null
     python3 -c 'import json, sys; r = json.load(open("sim.json")); e = max(r["parameter_rms_error_mm"], r["parameter_rms_error_rad"]); print(f"five-bar-demo, no noise: parameter RMS error {e:.1e}"); sys.exit(0 if e < 1e-6 else 1)' ||
       fail "simulate --noise-half-width 0 did not recover the truth"

@@ -1,0 +1,285 @@
+#!/usr/bin/env python3
+"""Calibrate a Franka Emika Panda from joint angles alone: a ball on its flange put into two
+sockets 50 mm apart, the sockets' positions unknown (docs/fixtures.md walks through it).
+
+    run.py DATASET_DIR [--kincal PATH] [--out DIR] [--session NAME]... [--hold-out-every 4]
+           [--hold-out-session NAME]... [--keep-outliers]
+
+DATASET_DIR is the repository platonics-delft/kinematics_calibration on GitHub (MIT licence;
+commit 05a05ab): data/panda_2/<session>/hole_0.csv and hole_1.csv (one configuration per row,
+the seven joint angles in radians, no header), urdf/panda.urdf (the nominal robot) and
+calibrated_urdf/panda_2/panda.urdf (the authors' calibrated robot).
+
+Steps: import the URDF with the ball as the tool point (kincal model --urdf --tip ball_link),
+give the model two sensors of type socket per session (each session placed the printed tool
+elsewhere) and a fixture-distance constraint of 50 mm between them, write one measurement file
+(the joints, and 0 for the socket the ball was in: empty for the other sockets), hold out every
+Nth configuration of each socket, calibrate on the rest with kincal calibrate (the free set
+below, which kincal's identifiability check must accept as it is), and compare on the held-out
+configurations, with the nominal URDF, the calibrated model and the authors' calibrated URDF:
+  spread  the RMS distance of the ball's positions (kincal fk) from their mean, per socket
+  50 mm   the distance between the two sockets' mean positions, minus 50 mm
+The authors' URDF was fitted on these sessions' data, held-out rows included: it is shown for
+reference, not as a held-out result.
+
+Exit codes: 0 done and the calibration beats the nominal model on the held-out spread and
+distance; 1 a check failed; 2 bad arguments; 77 the dataset folder is missing (reported as
+skipped by ctest).
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+JOINTS = ["panda_joint%d" % i for i in range(1, 8)]
+DISTANCE_MM = 50.0
+# Rows left out as outliers (0-based data rows): in panda_2/high two blocks of 9 rows sit
+# 1.2-2.9 mm from their calibrated socket where the session's other rows sit within 1.3 mm
+# (the dataset's README says so; this script shows it again after calibrating without them,
+# and --keep-outliers keeps them).
+OUTLIER_ROWS = {("high", 0): range(9, 18), ("high", 1): range(22, 31)}
+# What joint angles alone determine: not the base frame nor the first joint (its origin and
+# offset are the base's), nor a joint's translation along or rotation about its own axis
+# (they duplicate the next origin and the offset); the ball's position on the flange, not its
+# rotation. Of the rest, kincal's identifiability check (calibrate with an explicit --free,
+# which stops on a rank deficiency and names each null direction) finds on this arm:
+#   panda_joint2.origin.y   a shift along joint 1's axis: the base's
+#   panda_joint2.origin.ry  a turn about joint 1's axis: the base's; it moves the ball only
+#                           as far as the ball misses its socket, so at the start it looks
+#                           determined (8 mm misses) and at the solution it is not
+#   panda_joint3.origin.ry  duplicates panda_joint3.origin.x (the 316 mm link turns)
+#   panda_joint4.origin.ry  duplicates panda_joint5.origin.y (the 82.5 mm offset turns)
+#   panda_joint5.origin.x   duplicates panda_joint6.origin.y
+#   panda_joint6.origin.ry  duplicates panda_joint5.offset
+#   panda_joint7.origin.ry  duplicates tool.z
+#   panda_joint7.offset     the ball sits on joint 7's axis (0.09 mm off): tool.x, tool.y
+#   panda_joint7.origin.rx  for the same reason a tilt of joint 7 moves the ball as
+#                           panda_joint7.origin.y does (correlation 1.000 at the solution)
+# and one the check accepts but the data hardly determine:
+#   tool.z                  the ball's distance along the flange's axis: std 3 mm from every
+#                           session (75 mm from one), condition number 2600 against 220
+#                           without it, and the cost 0.02 % lower with it
+# so they stay at the URDF's values.
+NOT_IDENTIFIABLE = {"panda_joint2.origin.y", "panda_joint2.origin.ry", "panda_joint3.origin.ry", "panda_joint4.origin.ry",
+                    "panda_joint5.origin.x", "panda_joint6.origin.ry", "panda_joint7.origin.ry",
+                    "panda_joint7.offset", "panda_joint7.origin.rx", "tool.z"}
+FREE = [p for p in ["%s.origin.%s" % (j, c) for j in JOINTS[1:] for c in ("x", "y", "rx", "ry")]
+        + ["%s.offset" % j for j in JOINTS[1:]] if p not in NOT_IDENTIFIABLE] + [
+            "tool.x", "tool.y", "s_*"]
+
+
+def run(cmd, allowed=(0,)):
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode not in allowed:
+        sys.stderr.write(p.stdout + p.stderr)
+        raise SystemExit("run.py: '%s' failed with exit code %d" % (" ".join(cmd), p.returncode))
+    return p
+
+
+def read_joints(path):
+    with open(path, newline="") as f:
+        return [[float(v) for v in row] for row in csv.reader(f) if row]
+
+
+def sensor_name(session, hole):
+    return "s_%s_%d" % (session.replace("-", "_"), hole)
+
+
+def write_configs(rows, path):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(JOINTS)
+        for q in rows:
+            w.writerow(["%.17g" % v for v in q])
+
+
+def ball_positions(kincal, model, rows, scratch):
+    """The ball's positions (mm) at the configurations `rows`, by kincal fk."""
+    write_configs(rows, scratch + ".csv")
+    run([kincal, "fk", "--model", model, "--data", scratch + ".csv", "--json", scratch + ".json"])
+    with open(scratch + ".json") as f:
+        result = json.load(f)
+    points = []
+    for row in result["rows"]:
+        if row["status"] != "ok":
+            raise SystemExit("run.py: fk failed: %s" % row.get("reason"))
+        points.append([row["pose"][a + "_mm"] for a in "xyz"])
+    return points
+
+
+def mean_point(points):
+    return [sum(p[i] for p in points) / len(points) for i in range(3)]
+
+
+def distance(a, b):
+    return math.sqrt(sum((x - y) ** 2 for x, y in zip(a, b)))
+
+
+def spread(points):
+    c = mean_point(points)
+    return math.sqrt(sum(distance(p, c) ** 2 for p in points) / len(points))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("dataset", help="folder of platonics-delft/kinematics_calibration")
+    ap.add_argument("--kincal", default=shutil.which("kincal") or "kincal")
+    ap.add_argument("--out", default="robot-sockets-out", help="folder for the files written")
+    ap.add_argument("--session", action="append",
+                    help="a panda_2 session (repeatable; default: every session)")
+    ap.add_argument("--hold-out-every", type=int, default=4,
+                    help="hold out configurations 0, N, 2N, ... of each socket")
+    ap.add_argument("--hold-out-session", action="append", default=[],
+                    help="hold out a whole session (repeatable): the tool placed where the "
+                         "calibration never saw it")
+    ap.add_argument("--keep-outliers", action="store_true",
+                    help="keep the two outlier blocks of session high")
+    args = ap.parse_args()
+    root = os.path.join(args.dataset, "data", "panda_2")
+    urdf = os.path.join(args.dataset, "urdf", "panda.urdf")
+    authors = os.path.join(args.dataset, "calibrated_urdf", "panda_2", "panda.urdf")
+    if not (os.path.isdir(root) and os.path.isfile(urdf)):
+        print("skipped: the socket dataset is not in %s (expected data/panda_2/ and "
+              "urdf/panda.urdf; get them from GitHub platonics-delft/kinematics_calibration)"
+              % args.dataset)
+        return 77
+    if args.hold_out_every < 2:
+        ap.error("--hold-out-every must be at least 2")
+    sessions = args.session or sorted(os.listdir(root))
+    for s in args.hold_out_session:
+        if s not in sessions:
+            sessions.append(s)
+    fitted = [s for s in sessions if s not in args.hold_out_session]
+    if not fitted:
+        ap.error("every session is held out: nothing to calibrate on")
+    os.makedirs(args.out, exist_ok=True)
+    k = args.kincal
+    path = lambda name: os.path.join(args.out, name)
+
+    # Training and held-out configurations per socket.
+    train, held, outliers = {}, {}, {}
+    left_out = {} if args.keep_outliers else OUTLIER_ROWS
+    for s in sessions:
+        for hole in (0, 1):
+            f = os.path.join(root, s, "hole_%d.csv" % hole)
+            if not os.path.isfile(f):
+                ap.error("no session %s in %s" % (s, root))
+            all_rows = read_joints(f)
+            rows = [q for i, q in enumerate(all_rows) if i not in left_out.get((s, hole), ())]
+            outliers[(s, hole)] = [all_rows[i] for i in left_out.get((s, hole), ())]
+            every = args.hold_out_every if s in fitted else 1
+            train[(s, hole)] = [q for i, q in enumerate(rows) if i % every]
+            held[(s, hole)] = [q for i, q in enumerate(rows) if not i % every]
+
+    run([k, "model", "--urdf", urdf, "--tip", "ball_link", "--sensor", "point-tracker",
+         "--out", path("panda-nominal.json")])
+    run([k, "model", "--urdf", authors, "--tip", "ball_link", "--sensor", "point-tracker",
+         "--out", path("panda-authors.json")])
+    with open(path("panda-nominal.json")) as f:
+        model = json.load(f)
+    # The sockets start where the nominal model puts the ball.
+    sensors, constraints, columns = [], [], []
+    for s in fitted:
+        for hole in (0, 1):
+            start = mean_point(ball_positions(k, path("panda-nominal.json"), train[(s, hole)],
+                                              path("nominal-start")))
+            name = sensor_name(s, hole)
+            sensors.append({"type": "socket", "name": name, "point": start})
+            columns += [name + "." + a for a in "xyz"]
+        constraints.append({"type": "fixture-distance",
+                            "between": [sensor_name(s, 0), sensor_name(s, 1)],
+                            "distance": DISTANCE_MM, "std": 0.05})
+    model["sensors"] = sensors
+    model["constraints"] = constraints
+    model["reading_std"] = {"s_*": 0.1}
+    model["free"] = FREE
+    with open(path("panda-sockets.json"), "w") as f:
+        json.dump(model, f, indent=2)
+
+    with open(path("train.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(JOINTS + columns)
+        for s in fitted:
+            for hole in (0, 1):
+                name = sensor_name(s, hole)
+                for q in train[(s, hole)]:
+                    readings = ["0" if c.startswith(name + ".") else "" for c in columns]
+                    w.writerow(["%.17g" % v for v in q] + readings)
+
+    calibration = run([k, "calibrate", "--model", path("panda-sockets.json"),
+                       "--data", path("train.csv"), "--free", "s_*",
+                       "--out", path("panda-calibrated.json"), "--json", path("report.json")])
+    with open(path("calibration.txt"), "w") as f:
+        f.write(calibration.stdout)
+    with open(path("report.json")) as f:
+        report = json.load(f)
+
+    failures = []
+    if report["fixed_by_identifiability"]:
+        failures.append("kincal fixed %s as not identifiable" % report["fixed_by_identifiability"])
+    models = [("nominal", path("panda-nominal.json")),
+              ("calibrated", path("panda-calibrated.json"))]
+    if os.path.isfile(authors):
+        models.append(("authors*", path("panda-authors.json")))
+    print("Panda, %d sessions (%d held out whole), %d configurations for calibration, %d held out"
+          % (len(sessions), len(sessions) - len(fitted), sum(len(v) for v in train.values()), sum(len(v) for v in held.values())))
+    print("calibration: %s after %d iterations, %d free parameters; constraints at the estimate:"
+          % (report["termination"], report["iterations"], len(report["parameters"])))
+    for c in report.get("constraints", []):
+        print("  %s: residual %+.4f mm" % (c["label"], c["residual"]))
+    totals = {}
+    for label, file in models:
+        spreads, gaps = [], []
+        for s in sessions:
+            means = []
+            for hole in (0, 1):
+                points = ball_positions(k, file, held[(s, hole)], path("held"))
+                spreads.append(spread(points))
+                means.append(mean_point(points))
+            gaps.append(abs(distance(*means) - DISTANCE_MM))
+        totals[label] = (spreads, gaps)
+    print("held-out configurations, per session (mm): spread = RMS distance of the ball from its")
+    print("mean in each socket (the two sockets' mean); 50 mm = |distance of the means - 50|")
+    print("%-14s %s   %s" % ("session", "spread: " + " ".join("%10s" % m[0] for m in models),
+                             "50 mm: " + " ".join("%10s" % m[0] for m in models)))
+    for i, s in enumerate(sessions):
+        print("%-20s   %s          %s" % (
+            s + ("" if s in fitted else " (whole)"), " ".join("%10.3f" % ((totals[m][0][2 * i] + totals[m][0][2 * i + 1]) / 2)
+                        for m, _ in models),
+            " ".join("%10.3f" % totals[m][1][i] for m, _ in models)))
+    print("%-20s   %s          %s" % (
+        "mean", " ".join("%10.3f" % (sum(totals[m][0]) / len(totals[m][0])) for m, _ in models),
+        " ".join("%10.3f" % (sum(totals[m][1]) / len(totals[m][1])) for m, _ in models)))
+    if len(models) == 3:
+        print("* fitted by its authors on these sessions, held-out rows included")
+    with open(path("panda-calibrated.json")) as f:
+        sockets = {c["name"]: c["point"] for c in json.load(f)["sensors"]}
+    for (s, hole), rows in sorted(outliers.items()):
+        if not rows or sensor_name(s, hole) not in sockets:
+            continue
+        name = sensor_name(s, hole)
+        miss = [distance(p, sockets[name]) for p in
+                ball_positions(k, path("panda-calibrated.json"), rows, path("outliers"))]
+        kept = [distance(p, sockets[name]) for p in
+                ball_positions(k, path("panda-calibrated.json"), train[(s, hole)] + held[(s, hole)],
+                               path("outliers"))]
+        print("left out: %s hole_%d rows %d-%d, %.2f-%.2f mm from the calibrated socket "
+              "(the session's other rows: %.2f-%.2f mm)"
+              % (s, hole, min(left_out[(s, hole)]), max(left_out[(s, hole)]), min(miss), max(miss),
+                 min(kept), max(kept)))
+    nominal, calibrated = totals["nominal"], totals["calibrated"]
+    for i, what in ((0, "spread"), (1, "distance error")):
+        if not sum(calibrated[i]) < sum(nominal[i]):
+            failures.append("held-out %s not better than nominal" % what)
+    for f in failures:
+        print("FAILED: " + f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
