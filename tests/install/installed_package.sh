@@ -64,7 +64,8 @@ case $step in
     run=$work/cli-run
     rm -rf "$run" && mkdir -p "$run" && cd "$run"
     arm=$example/kincal-arm
-    "$arm" list mechanisms | grep -q two-link-arm || fail "kincal-arm does not list two-link-arm"
+    "$arm" list mechanisms >mechanisms.txt  # through a file: see the plug-in case below
+    grep -q two-link-arm mechanisms.txt || fail "kincal-arm does not list two-link-arm"
     "$arm" model --preset two-link-demo --out arm.json
     "$arm" simulate --model arm.json --poses 30 --noise-half-width 0 --seed 11 --write-data data.csv
     "$arm" calibrate --model arm.json --data data.csv --out calibrated.json --json report.json
@@ -140,8 +141,8 @@ PY
     "$kincal" observability --model five-bar.json --data data.csv >/dev/null
     "$kincal" design --model five-bar.json --poses 12 --candidates 60 --noise-std 0.01mm \
       --out design.csv >/dev/null
-    "$kincal" export --model calibrated.json --format json | grep -q '"mechanism": "five-bar"' ||
-      fail "export --format json"
+    "$kincal" export --model calibrated.json --format json >exported.json
+    grep -q '"mechanism": "five-bar"' exported.json || fail "export --format json"
     "$kincal" check | tail -n 1
     ;;
 
