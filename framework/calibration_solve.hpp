@@ -1,0 +1,40 @@
+#pragma once
+// Solving a calibration in the chosen formulation: nested (forward kinematics inside every
+// residual, the paper's) or implicit (the poses as unknowns, closure constraints as residuals:
+// framework/implicit_calibration_problem.hpp). What comes back is the nested problem's in
+// both: x its free parameters, the Summary its cost and verdict at x, so that every report
+// reads the same quantities. A combination the implicit formulation does not handle (an
+// open chain, a prior, a backend without it, backend options) is solved nested, and `note`
+// says so.
+
+#include <string>
+
+#include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/prior_problem.hpp"
+#include "kincal/framework/solver.hpp"
+
+namespace kincal {
+
+enum class Formulation { kNested, kImplicit };
+
+/// "nested" or "implicit".
+const char* to_string(Formulation formulation);
+/// Throws std::invalid_argument naming the value unless it is "nested" or "implicit".
+Formulation parse_formulation(const std::string& text);
+/// Implicit for closed chains (it reaches the nested estimates several times faster,
+/// docs/benchmarks.md), nested for mechanisms whose forward kinematics is explicit.
+Formulation default_formulation(const MeasurementModel& model);
+
+struct CalibrationSolve {
+  Summary summary;
+  Formulation formulation = Formulation::kNested;  ///< the one that was solved
+  std::string note;                                ///< why the requested one was not, or empty
+};
+
+/// Solves `problem` (the MAP problem when `prior` has any entry) from x, in `requested` when
+/// it applies; x holds the estimate on return.
+CalibrationSolve solve_calibration(const Solver& solver, const CalibrationProblem& problem,
+                                   const Prior& prior, VectorXd& x, const SolverOptions& options,
+                                   Formulation requested);
+
+}  // namespace kincal
