@@ -17,10 +17,7 @@ Formulation parse_formulation(const std::string& text) {
   throw std::invalid_argument("formulation must be nested or implicit, not '" + text + "'");
 }
 
-Formulation default_formulation(const MeasurementModel& model) {
-  return ImplicitCalibrationProblem::applicable(model) ? Formulation::kImplicit
-                                                       : Formulation::kNested;
-}
+Formulation default_formulation(const MeasurementModel&) { return Formulation::kNested; }
 
 namespace {
 

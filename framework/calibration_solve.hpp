@@ -21,8 +21,10 @@ enum class Formulation { kNested, kImplicit };
 const char* to_string(Formulation formulation);
 /// Throws std::invalid_argument naming the value unless it is "nested" or "implicit".
 Formulation parse_formulation(const std::string& text);
-/// Implicit for closed chains (it reaches the nested estimates several times faster,
-/// docs/benchmarks.md), nested for mechanisms whose forward kinematics is explicit.
+/// Nested for every mechanism today: for a serial arm forward kinematics is explicit, and
+/// for a closed chain the implicit formulation measured only 1.4 times faster on the paper's
+/// case 5 (docs/benchmarks.md), short of the factor that would justify moving every
+/// documented result by the ~1e-5 mm by which the two end points differ.
 Formulation default_formulation(const MeasurementModel& model);
 
 struct CalibrationSolve {
