@@ -27,6 +27,7 @@ std::string implicit_obstacle(const Solver& solver, const CalibrationProblem& pr
   if (!ImplicitCalibrationProblem::applicable(problem.model()))
     return problem.model().mechanism().type() + " is not a closed chain";
   if (prior.any()) return "a prior is not part of it yet";
+  if (problem.num_parameters() == 0) return "there is no free parameter";
   if (!solver.solves_implicit(options))
     return "solver " + solver.name() + " does not solve it with these options";
   return {};

@@ -62,8 +62,9 @@ template <int Dof>
 bool evaluate_implicit_configuration(
     const MeasurementModel& model, const ClosedChainMechanism<Dof>& mechanism,
     const Eigen::Ref<const VectorXd>& params, const ActuatorsRef& q,
-    const Eigen::Ref<const VectorXd>& measured_row, const Pose& pose, bool jacobians,
-    ImplicitConfiguration<Dof>& out, std::string* why, bool constraints_known = false) {
+    const Eigen::Ref<const VectorXd, 0, Eigen::InnerStride<>>& measured_row, const Pose& pose,
+    bool jacobians, ImplicitConfiguration<Dof>& out, std::string* why,
+    bool constraints_known = false) {
   out.prepare(model);
   const int n_mech = mechanism.num_parameters();
   if (!constraints_known)

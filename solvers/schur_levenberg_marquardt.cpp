@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "kincal/framework/implicit_configuration.hpp"
@@ -110,6 +111,8 @@ class SchurKernel {
     thread_local ImplicitConfiguration<Dof> c;
     thread_local typename ClosedChainMechanism<Dof>::ParamsJacobian G_params;
     thread_local MatrixXd C;
+    Mat G_scratch;
+    std::optional<SmallLu<Dof>> lu;
     thread_local Eigen::LLT<MatrixXd> llt;
     const auto q = nested_.data().actuators.row(j).transpose();
     const auto mech = full.head(n_mech_);
@@ -121,29 +124,36 @@ class SchurKernel {
       if (why) *why = "configuration " + std::to_string(j + 1) + ": " + reason;
       return false;
     };
+    bool constraints_known = false;
     if (restore) {
       // Newton until the closure holds to the forward kinematics' tolerance, then one more
-      // step to the rounding level, as forward kinematics does: a closure error of the
-      // tolerance (1e-10) left in the poses is noise of ~1e-10 in the reduced costs, which the
-      // flat end game of a noisy case cannot see through.
+      // step to the rounding level with the last factorisation, as forward kinematics does: a
+      // closure error of the tolerance (1e-10) left in the poses is noise of ~1e-10 in the
+      // reduced costs, which the flat end game of a noisy case cannot see through. The rows
+      // are then formed with that factorisation (a pose 1e-10 away) and g = 0 (the step leaves
+      // ~|g|^2, below the rounding of the constraints): one evaluation of the constraints and
+      // one factorisation per configuration when the linear step already closed it.
       const ForwardKinematicsOptions& fk = model_.forward_kinematics_options();
       for (int it = 0;; ++it) {
-        mechanism_.constraints(mech, q, pose, c.g, &c.G_pose);
+        mechanism_.constraints(mech, q, pose, c.g, rows ? &c.G_pose : &G_scratch);
+        const Mat& G = rows ? c.G_pose : G_scratch;
         const double residual = c.g.cwiseAbs().maxCoeff();
         if (!std::isfinite(residual)) return fail("closure constraints not finite");
         if (it > fk.max_iterations)
           return fail("closure not restored (residual " + std::to_string(residual) + ")");
-        const SmallLu<Dof> lu(c.G_pose);
-        if (lu.near_singular(c.G_pose)) return fail("closure Jacobian singular");
-        pose = moved_pose<Dof>(mechanism_, pose, -lu.solve(c.g));
+        lu.emplace(G);
+        if (lu->near_singular(G)) return fail("closure Jacobian singular");
+        pose = moved_pose<Dof>(mechanism_, pose, -lu->solve(c.g));
         if (residual <= fk.tolerance) break;  // that was the step to the rounding level
       }
+      c.g.setZero();
       lin.poses[static_cast<std::size_t>(j)] = pose;
+      constraints_known = true;
     }
     std::string reason;
     if (!evaluate_implicit_configuration(model_, mechanism_, full, q,
                                          nested_.data().readings.row(j).transpose(), pose, rows, c,
-                                         why ? &reason : nullptr))
+                                         why ? &reason : nullptr, constraints_known))
       return fail(reason);
     lin.g.segment<Dof>(crow) = c.g;
     if (!rows) {
@@ -155,15 +165,17 @@ class SchurKernel {
       *cost = 0.5 * lin.rhat.segment(row, k_).squaredNorm();
       return std::isfinite(*cost);
     }
-    const SmallLu<Dof> lu(c.G_pose);
-    if (lu.near_singular(c.G_pose)) return fail("closure Jacobian singular");
-    lin.G_inv.middleRows<Dof>(crow) = lu.inverse();
+    if (!constraints_known) {
+      lu.emplace(c.G_pose);
+      if (lu->near_singular(c.G_pose)) return fail("closure Jacobian singular");
+    }
+    lin.G_inv.middleRows<Dof>(crow) = lu->inverse();
     G_params.resize(Dof, n_mech_);
     mechanism_.constraint_jacobian_params(mech, q, pose, G_params);
     auto G_theta = lin.G_theta.middleRows<Dof>(crow);
     for (const auto& [f, index] : free_mech_) G_theta.col(f) = G_params.col(index);
     for (int i = 0; i < k_; ++i) {
-      const Vec lambda = lu.solve_transposed(c.H_pose.row(i).transpose());  // M row i
+      const Vec lambda = lu->solve_transposed(c.H_pose.row(i).transpose());  // M row i
       lin.M.row(row + i) = lambda.transpose();
       lin.errors[row + i] = c.errors[i];
       lin.rhat[row + i] = c.errors[i] - lambda.dot(c.g);
@@ -301,12 +313,19 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
   StationarityScratch scratch(m * k, n);
   Stationarity at_x;
 
+  // The full parameter vector of a point: the fixed entries never change, so only the free
+  // ones are written (full_parameters() would allocate a new vector at every trial).
+  VectorXd full = nested.full_parameters(x);
+  const auto& free = nested.free_indices();
+  auto full_at = [&](const VectorXd& at) -> const VectorXd& {
+    for (std::size_t i = 0; i < free.size(); ++i) full[free[i]] = at[static_cast<Eigen::Index>(i)];
+    return full;
+  };
   std::string why;
   ++summary.residual_evaluations;
   ++summary.jacobian_evaluations;
   if (!problem.start_failure().empty() ||
-      !kernel.linearize_all(nested.full_parameters(x), poses, false, true, lin, lin,
-                            options.num_threads, &why)) {
+      !kernel.linearize_all(full_at(x), poses, false, true, lin, lin, options.num_threads, &why)) {
     summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
     monitor.finish(TerminationType::kFailed,
                    "residuals not computable at the start: " +
@@ -324,8 +343,12 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
     column_scale = column_scale.cwiseMax(floor);
     S.setZero();
     S.selfadjointView<Eigen::Lower>().rankUpdate(lin.R.transpose());
-    S.triangularView<Eigen::Upper>() = S.transpose();
-    H = column_scale.cwiseInverse().asDiagonal() * S * column_scale.cwiseInverse().asDiagonal();
+    // Mirror and scale entry by entry: expressions with S on both sides would need a temporary.
+    for (int c = 0; c < n; ++c)
+      for (int r = 0; r < n; ++r) {
+        if (r < c) S(r, c) = S(c, r);
+        H(r, c) = S(r, c) / (column_scale[r] * column_scale[c]);
+      }
     return n == 0 ? 0.0 : gradient.lpNorm<Eigen::Infinity>();
   };
   // out = -(H + lambda I)^-1 D^-1/2 R^T z with the current factorisation.
@@ -423,7 +446,7 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
       x_trial = x + dx_velocity;
       move_poses(dx_velocity);
       ++summary.residual_evaluations;
-      if (kernel.linearize_all(nested.full_parameters(x_trial), poses, true, false, lin, trial,
+      if (kernel.linearize_all(full_at(x_trial), poses, true, false, lin, trial,
                                options.num_threads, nullptr) &&
           trial.cost < cost) {
         x.swap(x_trial);
@@ -444,7 +467,7 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
       probe_step = h * dx_velocity;
       move_poses(probe_step);
       ++summary.residual_evaluations;
-      if (kernel.linearize_all(nested.full_parameters(x_trial), poses, false, false, lin, trial,
+      if (kernel.linearize_all(full_at(x_trial), poses, false, false, lin, trial,
                                options.num_threads, nullptr)) {
         second.noalias() = lin.R * dx_velocity;
         second = (2.0 / h) * ((trial.rhat - lin.rhat) / h - second);
@@ -465,8 +488,8 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
     move_poses(dx);
     ++summary.residual_evaluations;
     ++summary.jacobian_evaluations;
-    const bool evaluated = kernel.linearize_all(nested.full_parameters(x_trial), poses, true, true,
-                                                lin, trial, options.num_threads, &why);
+    const bool evaluated = kernel.linearize_all(full_at(x_trial), poses, true, true, lin, trial,
+                                                options.num_threads, &why);
     if (!evaluated || !std::isfinite(trial.cost) || !trial.R.allFinite()) {
       if (++consecutive_invalid > kMaxInvalidSteps)
         return done(TerminationType::kDiverged,
