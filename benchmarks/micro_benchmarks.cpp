@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 
+#include "kincal/framework/calibration_solve.hpp"
 #include "kincal/framework/parallel.hpp"
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
@@ -170,7 +171,7 @@ SolverOptions calibration_options(const std::string& solver, int threads) {
 // A full calibration from nominal. Counters let the reader check that the backends reach the
 // same solution: final cost, parameter RMS error against the truth, iterations.
 void calibrate_scenario(benchmark::State& state, const Scenario& s, const std::string& name,
-                        int threads) {
+                        int threads, Formulation formulation = Formulation::kNested) {
   const auto problem = s.make_problem();
   const auto solver = SolverRegistry::global().create(name);
   const SolverOptions options = calibration_options(name, threads);
@@ -178,7 +179,10 @@ void calibrate_scenario(benchmark::State& state, const Scenario& s, const std::s
   VectorXd x;
   for (auto _ : state) {
     x = problem->initial_free_parameters();
-    summary = solver->solve(*problem, x, options);
+    CalibrationSolve solved =
+        solve_calibration(*solver, *problem, Prior{}, x, options, formulation);
+    if (!solved.note.empty()) state.SkipWithError(solved.note.c_str());
+    summary = std::move(solved.summary);
     benchmark::DoNotOptimize(x.data());
   }
   const VectorXd error = x - problem->free_parameters(s.truth);
@@ -189,8 +193,8 @@ void calibrate_scenario(benchmark::State& state, const Scenario& s, const std::s
 }
 
 void calibrate(benchmark::State& state, const std::string& name, int num_configurations,
-               int threads) {
-  calibrate_scenario(state, scenario_with(num_configurations), name, threads);
+               int threads, Formulation formulation = Formulation::kNested) {
+  calibrate_scenario(state, scenario_with(num_configurations), name, threads, formulation);
 }
 
 bool is_derivative_free(const std::string& name) { return name.rfind("nlopt:LN_", 0) == 0; }
@@ -206,6 +210,11 @@ void register_dynamic_benchmarks() {
     })->Unit(benchmark::kMillisecond);
   }
   if (registry.contains("lm")) {
+    // lm on the implicit formulation (poses as unknowns, Schur complement), beside the nested
+    // BM_CalibrateCase5/lm above: the same data and start.
+    benchmark::RegisterBenchmark("BM_CalibrateCase5/lm/implicit", [](benchmark::State& st) {
+      calibrate(st, "lm", 60, 1, Formulation::kImplicit);
+    })->Unit(benchmark::kMillisecond);
     // lm on case 5 with hand-written and with automatic derivatives, the same data.
     for (const bool autodiff : {false, true})
       benchmark::RegisterBenchmark(
@@ -224,6 +233,14 @@ void register_dynamic_benchmarks() {
           [=](benchmark::State& st) { calibrate(st, scaling_solver, m, threads); })
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
+      if (scaling_solver == "lm")
+        benchmark::RegisterBenchmark(
+            ("BM_Scaling/lm/implicit/m:" + std::to_string(m) +
+             "/threads:" + std::to_string(threads))
+                .c_str(),
+            [=](benchmark::State& st) { calibrate(st, "lm", m, threads, Formulation::kImplicit); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
     }
     if (hardware_threads() == 1) break;
   }

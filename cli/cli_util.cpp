@@ -146,6 +146,22 @@ void add_solver_options(po::options_description& options) {
       "Ceres' log and Ipopt's own output");
 }
 
+void add_formulation_option(po::options_description& options) {
+  options.add_options()("formulation", po::value<std::string>(),
+                        "nested (forward kinematics inside every residual) or implicit (the "
+                        "poses as unknowns, closed chains only; docs/theory.md); default: "
+                        "nested");
+}
+
+Formulation formulation_choice(const po::variables_map& vm, const MeasurementModel& model) {
+  if (!vm.count("formulation")) return default_formulation(model);
+  try {
+    return parse_formulation(vm["formulation"].as<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw CliError(std::string("--formulation: ") + e.what());
+  }
+}
+
 namespace {
 std::function<bool()>& solver_stop_check() {
   static std::function<bool()> check;

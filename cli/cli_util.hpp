@@ -12,6 +12,7 @@
 
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/output_plan.hpp"
+#include "kincal/framework/calibration_solve.hpp"
 #include "kincal/framework/solver.hpp"
 
 namespace kincal::cli {
@@ -73,6 +74,12 @@ struct SolverChoice {
   SolverOptions options;
 };
 SolverChoice make_solver_choice(const po::variables_map& vm);
+
+/// --formulation nested|implicit (calibrate, simulate): how the calibration is posed
+/// (framework/calibration_solve.hpp); without it, default_formulation(model).
+void add_formulation_option(po::options_description& options);
+/// The formulation asked for, or the model's default; throws CliError for another value.
+Formulation formulation_choice(const po::variables_map& vm, const MeasurementModel& model);
 
 /// A check asked after every iteration of the solves that make_solver_choice sets up, when
 /// one is set: true stops the solve, which then ends user_stopped at the best point so far.

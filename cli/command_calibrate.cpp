@@ -193,6 +193,7 @@ int run_calibrate(const Args& args) {
                        "replaces the model's reading_std (weighs the readings against each "
                        "other and a prior, and scales the reported uncertainty)");
   add_solver_options(options);
+  add_formulation_option(options);
   add_data_size_option(options);
   add_target_option(options);
   add_sensitivity_options(options);
@@ -277,12 +278,17 @@ int run_calibrate(const Args& args) {
   const CalibrationProblem problem(model, loaded.data, nominal, free);
   VectorXd x = problem.initial_free_parameters();
   const Prior prior = model_prior(problem);
-  // With a prior: the MAP estimate, through the same backend (docs/theory.md).
-  const Summary summary = solve_calibration(*choice.solver, problem, prior, x, choice.options);
+  // With a prior: the MAP estimate, through the same backend (docs/theory.md). Whatever the
+  // formulation, the report below is the nested problem's at x.
+  CalibrationSolve solution = solve_calibration(*choice.solver, problem, prior, x, choice.options,
+                                                formulation_choice(vm, *model));
+  if (!solution.note.empty()) note("calibrate", solution.note);
+  const Summary summary = std::move(solution.summary);
 
   CalibrationReport report =
       make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
                               prior.any() ? prior.precision() : VectorXd());
+  report.formulation = to_string(solution.formulation);
   report.model_file = model_file;
   report.data_file = data_file;
   report.fixed_by_identifiability = fixed_by_identifiability;

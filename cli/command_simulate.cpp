@@ -164,6 +164,7 @@ int run_simulate(const Args& args) {
   add_scenario_options(options, true);
   add_data_size_option(options);
   add_solver_options(options);
+  add_formulation_option(options);
   add_json_option(options, "the result");
   options.add_options()("trace", po::value<std::string>(),
                         "write the per-iteration trace as CSV to FILE")(
@@ -347,7 +348,9 @@ int run_simulate(const Args& args) {
       fixed_by_identifiability = check.fixed;
     }
   }
-  const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true);
+  const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true,
+                                             formulation_choice(vm, *scenario.model));
+  if (!run.formulation_note.empty()) note("simulate", run.formulation_note);
 
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) {

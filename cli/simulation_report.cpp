@@ -117,6 +117,7 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   const Summary& summary = run.summary;
   nlohmann::json out;
   out["solver"] = summary.solver;
+  out["formulation"] = to_string(run.formulation);
   out["termination"] = to_string(summary.termination);
   out["message"] = summary.message;
   out["backend_code"] = summary.backend_code;

@@ -260,6 +260,7 @@ Json to_json(const CalibrationReport& r) {
   out["model"] = r.model_file;
   out["data"] = r.data_file;
   out["solver"] = r.summary.solver;
+  out["formulation"] = r.formulation;
   out["loss"] = r.loss;
   out["termination"] = to_string(r.summary.termination);
   out["message"] = r.summary.message;

@@ -27,6 +27,7 @@ double normal_two_sided_quantile(double p);
 
 struct CalibrationReport {
   std::string model_file, data_file;
+  std::string formulation = "nested";  ///< nested or implicit (calibration_solve.hpp)
   std::string loss = "none";  ///< the robust loss the fit used and the uncertainty accounts for
   Summary summary;
   std::vector<std::string> names;  ///< free parameters, problem order

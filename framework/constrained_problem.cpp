@@ -88,8 +88,8 @@ bool ConstrainedProblem::evaluate_block(int block, const VectorXd& x,
   return true;
 }
 
-Summary solve_calibration(const Solver& solver, const CalibrationProblem& problem,
-                          const Prior& prior, VectorXd& x, const SolverOptions& options) {
+Summary solve_nested_calibration(const Solver& solver, const CalibrationProblem& problem,
+                                 const Prior& prior, VectorXd& x, const SolverOptions& options) {
   if (problem.model().constraints().empty())
     return prior.any() ? solver.solve(PriorProblem(problem, prior), x, options)
                        : solver.solve(problem, x, options);

@@ -6,7 +6,7 @@
 // Blocks stay uniform (LeastSquaresProblem's contract), as PriorProblem's: the data
 // problem's blocks first, then ceil(c / k) blocks of k residuals (c the constraints'
 // residuals, k the data problem's residuals_per_block), the last padded with zeros.
-// solve_calibration chains it with the prior, so every caller solves the same problem.
+// solve_nested_calibration chains it with the prior, so every caller solves the same problem.
 
 #include <vector>
 
@@ -51,9 +51,11 @@ class ConstrainedProblem : public LeastSquaresProblem {
   int constraint_blocks_ = 0;
 };
 
-/// Solves `problem` from x (in/out) with its model's constraints, when it has any, and with
-/// `prior`, when it has one: the problem every calibration of such a model must solve.
-Summary solve_calibration(const Solver& solver, const CalibrationProblem& problem,
-                          const Prior& prior, VectorXd& x, const SolverOptions& options);
+/// Solves `problem` from x (in/out) in the nested formulation with its model's constraints,
+/// when it has any, and with `prior`, when it has one: the problem every nested calibration
+/// of such a model must solve. Callers use solve_calibration (calibration_solve.hpp), which
+/// chooses the formulation.
+Summary solve_nested_calibration(const Solver& solver, const CalibrationProblem& problem,
+                                 const Prior& prior, VectorXd& x, const SolverOptions& options);
 
 }  // namespace kincal

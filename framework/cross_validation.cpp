@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "kincal/framework/constrained_problem.hpp"
+#include "kincal/framework/calibration_solve.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/framework/position_error.hpp"
 #include "kincal/framework/prior_problem.hpp"
@@ -16,7 +16,7 @@ Fit fit_parameters(std::shared_ptr<const MeasurementModel> model, const Measurem
   VectorXd x = problem.initial_free_parameters();
   const Prior prior = with_prior ? model_prior(problem) : Prior{};
   Fit fit;
-  fit.summary = solve_calibration(solver, problem, prior, x, options);
+  fit.summary = solve_calibration(solver, problem, prior, x, options, Formulation::kNested).summary;
   fit.values = fit.ok() ? problem.full_parameters(x) : start;
   return fit;
 }

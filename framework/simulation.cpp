@@ -262,7 +262,8 @@ PoseErrorStats validation_errors(const Scenario& scenario, const VectorXd& param
 }
 
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
-                               SolverOptions options, bool track_iterations) {
+                               SolverOptions options, bool track_iterations,
+                               Formulation formulation) {
   const auto problem = scenario.make_problem();
   CalibrationRun run;
   run.before = validation_errors(scenario, scenario.nominal);
@@ -282,10 +283,10 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   }
   VectorXd x = problem->initial_free_parameters();
   const Prior prior = model_prior(*problem);
-  if (prior.any())
-    run.summary = solver.solve(PriorProblem(*problem, prior), x, options);
-  else
-    run.summary = solver.solve(*problem, x, options);
+  CalibrationSolve solved = solve_calibration(solver, *problem, prior, x, options, formulation);
+  run.summary = std::move(solved.summary);
+  run.formulation = solved.formulation;
+  run.formulation_note = std::move(solved.note);
   run.solve_seconds = std::max(0.0, run.summary.wall_seconds - tracking_seconds);
   // The trace's times, too, are those of the solve alone.
   for (std::size_t i = 0; i < run.summary.trace.size() && i < tracking_before.size(); ++i)

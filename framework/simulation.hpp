@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/calibration_solve.hpp"
 #include "kincal/framework/solver.hpp"
 
 namespace kincal {
@@ -123,13 +124,17 @@ struct CalibrationRun {
   /// per-iteration validation errors inside the callback (summary.trace[k].seconds are
   /// corrected the same way; summary.wall_seconds is left as measured).
   double solve_seconds = 0;
+  /// The formulation solved, and why the requested one was not (empty when it was).
+  Formulation formulation = Formulation::kNested;
+  std::string formulation_note;
 };
 
 /// Solves the scenario's problem from nominal: the MAP estimate when a free parameter has a
 /// prior (Parameter::prior_std, set by ScenarioOptions::prior_std), else least squares. When
 /// `track_iterations` is set, the validation errors are computed at every iteration (through the
-/// solver's callback).
+/// solver's callback). `formulation`: nested or implicit (calibration_solve.hpp).
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
-                               SolverOptions options, bool track_iterations = true);
+                               SolverOptions options, bool track_iterations = true,
+                               Formulation formulation = Formulation::kNested);
 
 }  // namespace kincal

@@ -31,6 +31,11 @@ std::string Summary::brief_report() const {
   return out;
 }
 
+Summary Solver::solve_implicit(const ImplicitCalibrationProblem&, VectorXd&,
+                               const SolverOptions&) const {
+  throw InvalidSolverOptions(name() + ": no implicit formulation");
+}
+
 void Solver::check_options(const SolverOptions& options) const {
   // Backend keys are checked by each backend against its own list (require_known_keys):
   // rejecting every key here broke every backend that calls the base and takes options.

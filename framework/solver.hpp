@@ -12,6 +12,8 @@
 
 namespace kincal {
 
+class ImplicitCalibrationProblem;
+
 /// Why a solve stopped. Numerical outcomes are values here, never exceptions.
 enum class TerminationType {
   kConverged,      ///< a convergence test fired (see Summary::message for which)
@@ -96,6 +98,14 @@ class Solver {
   /// point the backend reached). Throws only InvalidSolverOptions.
   virtual Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                         const SolverOptions& options) const = 0;
+  /// Whether solve_implicit is implemented (with these options): the backends that are not
+  /// fall back to the nested formulation (framework/calibration_solve.hpp says so).
+  virtual bool solves_implicit(const SolverOptions&) const { return false; }
+  /// Solves the implicit-loop formulation of a calibration; x holds the nested problem's free
+  /// parameters, and the Summary is the nested problem's at the returned x
+  /// (solvers/schur_levenberg_marquardt.hpp). Only when solves_implicit(options).
+  virtual Summary solve_implicit(const ImplicitCalibrationProblem& problem, VectorXd& x,
+                                 const SolverOptions& options) const;
 
  protected:
   /// Throws InvalidSolverOptions unless x has one entry per parameter of `problem` and the

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/robust_loss.hpp"
+#include "kincal/solvers/schur_levenberg_marquardt.hpp"
 #include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {
@@ -142,6 +143,16 @@ class LevenbergMarquardtSolver final : public Solver {
 
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override;
+
+  // The Schur-complement solver has lm's defaults and none of its backend options or bounds.
+  bool solves_implicit(const SolverOptions& options) const override {
+    return options.backend_options.empty() && !options.lower_bounds;
+  }
+  Summary solve_implicit(const ImplicitCalibrationProblem& problem, VectorXd& x,
+                         const SolverOptions& options) const override {
+    Solver::check_options(options);
+    return solve_implicit_lm(problem, x, options);
+  }
 };
 
 // Everything one solve needs, sized once so that the iteration loop never allocates.

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdlib>
 
+#include "kincal/framework/implicit_calibration_problem.hpp"
 #include "kincal/framework/simulation.hpp"
 #include "kincal/framework/solver_registry.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
@@ -79,6 +80,25 @@ TEST(LevenbergMarquardt, TheIterationLoopDoesNotAllocateOnTheHexapod) {
     return CallbackAction::kContinue;
   };
   const Summary summary = lm()->solve(*problem, x, options);
+  ASSERT_GT(summary.trace.size(), 5u) << summary.brief_report();
+  EXPECT_EQ(at_last_step, at_first_step);
+}
+
+// The same for lm on the implicit formulation (Schur complement): between its first and its
+// last accepted iterate, nothing is allocated per configuration or per iteration.
+TEST(LevenbergMarquardt, TheImplicitIterationLoopDoesNotAllocateOnTheHexapod) {
+  const Scenario scenario = paper_scenario(5, 1);
+  const auto problem = scenario.make_problem();
+  const ImplicitCalibrationProblem implicit(problem);
+  VectorXd x = problem->initial_free_parameters();
+  SolverOptions options;
+  long at_first_step = -1, at_last_step = -1;
+  options.callback = [&](const IterationRecord& record, const VectorXd&) {
+    if (record.iteration > 0 && at_first_step < 0) at_first_step = g_allocations.load();
+    at_last_step = g_allocations.load();
+    return CallbackAction::kContinue;
+  };
+  const Summary summary = lm()->solve_implicit(implicit, x, options);
   ASSERT_GT(summary.trace.size(), 5u) << summary.brief_report();
   EXPECT_EQ(at_last_step, at_first_step);
 }

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "kincal/framework/constrained_problem.hpp"
+#include "kincal/framework/calibration_solve.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/framework/solver_registry.hpp"
 #include "kincal/models/fixture_distance.hpp"
@@ -72,7 +72,8 @@ TEST(SocketCalibration, RecoversLinksAndSocketsFromJointAnglesAlone) {
   const auto solver = SolverRegistry::global().create("lm");
   SolverOptions options;
   options.max_iterations = 100;
-  const Summary summary = solve_calibration(*solver, problem, Prior{}, x, options);
+  const Summary summary =
+      solve_calibration(*solver, problem, Prior{}, x, options, Formulation::kNested).summary;
   ASSERT_EQ(summary.termination, TerminationType::kConverged) << summary.message;
   const VectorXd estimate = problem.full_parameters(x);
   for (int i : problem.free_indices())

@@ -1,0 +1,112 @@
+// kincal-implicit-agreement: the nested and the implicit formulation (lm) on the paper's
+// cases 1-5 over many seeds, at the tight tolerances of the backends' agreement test. For each
+// run: whether both converged, the distance between their end points, the distance between the
+// minima reached from each by Gauss-Newton steps on the nested problem (steps from r and J,
+// which carry far less rounding than the cost differences lm's tests see), and the costs.
+// Figures: docs/benchmarks.md.
+//
+//   kincal-implicit-agreement [SEEDS=200] [THREADS=2]
+// With KINCAL_AGREEMENT_VERBOSE set, the runs whose polished points differ by more than
+// 1e-6 mm are listed with their costs and messages.
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <vector>
+
+#include "kincal/framework/calibration_solve.hpp"
+#include "kincal/framework/parallel.hpp"
+#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/solver_registry.hpp"
+#include "kincal/models/presets.hpp"
+
+namespace kincal {
+namespace {
+
+struct Outcome {
+  bool both_converged = false;
+  double end_points_mm = 0;  // max |x_implicit - x_nested|
+  double minima_mm = 0;      // the same after Gauss-Newton steps from each
+  double cost_ratio = 0;     // implicit final cost / nested final cost
+};
+
+VectorXd gauss_newton_polished(const CalibrationProblem& problem, VectorXd x) {
+  for (int i = 0; i < 6; ++i) {
+    VectorXd r;
+    MatrixXd J;
+    if (!problem.evaluate(x, &r, &J)) break;
+    x -= J.colPivHouseholderQr().solve(r);
+  }
+  return x;
+}
+
+Outcome run(int case_id, std::uint64_t seed) {
+  ScenarioOptions o;
+  o.num_configurations = paper_case(case_id).num_configurations;
+  o.noise_half_width = paper_case(case_id).noise_half_width;
+  o.num_validation = 0;
+  o.seed = seed;
+  const Scenario scenario = make_scenario(make_cube_hexapod(), o);
+  const auto problem = scenario.make_problem();
+  const auto lm = SolverRegistry::global().create("lm");
+  SolverOptions options;
+  options.max_iterations = 500;
+  options.function_tolerance = 1e-16;
+  options.parameter_tolerance = 1e-14;
+  options.gradient_tolerance = 1e-13;
+  VectorXd nested_x = problem->initial_free_parameters(), implicit_x = nested_x;
+  const CalibrationSolve nested =
+      solve_calibration(*lm, *problem, Prior{}, nested_x, options, Formulation::kNested);
+  const CalibrationSolve implicit =
+      solve_calibration(*lm, *problem, Prior{}, implicit_x, options, Formulation::kImplicit);
+  Outcome out;
+  out.both_converged = nested.summary.converged() && implicit.summary.converged() &&
+                       implicit.formulation == Formulation::kImplicit;
+  out.end_points_mm = (implicit_x - nested_x).lpNorm<Eigen::Infinity>();
+  out.minima_mm =
+      (gauss_newton_polished(*problem, implicit_x) - gauss_newton_polished(*problem, nested_x))
+          .lpNorm<Eigen::Infinity>();
+  out.cost_ratio = implicit.summary.final_cost / nested.summary.final_cost;
+  if (std::getenv("KINCAL_AGREEMENT_VERBOSE") && out.minima_mm > 1e-6) {
+    const VectorXd a = gauss_newton_polished(*problem, implicit_x),
+                   b = gauss_newton_polished(*problem, nested_x);
+    std::printf(
+        "  case %d seed %llu: costs nested %.15g implicit %.15g polished %.15g %.15g; %s | %s\n",
+        case_id, static_cast<unsigned long long>(seed), nested.summary.final_cost,
+        implicit.summary.final_cost, problem->cost(b), problem->cost(a),
+        nested.summary.message.c_str(), implicit.summary.message.c_str());
+  }
+  return out;
+}
+
+}  // namespace
+}  // namespace kincal
+
+int main(int argc, char** argv) {
+  using namespace kincal;
+  const int seeds = argc > 1 ? std::atoi(argv[1]) : 200;
+  const int threads = argc > 2 ? std::atoi(argv[2]) : 2;
+  std::printf(
+      "case seeds both_converged end_points_max_mm end_points_median_mm minima_max_mm "
+      "cost_ratio_max\n");
+  for (int case_id = 1; case_id <= 5; ++case_id) {
+    std::vector<Outcome> outcomes(static_cast<std::size_t>(seeds));
+    parallel_for(seeds, threads, [&](int i) {
+      outcomes[static_cast<std::size_t>(i)] = run(case_id, static_cast<std::uint64_t>(i + 1));
+    });
+    int converged = 0;
+    double minima = 0, ratio = 0;
+    std::vector<double> ends;
+    for (const Outcome& o : outcomes) {
+      converged += o.both_converged;
+      ends.push_back(o.end_points_mm);
+      minima = std::max(minima, o.minima_mm);
+      ratio = std::max(ratio, o.cost_ratio);
+    }
+    std::sort(ends.begin(), ends.end());
+    std::printf("%d %d %d %.3g %.3g %.3g %.12g\n", case_id, seeds, converged, ends.back(),
+                ends[ends.size() / 2], minima, ratio);
+  }
+  return 0;
+}
