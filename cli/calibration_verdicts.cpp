@@ -17,7 +17,22 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
   using L = Verdict::Level;
   std::vector<Verdict> out;
   const std::string termination = text_of(r, "termination");
-  if (termination == "converged")
+  // "Converged" says the solver stopped, not where: residuals far above the stated noise
+  // are a local minimum or a model error, never a plain success.
+  const Json& fit = member(r, "fit_check");
+  if (text_of(fit, "verdict") == "too_large" &&
+      (termination == "converged" || termination == "max_iterations"))
+    out.push_back({L::kProblem,
+                   "The solver stopped where the residuals are far above the stated noise "
+                   "(chi-square " +
+                       fmt(num(member(fit, "chi_square")), 4) + " on " +
+                       fmt(num(member(fit, "degrees_of_freedom")), 4) +
+                       " degrees of freedom, P(larger) " + fmt(num(member(fit, "p_larger")), 2) +
+                       "): probably a local minimum or a model error.",
+                   "Calibrate again from other starting values (e.g. nearer values in the model "
+                   "file), and check the fixed parameters (kincal observability --sensitivity), "
+                   "outliers and reading_std."});
+  else if (termination == "converged")
     out.push_back({L::kGood, "The solver converged (" + text_of(r, "message") + ").", ""});
   else if (termination == "max_iterations")
     out.push_back({L::kWarning, "The solver stopped at its iteration limit before converging.",

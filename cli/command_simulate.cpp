@@ -99,6 +99,13 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
   std::printf("validation over %d poses:\n", o.num_validation);
   print_errors("before", run.before);
   print_errors("after", run.after);
+  const FitCheck fit = simulated_fit_check(scenario, run);
+  if (fit.tested)
+    std::printf(
+        "fit check: chi-square %.4g on %d degrees of freedom against the simulated "
+        "noise, P(larger) %.3g: %s\n",
+        fit.chi_square, fit.degrees_of_freedom, fit.p_larger,
+        fit.too_large() ? kFitTooLarge : "consistent with it");
   std::printf("parameter RMS error after calibration:");
   if (parameter_units.count(kMillimetre)) std::printf(" %.6g mm", run.parameter_rms_error);
   if (parameter_units.count(kRadian))
@@ -363,6 +370,17 @@ int run_simulate(const Args& args) {
     json["version"] = 1;
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
     json["fixed_by_identifiability"] = fixed_by_identifiability;
+    const FitCheck fit = simulated_fit_check(scenario, run);
+    json["fit_check"] = {
+        {"verdict", !fit.tested       ? "not_tested"
+                    : fit.too_large() ? "too_large"
+                                      : "consistent"},
+        {"chi_square", fit.tested ? nlohmann::json(fit.chi_square) : nlohmann::json()},
+        {"degrees_of_freedom",
+         fit.tested ? nlohmann::json(fit.degrees_of_freedom) : nlohmann::json()},
+        {"p_larger", fit.tested ? nlohmann::json(fit.p_larger) : nlohmann::json()},
+        {"note", fit.tested ? (fit.too_large() ? kFitTooLarge : "consistent with the noise")
+                            : fit.not_tested}};
     // Where the configurations and the truth came from (null: drawn from the seed).
     json["configs"] =
         vm.count("configs") ? nlohmann::json(vm["configs"].as<std::string>()) : nlohmann::json();

@@ -9,6 +9,7 @@
 #include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/framework/units.hpp"
+#include "kincal/framework/validation.hpp"
 
 namespace kincal {
 
@@ -303,6 +304,50 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   run.parameter_rms_error = count[0] ? std::sqrt(sum[0] / count[0]) : 0.0;
   run.parameter_rms_error_rad = count[1] ? std::sqrt(sum[1] / count[1]) : 0.0;
   return run;
+}
+
+FitCheck simulated_fit_check(const Scenario& scenario, const CalibrationRun& run) {
+  FitCheck f;
+  const MeasurementModel& model = *scenario.model;
+  const std::shared_ptr<CalibrationProblem> problem = scenario.make_problem();
+  bool prior = false;
+  for (int i : problem->free_indices()) prior = prior || model.parameters()[i].has_prior();
+  const std::vector<std::string> units = model.reading_units();
+  const int k = model.num_readings();
+  VectorXd noise_std(k);
+  for (int i = 0; i < k; ++i) noise_std[i] = scenario.options.noise_for(units[i]) / std::sqrt(3.0);
+  if (prior)
+    f.not_tested = "a MAP fit: the prior pulls the residuals away from the data's minimum";
+  else if (!(noise_std.array() > 0).all())
+    f.not_tested = "no simulated noise in some reading's unit";
+  if (!f.not_tested.empty()) return f;
+  VectorXd x(problem->free_indices().size());
+  for (int i = 0; i < x.size(); ++i) x[i] = run.estimate[problem->free_indices()[i]];
+  VectorXd r;
+  if (!problem->evaluate(x, &r, nullptr)) {
+    f.not_tested = "the residuals cannot be computed at the estimate";
+    return f;
+  }
+  // The problem divides by reading_std; the noise drawn is noise_std.
+  int measured = 0;
+  double sum = 0;
+  const Measurements& data = scenario.calibration;
+  for (int c = 0; c < data.size(); ++c)
+    for (int i = 0; i < k; ++i) {
+      if (std::isnan(data.readings(c, i))) continue;
+      const double z = r[c * k + i] * model.reading_std()[i] / noise_std[i];
+      sum += z * z;
+      ++measured;
+    }
+  f.degrees_of_freedom = measured - static_cast<int>(x.size());
+  if (f.degrees_of_freedom <= 0) {
+    f.not_tested = "no degrees of freedom (as many readings as parameters)";
+    return f;
+  }
+  f.tested = true;
+  f.chi_square = sum;
+  f.p_larger = chi_square_upper_tail(sum, f.degrees_of_freedom);
+  return f;
 }
 
 }  // namespace kincal

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/fit_check.hpp"
 #include "kincal/framework/solver.hpp"
 
 namespace kincal {
@@ -131,5 +132,11 @@ struct CalibrationRun {
 /// solver's callback).
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
                                SolverOptions options, bool track_iterations = true);
+
+/// The run's residuals against the noise the simulation drew (uniform, std a / sqrt(3) per
+/// unit): FitCheck's chi-square on m - n degrees of freedom, which flags a run that stopped in
+/// a local minimum. Not tested with a prior, without noise in a reading's unit, or without
+/// degrees of freedom.
+FitCheck simulated_fit_check(const Scenario& scenario, const CalibrationRun& run);
 
 }  // namespace kincal
