@@ -202,7 +202,7 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
 FitCheck check_fit(const CalibrationReport& r, const VectorXd& measured_whitened) {
   FitCheck f;
   if (!r.weighted)
-    f.not_tested = "the model states no reading noise (reading_std) to compare the residuals with";
+    f.not_tested = kFitNoNoise;
   else if (r.prior)
     f.not_tested = "a MAP fit: the prior pulls the residuals away from the data's minimum";
   else if (r.loss != "none")
@@ -310,7 +310,7 @@ Json to_json(const CalibrationReport& r) {
     fit["p_larger"] = f.tested ? number(f.p_larger) : Json();
     fit["note"] = !f.tested       ? f.not_tested
                   : f.too_large() ? std::string(kFitTooLarge)
-                                  : std::string("the residuals are what the stated noise predicts");
+                                  : std::string(kFitConsistent);
     out["fit_check"] = fit;
   }
   out["effective_degrees_of_freedom"] = number(r.uncertainty.effective_degrees_of_freedom);
@@ -468,11 +468,11 @@ std::string to_text(const CalibrationReport& r) {
         << r.loss << " loss sees them (" << format("%.4g", r.psi_sigma)
         << ") scaled by Huber's factor " << format("%.3g", r.uncertainty.robust_factor);
   out << ")\n";
-  if (r.fit_check.tested)
+  // Only a flagged fit: the JSON holds the check either way.
+  if (r.fit_check.too_large())
     out << "fit check: chi-square " << format("%.4g", r.fit_check.chi_square) << " on "
         << r.fit_check.degrees_of_freedom << " degrees of freedom against the stated noise, "
-        << "P(larger) " << format("%.3g", r.fit_check.p_larger) << ": "
-        << (r.fit_check.too_large() ? kFitTooLarge : "consistent with it") << "\n";
+        << "P(larger) " << format("%.3g", r.fit_check.p_larger) << ": " << kFitTooLarge << "\n";
   if (r.loss != "none" && std::isnan(r.uncertainty.robust_factor))
     out << "no standard deviations: the " << r.loss
         << " loss rejects most residuals (its delta is too small for this data)\n";

@@ -14,12 +14,27 @@ constexpr double kFitCheckProbability = 1e-4;
 /// What the reports say of such a fit.
 inline constexpr const char* kFitTooLarge =
     "the residuals are far above the stated noise: probably a local minimum or a model error "
-    "(try other starts, check the fixed parameters, outliers and reading_std)";
+    "(try --starts, check the fixed parameters, outliers and reading_std)";
+
+/// What they say of a fit that passes: the check has a blind side.
+inline constexpr const char* kFitConsistent =
+    "consistent with the noise (a local minimum whose residuals are as small as the noise "
+    "passes too: --starts compares minima)";
+
+/// Why a model without reading_std is not checked: the noise would have to be estimated from
+/// these very residuals, against which any fit is consistent.
+inline constexpr const char* kFitNoNoise =
+    "the model states no reading noise (reading_std or --noise-std): sigma_hat is estimated "
+    "from these residuals, so they cannot be compared with the noise, and a local minimum or "
+    "a model error can only show as a sigma_hat larger than the sensor's accuracy";
 
 /// The residuals of the fit against the noise (the model's reading_std, or a simulation's): at
-/// the global minimum of a right model, sum (r_i / std_i)^2 follows chi-square on m - n
-/// degrees of freedom. A value far above it means the solver stopped in a local minimum or
-/// the model misses something (a wrong fixed parameter, outliers, a too optimistic std).
+/// the global minimum of a right model with Gaussian noise, sum (r_i / std_i)^2 follows
+/// chi-square on m - n degrees of freedom (to first order). A value far above it means the
+/// solver stopped in a local minimum or the model misses something (a wrong fixed parameter,
+/// outliers, a too optimistic std). Uniform noise, as simulated, has lighter tails, so the
+/// probability is then conservative. The converse does not hold: a local minimum whose
+/// residuals are no larger than the noise's passes (docs/benchmarks.md, "Local minima").
 struct FitCheck {
   bool tested = false;
   std::string not_tested;  ///< why not, when !tested

@@ -263,7 +263,8 @@ PoseErrorStats validation_errors(const Scenario& scenario, const VectorXd& param
 }
 
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
-                               SolverOptions options, bool track_iterations) {
+                               SolverOptions options, bool track_iterations,
+                               const VectorXd& start) {
   const auto problem = scenario.make_problem();
   CalibrationRun run;
   run.before = validation_errors(scenario, scenario.nominal);
@@ -282,6 +283,13 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
     };
   }
   VectorXd x = problem->initial_free_parameters();
+  if (start.size() > 0) {
+    if (start.size() != x.size())
+      throw std::invalid_argument("the start has " + std::to_string(start.size()) + " values for " +
+                                  std::to_string(x.size()) + " free parameters");
+    x = start;
+  }
+  // The prior stays centred on nominal whatever the start.
   const Prior prior = model_prior(*problem);
   if (prior.any())
     run.summary = solver.solve(PriorProblem(*problem, prior), x, options);
@@ -304,6 +312,34 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   run.parameter_rms_error = count[0] ? std::sqrt(sum[0] / count[0]) : 0.0;
   run.parameter_rms_error_rad = count[1] ? std::sqrt(sum[1] / count[1]) : 0.0;
   return run;
+}
+
+StartSpread scenario_start_spread(const Scenario& scenario) {
+  const int n = static_cast<int>(scenario.free_indices.size());
+  StartSpread spread;
+  spread.half_width = VectorXd::Zero(n);
+  spread.std = VectorXd::Zero(n);
+  for (int c = 0; c < n; ++c) {
+    const Parameter& p = scenario.model->parameters()[scenario.free_indices[c]];
+    spread.half_width[c] = std::isnan(p.error_half_width) ? scenario.options.param_error_for(p.unit)
+                                                          : p.error_half_width;
+  }
+  return spread;
+}
+
+MultiStartResult solve_scenario_starts(const Scenario& scenario, const Solver& solver,
+                                       const SolverOptions& options, int starts, int threads) {
+  const auto problem = scenario.make_problem();
+  MultiStartOptions multi;
+  multi.starts = starts;
+  multi.seed = scenario.options.seed;
+  multi.threads = threads;
+  multi.spread = scenario_start_spread(scenario);
+  const VectorXd x0 = problem->initial_free_parameters();
+  const Prior prior = model_prior(*problem);
+  if (prior.any())
+    return solve_multi_start(PriorProblem(*problem, prior), solver, x0, options, multi);
+  return solve_multi_start(*problem, solver, x0, options, multi);
 }
 
 FitCheck simulated_fit_check(const Scenario& scenario, const CalibrationRun& run) {
