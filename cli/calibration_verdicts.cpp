@@ -44,6 +44,39 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                    "Check the data (outliers, wrong actuator columns) and the model's nominal "
                    "values; try --solver lm."});
 
+  // Several starts (--starts): whether they agree on one minimum.
+  const Json& starts = member(r, "starts");
+  const double start_count = num(member(starts, "count"));
+  if (start_count > 1) {
+    const Json& minima = member(starts, "minima");
+    const std::size_t distinct = minima.is_array() ? minima.size() : 0;
+    const std::string n = fmt(start_count, 6);
+    if (distinct > 1) {
+      std::string costs;
+      for (std::size_t i = 0; i < distinct && i < 5; ++i)
+        costs += std::string(i ? ", " : "") + fmt(num(member(minima[i], "cost")), 4);
+      const double best = num(member(starts, "best_start"));
+      const double best_reached = member(minima[0], "starts").size();
+      out.push_back({L::kWarning,
+                     "The " + n + " starts ended in " + std::to_string(distinct) +
+                         " distinct minima (costs " + costs + (distinct > 5 ? ", ..." : "") +
+                         "); the estimate is the lowest, reached by " + fmt(best_reached, 6) +
+                         " of them" +
+                         (best != 0 ? ", and not from the model's values (start 0)" : "") + ".",
+                     std::string("The data do not single out one geometry: minima whose costs "
+                                 "differ by about the noise fit equally well, and the lowest is "
+                                 "not necessarily the closest (docs/benchmarks.md). Narrow the "
+                                 "tolerances (param_error, prior_std) or measure more "
+                                 "configurations.") +
+                         (best_reached == 1 ? " Only one start reached the lowest: more --starts "
+                                              "may find another."
+                                            : "")});
+    } else if (distinct == 1) {
+      out.push_back(
+          {L::kGood, "All " + n + " starts that reached a solution ended at one minimum.", ""});
+    }
+  }
+
   // Noise: sigma_hat against what the model states.
   const double sigma = num(member(r, "sigma_hat"));
   const std::string sigma_unit = text_of(r, "sigma_hat_unit");

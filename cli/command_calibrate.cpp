@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_report.hpp"
@@ -14,6 +15,7 @@
 #include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
+#include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/cross_validation.hpp"
@@ -195,8 +197,12 @@ int run_calibrate(const Args& args) {
   add_data_size_option(options);
   add_target_option(options);
   add_sensitivity_options(options);
+  add_starts_option(options);
+  options.add_options()("seed", po::value<Seed>()->default_value(Seed{1}, "1"),
+                        "random seed for the starts of --starts");
   po::variables_map vm;
   if (!parse_command_line("calibrate", args, options, vm)) return 0;
+  const int starts = starts_option(vm);
   const std::optional<TargetAccuracy> target = target_option(vm);
   if (!vm.count("data")) throw CliError("--data FILE is required");
   IdentifiabilityOptions id_options;
@@ -276,9 +282,32 @@ int run_calibrate(const Args& args) {
   VectorXd x = problem.initial_free_parameters();
   const Prior prior = model_prior(problem);
   // With a prior: the MAP estimate, through the same backend (docs/theory.md).
-  const Summary summary =
-      prior.any() ? choice.solver->solve(PriorProblem(problem, prior), x, choice.options)
-                  : choice.solver->solve(problem, x, choice.options);
+  std::optional<PriorProblem> map_problem;
+  if (prior.any()) map_problem.emplace(problem, prior);
+  const LeastSquaresProblem& solved_problem =
+      map_problem ? static_cast<const LeastSquaresProblem&>(*map_problem) : problem;
+  Summary summary;
+  StartsReport starts_report;
+  if (starts > 1) {
+    // Tolerances as the nominal-accuracy prediction assumes them (pose_accuracy.hpp).
+    MultiStartOptions multi;
+    multi.starts = starts;
+    multi.seed = vm["seed"].as<Seed>().value;
+    multi.spread = model_start_spread(*model, free, 5.0, 0.01);
+    starts_report = {solve_multi_start(solved_problem, *choice.solver, x, choice.options, multi),
+                     multi.seed,
+                     multi.spread.assumed ? "the tolerances (param_error, else prior_std, else an "
+                                            "assumed ±5 mm and ±0.01 rad)"
+                                          : "the tolerances (param_error, else prior_std)",
+                     multi.spread.assumed};
+    const StartOutcome& best = starts_report.result.starts[starts_report.result.best_start];
+    x = best.x;
+    summary = best.summary;
+  } else {
+    const VectorXd start = x;
+    summary = choice.solver->solve(solved_problem, x, choice.options);
+    starts_report = single_start_report(start, x, summary, vm["seed"].as<Seed>().value);
+  }
 
   CalibrationReport report =
       make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
@@ -302,12 +331,14 @@ int run_calibrate(const Args& args) {
       solved ? sensitivity_from_options(vm, model, problem.full_parameters(x), loaded.data, free)
              : std::nullopt;
   nlohmann::ordered_json report_json = to_json(report);
+  report_json["starts"] = starts_json(starts_report);
   if (target)
     report_json["target"] =
         predicted_target(*target, report_json["predicted_pose_error"], "calibrated");
   if (sensitivity) report_json["sensitivity"] = sensitivity_json(*sensitivity);
   if (!report_to_stdout) {
     std::cout << to_text(report);
+    std::cout << starts_text(starts_report);
     if (sensitivity) std::cout << sensitivity_text(*sensitivity);
     if (target)
       std::cout << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
