@@ -48,11 +48,6 @@ StartsReport single_start_report(const VectorXd& x0, const VectorXd& x, const Su
   return report;
 }
 
-bool starts_found_other_minima(const StartsReport& report) {
-  const MultiStartResult& m = report.result;
-  return m.minima.size() > 1 || m.best_start != 0;
-}
-
 std::string starts_text(const StartsReport& report) {
   const MultiStartResult& m = report.result;
   const int count = static_cast<int>(m.starts.size());

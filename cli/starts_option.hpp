@@ -32,8 +32,6 @@ struct StartsReport {
 StartsReport single_start_report(const VectorXd& x0, const VectorXd& x, const Summary& summary,
                                  std::uint64_t seed);
 
-/// Several distinct minima, or start 0 (the model's values) not at the best one.
-bool starts_found_other_minima(const StartsReport& report);
 /// One to a few lines for the terminal, each ending in "\n"; empty for a single start.
 std::string starts_text(const StartsReport& report);
 /// "starts": count, seed, spread_from, spread_assumed, best_start, unsolved, verdict

@@ -161,6 +161,35 @@ TEST_F(FitCheckCli, CalibrateStartsAgreeOnGoodDataAndTheHtmlSaysSo) {
   EXPECT_NE(read_text(dir_ / "r.html").find("All 4 starts"), std::string::npos);
 }
 
+// The same data, tolerances and seed: calibrate --starts finds simulate's minima, and its
+// page says that start 0 is not at the lowest.
+TEST(Starts, CalibrateOnSimulatedDataFindsTheSameMinimaAsSimulate) {
+  TempDir dir("starts");
+  const std::string run = "simulate --case 2 --param-error 20mm --seed 16 --validation 5";
+  const Json simulated = Json::parse(run_cli(run + " --starts 8 --json -").out)["starts"];
+  ASSERT_EQ(run_cli(run + " --write-data " + dir / "d.csv").exit_code, 0);
+  ASSERT_EQ(run_cli("model --preset cube-hexapod --out " + dir / "m.json").exit_code, 0);
+  Json model = Json::parse(read_text(dir / "m.json"));
+  model["param_error"] = {{"*", 20}};
+  std::ofstream(dir / "m20.json") << model.dump(1);
+  const CliResult r =
+      run_cli("calibrate --model " + dir / "m20.json" + " --data " + dir / "d.csv" +
+              " --starts 8 --seed 16 --json " + dir / "r.json" + " --html " + dir / "r.html");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json starts = Json::parse(read_text(dir / "r.json"))["starts"];
+  EXPECT_FALSE(starts["spread_assumed"].get<bool>());
+  EXPECT_EQ(starts["best_start"], simulated["best_start"]);
+  ASSERT_EQ(starts["minima"].size(), simulated["minima"].size());
+  for (std::size_t i = 0; i < starts["minima"].size(); ++i) {
+    EXPECT_EQ(starts["minima"][i]["starts"], simulated["minima"][i]["starts"]);
+    const double cost = simulated["minima"][i]["cost"].get<double>();
+    EXPECT_NEAR(starts["minima"][i]["cost"].get<double>(), cost, 1e-9 * cost);
+  }
+  const std::string html = read_text(dir / "r.html");
+  EXPECT_NE(html.find("distinct minima"), std::string::npos);
+  EXPECT_NE(html.find("not from the model&#39;s values (start 0)"), std::string::npos);
+}
+
 TEST(Starts, BadCountsAreOneErrorLine) {
   for (const char* n : {"0", "-3", "10001"}) {
     const CliResult r = run_cli(std::string("simulate --case 3 --starts ") + n);
