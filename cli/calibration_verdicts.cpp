@@ -17,7 +17,22 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
   using L = Verdict::Level;
   std::vector<Verdict> out;
   const std::string termination = text_of(r, "termination");
-  if (termination == "converged")
+  // "Converged" says the solver stopped, not where: residuals far above the stated noise
+  // are a local minimum or a model error, never a plain success.
+  const Json& fit = member(r, "fit_check");
+  if (text_of(fit, "verdict") == "too_large" &&
+      (termination == "converged" || termination == "max_iterations"))
+    out.push_back({L::kProblem,
+                   "The solver stopped where the residuals are far above the stated noise "
+                   "(chi-square " +
+                       fmt(num(member(fit, "chi_square")), 4) + " on " +
+                       fmt(num(member(fit, "degrees_of_freedom")), 4) +
+                       " degrees of freedom, P(larger) " + fmt(num(member(fit, "p_larger")), 2) +
+                       "): probably a local minimum or a model error.",
+                   "Calibrate again from other starting values (e.g. nearer values in the model "
+                   "file), and check the fixed parameters (kincal observability --sensitivity), "
+                   "outliers and reading_std."});
+  else if (termination == "converged")
     out.push_back({L::kGood, "The solver converged (" + text_of(r, "message") + ").", ""});
   else if (termination == "max_iterations")
     out.push_back({L::kWarning, "The solver stopped at its iteration limit before converging.",
@@ -28,6 +43,39 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                        text_of(r, "message") + "): the estimates below are not a calibration.",
                    "Check the data (outliers, wrong actuator columns) and the model's nominal "
                    "values; try --solver lm."});
+
+  // Several starts (--starts): whether they agree on one minimum.
+  const Json& starts = member(r, "starts");
+  const double start_count = num(member(starts, "count"));
+  if (start_count > 1) {
+    const Json& minima = member(starts, "minima");
+    const std::size_t distinct = minima.is_array() ? minima.size() : 0;
+    const std::string n = fmt(start_count, 6);
+    if (distinct > 1) {
+      std::string costs;
+      for (std::size_t i = 0; i < distinct && i < 5; ++i)
+        costs += std::string(i ? ", " : "") + fmt(num(member(minima[i], "cost")), 4);
+      const double best = num(member(starts, "best_start"));
+      const double best_reached = member(minima[0], "starts").size();
+      out.push_back({L::kWarning,
+                     "The " + n + " starts ended in " + std::to_string(distinct) +
+                         " distinct minima (costs " + costs + (distinct > 5 ? ", ..." : "") +
+                         "); the estimate is the lowest, reached by " + fmt(best_reached, 6) +
+                         " of them" +
+                         (best != 0 ? ", and not from the model's values (start 0)" : "") + ".",
+                     std::string("The data do not single out one geometry: minima whose costs "
+                                 "differ by about the noise fit equally well, and the lowest is "
+                                 "not necessarily the closest (docs/benchmarks.md). Narrow the "
+                                 "tolerances (param_error, prior_std) or measure more "
+                                 "configurations.") +
+                         (best_reached == 1 ? " Only one start reached the lowest: more --starts "
+                                              "may find another."
+                                            : "")});
+    } else if (distinct == 1) {
+      out.push_back(
+          {L::kGood, "All " + n + " starts that reached a solution ended at one minimum.", ""});
+    }
+  }
 
   // Noise: sigma_hat against what the model states.
   const double sigma = num(member(r, "sigma_hat"));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/html_report.hpp"
@@ -14,6 +15,7 @@
 #include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
+#include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/calibration_report.hpp"
 #include "kincal/framework/constrained_problem.hpp"
@@ -197,8 +199,12 @@ int run_calibrate(const Args& args) {
   add_data_size_option(options);
   add_target_option(options);
   add_sensitivity_options(options);
+  add_starts_option(options);
+  options.add_options()("seed", po::value<Seed>()->default_value(Seed{1}, "1"),
+                        "random seed for the starts of --starts");
   po::variables_map vm;
   if (!parse_command_line("calibrate", args, options, vm)) return 0;
+  const int starts = starts_option(vm);
   const std::optional<TargetAccuracy> target = target_option(vm);
   if (!vm.count("data")) throw CliError("--data FILE is required");
   IdentifiabilityOptions id_options;
@@ -280,15 +286,45 @@ int run_calibrate(const Args& args) {
   const Prior prior = model_prior(problem);
   // With a prior: the MAP estimate, through the same backend (docs/theory.md). Whatever the
   // formulation, the report below is the nested problem's at x.
-  CalibrationSolve solution = solve_calibration(*choice.solver, problem, prior, x, choice.options,
-                                                formulation_choice(vm, *model));
-  if (!solution.note.empty()) note("calibrate", solution.note);
-  const Summary summary = std::move(solution.summary);
+  Summary summary;
+  StartsReport starts_report;
+  Formulation solved_formulation = Formulation::kNested;
+  if (starts > 1) {
+    if (vm.count("formulation") && formulation_choice(vm, *model) == Formulation::kImplicit)
+      note("calibrate", "implicit formulation not used (--starts solves the nested one)");
+    // Tolerances as the nominal-accuracy prediction assumes them (pose_accuracy.hpp). The
+    // starts solve the nested problem, with the model's constraints and the prior.
+    MultiStartOptions multi;
+    multi.starts = starts;
+    multi.seed = vm["seed"].as<Seed>().value;
+    multi.spread = model_start_spread(*model, free, 5.0, 0.01);
+    with_nested_problem(problem, prior, [&](const LeastSquaresProblem& solved_problem) {
+      starts_report.result =
+          solve_multi_start(solved_problem, *choice.solver, x, choice.options, multi);
+    });
+    starts_report.seed = multi.seed;
+    starts_report.spread_from = multi.spread.assumed
+                                    ? "the tolerances (param_error, else prior_std, else an "
+                                      "assumed ±5 mm and ±0.01 rad)"
+                                    : "the tolerances (param_error, else prior_std)";
+    starts_report.spread_assumed = multi.spread.assumed;
+    const StartOutcome& best = starts_report.result.starts[starts_report.result.best_start];
+    x = best.x;
+    summary = best.summary;
+  } else {
+    const VectorXd start = x;
+    CalibrationSolve solution = solve_calibration(*choice.solver, problem, prior, x, choice.options,
+                                                  formulation_choice(vm, *model));
+    if (!solution.note.empty()) note("calibrate", solution.note);
+    summary = std::move(solution.summary);
+    solved_formulation = solution.formulation;
+    starts_report = single_start_report(start, x, summary, vm["seed"].as<Seed>().value);
+  }
 
   CalibrationReport report =
       make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
                               prior.any() ? prior.precision() : VectorXd());
-  report.formulation = to_string(solution.formulation);
+  report.formulation = to_string(solved_formulation);
   report.model_file = model_file;
   report.data_file = data_file;
   report.fixed_by_identifiability = fixed_by_identifiability;
@@ -308,12 +344,14 @@ int run_calibrate(const Args& args) {
       solved ? sensitivity_from_options(vm, model, problem.full_parameters(x), loaded.data, free)
              : std::nullopt;
   nlohmann::ordered_json report_json = to_json(report);
+  report_json["starts"] = starts_json(starts_report);
   if (target)
     report_json["target"] =
         predicted_target(*target, report_json["predicted_pose_error"], "calibrated");
   if (sensitivity) report_json["sensitivity"] = sensitivity_json(*sensitivity);
   if (!report_to_stdout) {
     std::cout << to_text(report);
+    std::cout << starts_text(starts_report);
     if (sensitivity) std::cout << sensitivity_text(*sensitivity);
     if (target)
       std::cout << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";

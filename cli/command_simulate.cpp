@@ -15,6 +15,7 @@
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
+#include "kincal/cli/starts_option.hpp"
 #include "kincal/framework/experiment_design.hpp"
 #include "kincal/framework/measurement_file.hpp"
 #include "kincal/framework/message_excerpt.hpp"
@@ -99,6 +100,12 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
   std::printf("validation over %d poses:\n", o.num_validation);
   print_errors("before", run.before);
   print_errors("after", run.after);
+  const FitCheck fit = simulated_fit_check(scenario, run);
+  if (fit.too_large())  // only a flagged fit: the JSON holds the check either way
+    std::printf(
+        "fit check: chi-square %.4g on %d degrees of freedom against the simulated "
+        "noise, P(larger) %.3g: %s\n",
+        fit.chi_square, fit.degrees_of_freedom, fit.p_larger, kFitTooLarge);
   std::printf("parameter RMS error after calibration:");
   if (parameter_units.count(kMillimetre)) std::printf(" %.6g mm", run.parameter_rms_error);
   if (parameter_units.count(kRadian))
@@ -192,6 +199,7 @@ int run_simulate(const Args& args) {
       "the true model (a model file with the same parameters as --model, e.g. a "
       "<stem>.truth.json) instead of drawing --param-error errors");
   add_allow_rank_deficient_option(options);
+  add_starts_option(options);
   add_noise_std_option(options,
                        "each simulated reading gets uniform noise of this std (U[-a, a] with a "
                        "= std x sqrt(3)); instead of --noise-half-width");
@@ -226,6 +234,7 @@ int run_simulate(const Args& args) {
     scenario_options.prior_std_rad = prior_std.get(kRadian, 0);
   }
   SolverChoice choice = make_solver_choice(vm);
+  const int starts = starts_option(vm);
 
   // Every file is checked before the run, so a typo does not cost a solve.
   OutputPlan plan;
@@ -348,14 +357,35 @@ int run_simulate(const Args& args) {
       fixed_by_identifiability = check.fixed;
     }
   }
-  const CalibrationRun run = run_calibration(scenario, *choice.solver, choice.options, true,
-                                             formulation_choice(vm, *scenario.model));
+  // Several starts: the best is solved again with the per-iteration validation errors.
+  const Formulation formulation = formulation_choice(vm, *scenario.model);
+  StartsReport starts_report;
+  CalibrationRun run;
+  if (starts > 1) {
+    if (formulation == Formulation::kImplicit)
+      note("simulate",
+           "--starts solves the nested formulation; the best start is solved again "
+           "in the implicit one");
+    starts_report.result = solve_scenario_starts(scenario, *choice.solver, choice.options, starts);
+    starts_report.seed = scenario.options.seed;
+    starts_report.spread_from = "the simulated parameter errors";
+    const StartOutcome& best = starts_report.result.starts[starts_report.result.best_start];
+    run = run_calibration(scenario, *choice.solver, choice.options, true, formulation, best.start);
+  } else {
+    run = run_calibration(scenario, *choice.solver, choice.options, true, formulation);
+    const auto problem = scenario.make_problem();
+    VectorXd x(scenario.free_indices.size());
+    for (int i = 0; i < x.size(); ++i) x[i] = run.estimate[scenario.free_indices[i]];
+    starts_report = single_start_report(problem->initial_free_parameters(), x, run.summary,
+                                        scenario.options.seed);
+  }
   if (!run.formulation_note.empty()) note("simulate", run.formulation_note);
 
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) {
     if (!design_text.empty()) std::printf("%s\n", design_text.c_str());
     print_report(scenario, run, case_id, model_name);
+    std::fputs(starts_text(starts_report).c_str(), stdout);
   }
   // All outputs or none while the process runs (data without its truth file is useless);
   // the data file names its truth file's SHA-256, for a check after a crash.
@@ -366,6 +396,17 @@ int run_simulate(const Args& args) {
     json["version"] = 1;
     json["design"] = vm.count("design") ? nlohmann::json(design_text) : nlohmann::json();
     json["fixed_by_identifiability"] = fixed_by_identifiability;
+    const FitCheck fit = simulated_fit_check(scenario, run);
+    json["fit_check"] = {
+        {"verdict", !fit.tested       ? "not_tested"
+                    : fit.too_large() ? "too_large"
+                                      : "consistent"},
+        {"chi_square", fit.tested ? nlohmann::json(fit.chi_square) : nlohmann::json()},
+        {"degrees_of_freedom",
+         fit.tested ? nlohmann::json(fit.degrees_of_freedom) : nlohmann::json()},
+        {"p_larger", fit.tested ? nlohmann::json(fit.p_larger) : nlohmann::json()},
+        {"note", fit.tested ? (fit.too_large() ? kFitTooLarge : kFitConsistent) : fit.not_tested}};
+    json["starts"] = starts_json(starts_report);
     // Where the configurations and the truth came from (null: drawn from the seed).
     json["configs"] =
         vm.count("configs") ? nlohmann::json(vm["configs"].as<std::string>()) : nlohmann::json();

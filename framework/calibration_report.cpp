@@ -9,6 +9,7 @@
 #include "kincal/framework/constrained_problem.hpp"
 #include "kincal/framework/message_excerpt.hpp"
 #include "kincal/framework/units.hpp"
+#include "kincal/framework/validation.hpp"
 
 namespace kincal {
 
@@ -196,6 +197,7 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
       r.uncertainty.sigma = dof > 0 ? std::sqrt(inlier_sum / dof) : NAN;
     }
   }
+  r.fit_check = check_fit(r, measured_r);
   r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
                                               problem.free_indices(), r.uncertainty.covariance);
   r.pose_accuracy_shown = measures_position(model);
@@ -210,6 +212,24 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
     r.predicted_point = predict_point_errors(problem, x, r.uncertainty.covariance);
   }
   return r;
+}
+
+FitCheck check_fit(const CalibrationReport& r, const VectorXd& measured_whitened) {
+  FitCheck f;
+  if (!r.weighted)
+    f.not_tested = kFitNoNoise;
+  else if (r.prior)
+    f.not_tested = "a MAP fit: the prior pulls the residuals away from the data's minimum";
+  else if (r.loss != "none")
+    f.not_tested = "a robust loss: the residuals of outliers do not follow the noise";
+  else if (r.uncertainty.degrees_of_freedom <= 0)
+    f.not_tested = "no degrees of freedom (as many readings as parameters)";
+  if (!f.not_tested.empty()) return f;
+  f.tested = true;
+  f.chi_square = measured_whitened.squaredNorm();
+  f.degrees_of_freedom = r.uncertainty.degrees_of_freedom;
+  f.p_larger = chi_square_upper_tail(f.chi_square, f.degrees_of_freedom);
+  return f;
 }
 
 Json to_json(const Identifiability& a) {
@@ -297,6 +317,18 @@ Json to_json(const CalibrationReport& r) {
                                 "outliers";
   if (r.loss != "none") out["sigma_psi"] = number(r.psi_sigma);
   out["degrees_of_freedom"] = r.uncertainty.degrees_of_freedom;
+  {
+    const FitCheck& f = r.fit_check;
+    Json fit;
+    fit["verdict"] = !f.tested ? "not_tested" : f.too_large() ? "too_large" : "consistent";
+    fit["chi_square"] = f.tested ? number(f.chi_square) : Json();
+    fit["degrees_of_freedom"] = f.tested ? Json(f.degrees_of_freedom) : Json();
+    fit["p_larger"] = f.tested ? number(f.p_larger) : Json();
+    fit["note"] = !f.tested       ? f.not_tested
+                  : f.too_large() ? std::string(kFitTooLarge)
+                                  : std::string(kFitConsistent);
+    out["fit_check"] = fit;
+  }
   out["effective_degrees_of_freedom"] = number(r.uncertainty.effective_degrees_of_freedom);
   out["robust_std_factor"] = number(r.uncertainty.robust_factor);
   out["prior"] = r.prior;
@@ -464,6 +496,11 @@ std::string to_text(const CalibrationReport& r) {
         << r.loss << " loss sees them (" << format("%.4g", r.psi_sigma)
         << ") scaled by Huber's factor " << format("%.3g", r.uncertainty.robust_factor);
   out << ")\n";
+  // Only a flagged fit: the JSON holds the check either way.
+  if (r.fit_check.too_large())
+    out << "fit check: chi-square " << format("%.4g", r.fit_check.chi_square) << " on "
+        << r.fit_check.degrees_of_freedom << " degrees of freedom against the stated noise, "
+        << "P(larger) " << format("%.3g", r.fit_check.p_larger) << ": " << kFitTooLarge << "\n";
   if (r.loss != "none" && std::isnan(r.uncertainty.robust_factor))
     out << "no standard deviations: the " << r.loss
         << " loss rejects most residuals (its delta is too small for this data)\n";

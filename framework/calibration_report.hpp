@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "kincal/framework/calibration_problem.hpp"
+#include "kincal/framework/fit_check.hpp"
 #include "kincal/framework/identifiability.hpp"
 #include "kincal/framework/pose_accuracy.hpp"
 #include "kincal/framework/position_error.hpp"
@@ -87,6 +88,7 @@ struct CalibrationReport {
   std::vector<std::string> warnings;
   /// A prior was used: the estimate is MAP, uncertainty.std the posterior std.
   bool prior = false;
+  FitCheck fit_check;
   /// Predicted pose error over the workspace from the estimate's covariance, next to the
   /// nominal model's (compare_with_nominal at the estimate).
   AccuracyComparison predicted_accuracy;
@@ -147,6 +149,10 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
                                           const RobustLoss& loss = {},
                                           const IdentifiabilityOptions& options = {},
                                           const VectorXd& prior_precision = {});
+
+/// The fit check of a report whose uncertainty is filled, from the measured readings'
+/// residuals as the problem weighs them (divided by their reading_std).
+FitCheck check_fit(const CalibrationReport& r, const VectorXd& measured_whitened);
 
 nlohmann::ordered_json to_json(const Identifiability& a);
 nlohmann::ordered_json to_json(const CalibrationReport& report);

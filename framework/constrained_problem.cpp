@@ -88,14 +88,29 @@ bool ConstrainedProblem::evaluate_block(int block, const VectorXd& x,
   return true;
 }
 
+void with_nested_problem(const CalibrationProblem& problem, const Prior& prior,
+                         const std::function<void(const LeastSquaresProblem&)>& use) {
+  if (problem.model().constraints().empty()) {
+    if (prior.any())
+      use(PriorProblem(problem, prior));
+    else
+      use(problem);
+    return;
+  }
+  const ConstrainedProblem constrained(problem);
+  if (prior.any())
+    use(PriorProblem(constrained, prior));
+  else
+    use(constrained);
+}
+
 Summary solve_nested_calibration(const Solver& solver, const CalibrationProblem& problem,
                                  const Prior& prior, VectorXd& x, const SolverOptions& options) {
-  if (problem.model().constraints().empty())
-    return prior.any() ? solver.solve(PriorProblem(problem, prior), x, options)
-                       : solver.solve(problem, x, options);
-  const ConstrainedProblem constrained(problem);
-  return prior.any() ? solver.solve(PriorProblem(constrained, prior), x, options)
-                     : solver.solve(constrained, x, options);
+  Summary summary;
+  with_nested_problem(problem, prior, [&](const LeastSquaresProblem& nested) {
+    summary = solver.solve(nested, x, options);
+  });
+  return summary;
 }
 
 }  // namespace kincal

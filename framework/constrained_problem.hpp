@@ -8,6 +8,7 @@
 // residuals, k the data problem's residuals_per_block), the last padded with zeros.
 // solve_nested_calibration chains it with the prior, so every caller solves the same problem.
 
+#include <functional>
 #include <vector>
 
 #include "kincal/framework/calibration_problem.hpp"
@@ -50,6 +51,11 @@ class ConstrainedProblem : public LeastSquaresProblem {
   int data_blocks_ = 0;
   int constraint_blocks_ = 0;
 };
+
+/// The problem solve_nested_calibration solves (with the model's constraints and `prior`, as
+/// far as there are any), handed to `use` for as long as the call lasts.
+void with_nested_problem(const CalibrationProblem& problem, const Prior& prior,
+                         const std::function<void(const LeastSquaresProblem&)>& use);
 
 /// Solves `problem` from x (in/out) in the nested formulation with its model's constraints,
 /// when it has any, and with `prior`, when it has one: the problem every nested calibration

@@ -6,9 +6,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "kincal/framework/constrained_problem.hpp"
 #include "kincal/framework/prior_problem.hpp"
 #include "kincal/framework/random.hpp"
 #include "kincal/framework/units.hpp"
+#include "kincal/framework/validation.hpp"
 
 namespace kincal {
 
@@ -263,7 +265,7 @@ PoseErrorStats validation_errors(const Scenario& scenario, const VectorXd& param
 
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
                                SolverOptions options, bool track_iterations,
-                               Formulation formulation) {
+                               Formulation formulation, const VectorXd& start) {
   const auto problem = scenario.make_problem();
   CalibrationRun run;
   run.before = validation_errors(scenario, scenario.nominal);
@@ -282,6 +284,13 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
     };
   }
   VectorXd x = problem->initial_free_parameters();
+  if (start.size() > 0) {
+    if (start.size() != x.size())
+      throw std::invalid_argument("the start has " + std::to_string(start.size()) + " values for " +
+                                  std::to_string(x.size()) + " free parameters");
+    x = start;
+  }
+  // The prior stays centred on nominal whatever the start.
   const Prior prior = model_prior(*problem);
   CalibrationSolve solved = solve_calibration(solver, *problem, prior, x, options, formulation);
   run.summary = std::move(solved.summary);
@@ -304,6 +313,79 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   run.parameter_rms_error = count[0] ? std::sqrt(sum[0] / count[0]) : 0.0;
   run.parameter_rms_error_rad = count[1] ? std::sqrt(sum[1] / count[1]) : 0.0;
   return run;
+}
+
+StartSpread scenario_start_spread(const Scenario& scenario) {
+  const int n = static_cast<int>(scenario.free_indices.size());
+  StartSpread spread;
+  spread.half_width = VectorXd::Zero(n);
+  spread.std = VectorXd::Zero(n);
+  for (int c = 0; c < n; ++c) {
+    const Parameter& p = scenario.model->parameters()[scenario.free_indices[c]];
+    spread.half_width[c] = std::isnan(p.error_half_width) ? scenario.options.param_error_for(p.unit)
+                                                          : p.error_half_width;
+  }
+  return spread;
+}
+
+MultiStartResult solve_scenario_starts(const Scenario& scenario, const Solver& solver,
+                                       const SolverOptions& options, int starts, int threads) {
+  const auto problem = scenario.make_problem();
+  MultiStartOptions multi;
+  multi.starts = starts;
+  multi.seed = scenario.options.seed;
+  multi.threads = threads;
+  multi.spread = scenario_start_spread(scenario);
+  const VectorXd x0 = problem->initial_free_parameters();
+  MultiStartResult result;
+  with_nested_problem(*problem, model_prior(*problem), [&](const LeastSquaresProblem& nested) {
+    result = solve_multi_start(nested, solver, x0, options, multi);
+  });
+  return result;
+}
+
+FitCheck simulated_fit_check(const Scenario& scenario, const CalibrationRun& run) {
+  FitCheck f;
+  const MeasurementModel& model = *scenario.model;
+  const std::shared_ptr<CalibrationProblem> problem = scenario.make_problem();
+  bool prior = false;
+  for (int i : problem->free_indices()) prior = prior || model.parameters()[i].has_prior();
+  const std::vector<std::string> units = model.reading_units();
+  const int k = model.num_readings();
+  VectorXd noise_std(k);
+  for (int i = 0; i < k; ++i) noise_std[i] = scenario.options.noise_for(units[i]) / std::sqrt(3.0);
+  if (prior)
+    f.not_tested = "a MAP fit: the prior pulls the residuals away from the data's minimum";
+  else if (!(noise_std.array() > 0).all())
+    f.not_tested = "no simulated noise in some reading's unit";
+  if (!f.not_tested.empty()) return f;
+  VectorXd x(problem->free_indices().size());
+  for (int i = 0; i < x.size(); ++i) x[i] = run.estimate[problem->free_indices()[i]];
+  VectorXd r;
+  if (!problem->evaluate(x, &r, nullptr)) {
+    f.not_tested = "the residuals cannot be computed at the estimate";
+    return f;
+  }
+  // The problem divides by reading_std; the noise drawn is noise_std.
+  int measured = 0;
+  double sum = 0;
+  const Measurements& data = scenario.calibration;
+  for (int c = 0; c < data.size(); ++c)
+    for (int i = 0; i < k; ++i) {
+      if (std::isnan(data.readings(c, i))) continue;
+      const double z = r[c * k + i] * model.reading_std()[i] / noise_std[i];
+      sum += z * z;
+      ++measured;
+    }
+  f.degrees_of_freedom = measured - static_cast<int>(x.size());
+  if (f.degrees_of_freedom <= 0) {
+    f.not_tested = "no degrees of freedom (as many readings as parameters)";
+    return f;
+  }
+  f.tested = true;
+  f.chi_square = sum;
+  f.p_larger = chi_square_upper_tail(sum, f.degrees_of_freedom);
+  return f;
 }
 
 }  // namespace kincal

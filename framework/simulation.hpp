@@ -17,6 +17,8 @@
 
 #include "kincal/framework/calibration_problem.hpp"
 #include "kincal/framework/calibration_solve.hpp"
+#include "kincal/framework/fit_check.hpp"
+#include "kincal/framework/multi_start.hpp"
 #include "kincal/framework/solver.hpp"
 
 namespace kincal {
@@ -129,12 +131,30 @@ struct CalibrationRun {
   std::string formulation_note;
 };
 
-/// Solves the scenario's problem from nominal: the MAP estimate when a free parameter has a
-/// prior (Parameter::prior_std, set by ScenarioOptions::prior_std), else least squares. When
-/// `track_iterations` is set, the validation errors are computed at every iteration (through the
-/// solver's callback). `formulation`: nested or implicit (calibration_solve.hpp).
+/// Solves the scenario's problem from nominal, or from `start` (free parameters) when given:
+/// the MAP estimate when a free parameter has a prior (Parameter::prior_std, set by
+/// ScenarioOptions::prior_std), else least squares. When `track_iterations` is set, the
+/// validation errors are computed at every iteration (through the solver's callback).
+/// `formulation`: nested or implicit (calibration_solve.hpp).
 CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
                                SolverOptions options, bool track_iterations = true,
-                               Formulation formulation = Formulation::kNested);
+                               Formulation formulation = Formulation::kNested,
+                               const VectorXd& start = VectorXd());
+
+/// The spread of the scenario's errors (ScenarioOptions::param_error_for, or a parameter's
+/// own error_half_width): where kincal simulate --starts draws its starts.
+StartSpread scenario_start_spread(const Scenario& scenario);
+
+/// The starts of kincal simulate --starts: the scenario's problem (with its prior, if any)
+/// solved from nominal and from starts - 1 draws of scenario_start_spread, seeded by the
+/// scenario's seed, on `threads` threads (0 = all cores).
+MultiStartResult solve_scenario_starts(const Scenario& scenario, const Solver& solver,
+                                       const SolverOptions& options, int starts, int threads = 0);
+
+/// The run's residuals against the noise the simulation drew (uniform, std a / sqrt(3) per
+/// unit): FitCheck's chi-square on m - n degrees of freedom, which flags a run that stopped in
+/// a local minimum. Not tested with a prior, without noise in a reading's unit, or without
+/// degrees of freedom.
+FitCheck simulated_fit_check(const Scenario& scenario, const CalibrationRun& run);
 
 }  // namespace kincal
