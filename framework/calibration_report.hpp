@@ -154,6 +154,12 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
 /// residuals as the problem weighs them (divided by their reading_std).
 FitCheck check_fit(const CalibrationReport& r, const VectorXd& measured_whitened);
 
+/// What sigma_hat is measured in: the readings' unit, "reading_std" (multiples of the stated
+/// reading std) or "mixed".
+std::string sigma_unit(const CalibrationReport& report);
+/// What an outlier flag means, in words (the level and why it was chosen).
+std::string outlier_meaning(const CalibrationReport& report);
+
 nlohmann::ordered_json to_json(const Identifiability& a);
 nlohmann::ordered_json to_json(const CalibrationReport& report);
 
