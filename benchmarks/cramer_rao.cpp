@@ -3,7 +3,7 @@
 #include <Eigen/SVD>
 #include <cmath>
 
-#include "kincal/framework/uncertainty.hpp"
+#include "kincal/framework/least_squares/uncertainty.hpp"
 
 namespace kincal::bench {
 

@@ -2,7 +2,7 @@
 // The Cramér-Rao prediction for one simulated scenario: what an efficient unbiased estimator
 // would achieve given the scenario's configurations and noise level.
 
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 
 namespace kincal::bench {
 

@@ -7,7 +7,7 @@
 
 #include <memory>
 
-#include "kincal/framework/experiment_design.hpp"
+#include "kincal/framework/design/experiment_design.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -20,11 +20,11 @@
 #include <tuple>
 #include <vector>
 
-#include "kincal/framework/experiment_design.hpp"
-#include "kincal/framework/parallel.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/design/experiment_design.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

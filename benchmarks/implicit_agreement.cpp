@@ -15,10 +15,10 @@
 #include <mutex>
 #include <vector>
 
-#include "kincal/framework/calibration_solve.hpp"
-#include "kincal/framework/parallel.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/calibration/calibration_solve.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

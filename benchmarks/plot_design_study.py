@@ -85,7 +85,7 @@ for case in cases:
     print(f"| {case} | nominal model | {cell[(case, 'random')]['median_before_mm']:.3g} | | | | | |")
 
 # How close each design is to the best any design of the same size from the same candidates
-# can be (the relaxation's bound, design_bound in framework/experiment_design.hpp).
+# can be (the relaxation's bound, design_bound in framework/design/experiment_design.hpp).
 print()
 print("| case | variant | design's criterion | bound (no design does better) | "
       "std ratio to the bound |")

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_definitions.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite_runner.hpp"

@@ -7,9 +7,9 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "kincal/framework/parallel.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal::bench {

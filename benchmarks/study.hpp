@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "benchmarks/cramer_rao.hpp"
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 
 namespace kincal::bench {
 

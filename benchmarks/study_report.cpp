@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "kincal/framework/statistics.hpp"
+#include "kincal/framework/base/statistics.hpp"
 
 namespace kincal::bench {
 

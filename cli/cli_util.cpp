@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::cli {
 

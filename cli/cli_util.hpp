@@ -12,8 +12,8 @@
 
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/output_plan.hpp"
-#include "kincal/framework/calibration_solve.hpp"
-#include "kincal/framework/solver.hpp"
+#include "kincal/framework/calibration/calibration_solve.hpp"
+#include "kincal/framework/least_squares/solver.hpp"
 
 namespace kincal::cli {
 
@@ -76,7 +76,7 @@ struct SolverChoice {
 SolverChoice make_solver_choice(const po::variables_map& vm);
 
 /// --formulation nested|implicit (calibrate, simulate): how the calibration is posed
-/// (framework/calibration_solve.hpp); without it, default_formulation(model).
+/// (framework/calibration/calibration_solve.hpp); without it, default_formulation(model).
 void add_formulation_option(po::options_description& options);
 /// The formulation asked for, or the model's default; throws CliError for another value.
 Formulation formulation_choice(const po::variables_map& vm, const MeasurementModel& model);

@@ -17,13 +17,13 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/constrained_problem.hpp"
-#include "kincal/framework/cross_validation.hpp"
-#include "kincal/framework/data_checks.hpp"
-#include "kincal/framework/position_error.hpp"
-#include "kincal/framework/prior_problem.hpp"
-#include "kincal/framework/robust_loss.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/cross_validation.hpp"
+#include "kincal/framework/analysis/position_error.hpp"
+#include "kincal/framework/calibration/constrained_problem.hpp"
+#include "kincal/framework/calibration/data_checks.hpp"
+#include "kincal/framework/calibration/prior_problem.hpp"
+#include "kincal/framework/least_squares/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
@@ -107,7 +107,7 @@ std::string calibrated_model_text(const std::string& path, MeasurementModel& mod
 }
 
 // The registration-only baseline and, with --folds, K-fold cross-validation of both fits
-// (framework/cross_validation.hpp), into the report.
+// (framework/analysis/cross_validation.hpp), into the report.
 void add_baselines(CalibrationReport& report, const std::shared_ptr<const MeasurementModel>& model,
                    const Measurements& data, const VectorXd& start, const std::vector<int>& free,
                    const SolverChoice& choice, bool with_prior, int folds,

@@ -9,8 +9,8 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/conformance.hpp"
 
 namespace kincal::cli {

@@ -12,11 +12,11 @@
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/model_pair.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/pose.hpp"
-#include "kincal/framework/pose_accuracy.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/analysis/pose_accuracy.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

@@ -21,10 +21,10 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/cli/target_accuracy.hpp"
-#include "kincal/framework/experiment_design.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/design/experiment_design.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

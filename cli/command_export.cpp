@@ -6,8 +6,8 @@
 #include "kincal/cli/export_formats.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sha256.hpp"
-#include "kincal/framework/json_input.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/io/json_input.hpp"
 
 namespace kincal::cli {
 

@@ -7,7 +7,7 @@
 #include "kincal/cli/command_kinematics.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

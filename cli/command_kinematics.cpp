@@ -4,8 +4,8 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/framework/data_checks.hpp"
-#include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/calibration/data_checks.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
 
 namespace kincal::cli {
 

@@ -7,9 +7,9 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/plugin.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/extension/plugin.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::cli {
 

@@ -13,10 +13,10 @@
 #include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/fixed_parameter_sensitivity.hpp"
-#include "kincal/framework/prior_problem.hpp"
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
+#include "kincal/framework/calibration/prior_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 
 namespace kincal::cli {
 

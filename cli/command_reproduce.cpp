@@ -17,9 +17,9 @@
 #include "kincal/cli/progress.hpp"
 #include "kincal/cli/reproduce_study.hpp"
 #include "kincal/cli/simulation_report.hpp"
-#include "kincal/framework/parallel.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/statistics.hpp"
+#include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/base/statistics.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal::cli {

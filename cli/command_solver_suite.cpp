@@ -13,7 +13,7 @@
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/cli/progress.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite_runner.hpp"
 

@@ -16,10 +16,10 @@
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/target_accuracy.hpp"
-#include "kincal/framework/json_input.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/position_error.hpp"
-#include "kincal/framework/validation.hpp"
+#include "kincal/framework/analysis/position_error.hpp"
+#include "kincal/framework/analysis/validation.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/io/json_input.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {

@@ -9,8 +9,8 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/sha256.hpp"
-#include "kincal/framework/json_input.hpp"
-#include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/io/json_input.hpp"
 
 namespace kincal::cli {
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 #ifndef KINCAL_VERSION
 #define KINCAL_VERSION "unknown"

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "kincal/framework/experiment_design.hpp"
+#include "kincal/framework/design/experiment_design.hpp"
 
 namespace kincal::cli {
 

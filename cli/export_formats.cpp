@@ -7,8 +7,8 @@
 
 #include "kincal/cli/svg_plot.hpp"
 #include "kincal/cli/urdf_io.hpp"
-#include "kincal/framework/pose.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/serial_arm.hpp"
 #include "kincal/models/urdf_arm.hpp"

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 
 namespace kincal::cli {
 

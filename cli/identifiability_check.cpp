@@ -5,8 +5,8 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/framework/prior_problem.hpp"
-#include "kincal/framework/uncertainty.hpp"
+#include "kincal/framework/calibration/prior_problem.hpp"
+#include "kincal/framework/least_squares/uncertainty.hpp"
 
 namespace kincal::cli {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/calibration_problem.hpp"
-#include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/calibration/calibration_problem.hpp"
 
 namespace kincal::cli {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/identifiability.hpp"
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 
 namespace kincal::cli {
 

@@ -4,7 +4,7 @@
 #include <limits>
 #include <sstream>
 
-#include "kincal/framework/pose.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
 
 namespace kincal::cli {
 

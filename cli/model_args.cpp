@@ -8,9 +8,9 @@
 #include <iostream>
 
 #include "kincal/cli/memory_check.hpp"
-#include "kincal/framework/data_checks.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/calibration/data_checks.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {

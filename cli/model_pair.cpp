@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
 
 namespace kincal::cli {
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 
 namespace kincal::cli {
 

@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "kincal/cli/commands.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/names.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal::cli {
 

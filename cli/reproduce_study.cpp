@@ -7,8 +7,8 @@
 #include <limits>
 #include <sstream>
 
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/statistics.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/base/statistics.hpp"
 
 namespace kincal::cli {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 
 namespace kincal::cli {
 

@@ -15,8 +15,8 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/output_files.hpp"
 #include "kincal/cli/output_plan.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/plugin.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/extension/plugin.hpp"
 
 namespace kincal::cli {
 

@@ -5,7 +5,7 @@
 
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/simulation_report.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

@@ -2,7 +2,7 @@
 // --sensitivity and --sensitivity-step, shared by observability (before measuring) and
 // calibrate (on the data calibrated from, whose report page then has its "Sensitivity to
 // fixed parameters" section): for each fixed parameter, the pose error an error in it leaves
-// after calibrating the free ones (framework/fixed_parameter_sensitivity.hpp).
+// after calibrating the free ones (framework/analysis/fixed_parameter_sensitivity.hpp).
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/fixed_parameter_sensitivity.hpp"
+#include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
 
 namespace kincal::cli {
 

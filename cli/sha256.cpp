@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/io/json_input.hpp"
 
 namespace kincal::cli {
 

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "kincal/cli/simulation_report.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 
@@ -46,8 +46,8 @@ std::vector<PriorStdRule> parse_prior_std(const std::string& spec) {
     const std::string item = spec.substr(start, comma - start);
     const auto eq = item.rfind('=');
     if (eq == 0) throw std::invalid_argument("'" + item + "' has no parameter pattern before '='");
-    PriorStdRule rule = parse_value(eq == std::string::npos ? item : item.substr(eq + 1),
-                                    eq != std::string::npos);
+    PriorStdRule rule =
+        parse_value(eq == std::string::npos ? item : item.substr(eq + 1), eq != std::string::npos);
     if (eq != std::string::npos) rule.pattern = item.substr(0, eq);
     rules.push_back(rule);
     if (comma == std::string::npos) break;

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 
 namespace kincal::cli {
 

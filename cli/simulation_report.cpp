@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "kincal/cli/shared_options.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

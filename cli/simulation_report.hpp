@@ -6,8 +6,8 @@
 #include <string>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

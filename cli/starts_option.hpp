@@ -1,14 +1,14 @@
 #pragma once
 // --starts N of calibrate and simulate: the solve from N starting values drawn from the free
-// parameters' tolerances (framework/multi_start.hpp), the distinct minima they end in, and
-// the report's words for them (text, JSON "starts", the HTML verdict).
+// parameters' tolerances (framework/calibration/multi_start.hpp), the distinct minima they end in,
+// and the report's words for them (text, JSON "starts", the HTML verdict).
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/multi_start.hpp"
+#include "kincal/framework/calibration/multi_start.hpp"
 
 namespace kincal::cli {
 

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "kincal/cli/commands.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
 

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
 namespace kincal::cli {

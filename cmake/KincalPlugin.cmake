@@ -1,4 +1,4 @@
-# kincal_add_plugin(TARGET SOURCES...): a kincal plug-in (framework/plugin.hpp), a shared
+# kincal_add_plugin(TARGET SOURCES...): a kincal plug-in (framework/extension/plugin.hpp), a shared
 # library that `kincal --plugin FILE`, KINCAL_PLUGIN_PATH or kincal::load_plugin() loads.
 # One of SOURCES has the line KINCAL_PLUGIN(your_register_function).
 #

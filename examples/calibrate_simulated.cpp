@@ -5,8 +5,8 @@
 
 #include <cstdio>
 
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 int main(int argc, char** argv) {

@@ -1,4 +1,4 @@
-// libFuzzer target: the measurement CSV reader (framework/measurement_file.hpp).
+// libFuzzer target: the measurement CSV reader (framework/calibration/measurement_file.hpp).
 // Any input must either be read or be refused with std::invalid_argument carrying one short
 // line; what is read must be finite and must survive a write/read round trip bit for bit.
 // Small limits, so that the line- and file-size paths are reached by short inputs.
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
 
 namespace {
 

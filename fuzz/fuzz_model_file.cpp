@@ -1,4 +1,4 @@
-// libFuzzer target: the model reader (framework/json_input.hpp + models/model_io.hpp), as
+// libFuzzer target: the model reader (framework/io/json_input.hpp + models/model_io.hpp), as
 // load_model uses them. Any input must either give a model or be refused with
 // std::invalid_argument carrying one short line (no other exception: model_from_json checks
 // types before reading them). A model read must write and read back to the same model: the
@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/io/json_input.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace {

@@ -1,7 +1,7 @@
 // The one place that knows which model types kincal ships: one registration line per
 // mechanism or sensor type (each registers its JSON reader/writer and its presets).
 
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/fixture_distance.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"

@@ -6,8 +6,8 @@
 #include <set>
 #include <sstream>
 
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal {

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/measurement_model.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
 

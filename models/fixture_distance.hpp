@@ -3,7 +3,8 @@
 //   residual = |p_a - p_b| - d        (mm), weighted by 1 / std
 // with p_a, p_b the sensors' parameters <name>.point.{x, y, z} (a socket's centre, mm).
 // Socket data alone do not fix scale; this residual does. Added once to a calibration
-// (framework/parameter_constraint.hpp). Model file, in the top-level "constraints" array:
+// (framework/kinematics/parameter_constraint.hpp). Model file, in the top-level "constraints"
+// array:
 //   { "type": "fixture-distance", "between": ["socket0", "socket1"],
 //     "distance": 50, "std": 0.05 }
 // distance and std in mm. Where p_a = p_b the distance has no gradient; the Jacobian is then
@@ -11,7 +12,7 @@
 
 #include <memory>
 
-#include "kincal/framework/parameter_constraint.hpp"
+#include "kincal/framework/kinematics/parameter_constraint.hpp"
 
 namespace kincal {
 

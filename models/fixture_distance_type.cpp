@@ -3,8 +3,8 @@
 //   { "type": "fixture-distance", "between": ["socket0", "socket1"], "distance": 50,
 //     "std": 0.05 }
 
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/fixture_distance.hpp"
 
 namespace kincal {

@@ -8,7 +8,7 @@
 
 #include <array>
 
-#include "kincal/framework/closed_chain_mechanism.hpp"
+#include "kincal/framework/kinematics/closed_chain_mechanism.hpp"
 
 namespace kincal {
 

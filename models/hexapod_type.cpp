@@ -4,7 +4,7 @@
 //                  "legs": [ { "name": "leg1", "base": [x, y, z], "platform": [x, y, z],
 //                              "offset": 0 }, ... six ] }
 
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/presets.hpp"
 

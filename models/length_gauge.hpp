@@ -4,7 +4,7 @@
 //   reading = |R a_p + t - a_b| + offset
 // Parameters: <name>.base.{x,y,z}, <name>.platform.{x,y,z}, <name>.offset.
 
-#include "kincal/framework/sensor.hpp"
+#include "kincal/framework/kinematics/sensor.hpp"
 
 namespace kincal {
 

@@ -1,8 +1,9 @@
-// The length gauge in model files (framework/generic_model_file.hpp, from its parameters):
+// The length gauge in model files (framework/extension/generic_model_file.hpp, from its
+// parameters):
 //   { "type": "length-gauge", "name": "gauge", "base": [x, y, z], "platform": [x, y, z],
 //     "offset": 0 }
 
-#include "kincal/framework/generic_model_file.hpp"
+#include "kincal/framework/extension/generic_model_file.hpp"
 #include "kincal/models/length_gauge.hpp"
 
 namespace kincal {

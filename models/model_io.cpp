@@ -7,10 +7,10 @@
 #include <set>
 #include <stdexcept>
 
-#include "kincal/framework/json_input.hpp"
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/names.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
 
@@ -43,7 +43,7 @@ void for_each_pattern(
 
 // Readings and actuators share the columns of a measurement file.
 // Every column of the model's measurement files, whatever type made it (a registered type's
-// own names included), within the name policy (framework/names.hpp), so that every file
+// own names included), within the name policy (framework/kinematics/names.hpp), so that every file
 // kincal writes with these names reads back, and unique.
 void check_columns(const MeasurementModel& model, const JsonPath& where) {
   const auto check = [](const std::string& name, const JsonPath& at) {
@@ -259,7 +259,7 @@ std::string without_json_tag(const std::string& what) {
 }  // namespace
 
 std::shared_ptr<MeasurementModel> load_model(const std::string& path) {
-  // Size and nesting limits, duplicate keys and malformed JSON: framework/json_input.hpp.
+  // Size and nesting limits, duplicate keys and malformed JSON: framework/io/json_input.hpp.
   const Json j = read_json_file(path, "model file");
   try {
     return model_from_json(j, path);

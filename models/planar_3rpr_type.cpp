@@ -4,8 +4,8 @@
 //                  "legs": [ { "name": "leg1", "base": [x, y], "platform": [x, y],
 //                              "offset": 0 }, ... three ] }
 
-#include "kincal/framework/json_input.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/io/json_input.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/planar_3rpr.hpp"
 

@@ -6,7 +6,7 @@
 // Parameters: <name>.frame.{x, y, z, rx, ry, rz} (a frame block, pose.hpp),
 // <name>.target.{x, y, z}.
 
-#include "kincal/framework/sensor.hpp"
+#include "kincal/framework/kinematics/sensor.hpp"
 
 namespace kincal {
 

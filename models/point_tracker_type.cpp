@@ -1,11 +1,12 @@
-// The point tracker in model files (framework/generic_model_file.hpp, from its parameters):
+// The point tracker in model files (framework/extension/generic_model_file.hpp, from its
+// parameters):
 //   { "type": "point-tracker", "name": "tracker",
 //     "frame": { "position": [x, y, z], "rotation_zyx_deg": [rx, ry, rz] },
 //     "target": [x, y, z] }
 // frame: the tracker's frame in base coordinates (mm, degrees); target: the target point in
 // the end effector's frame (mm).
 
-#include "kincal/framework/generic_model_file.hpp"
+#include "kincal/framework/extension/generic_model_file.hpp"
 #include "kincal/models/point_tracker.hpp"
 
 namespace kincal {

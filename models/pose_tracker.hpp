@@ -12,7 +12,7 @@
 // rotation are derivatives in its tangent space: R_y <- exp(d) R_y.
 // Parameters: <name>.frame.{x, y, z, rx, ry, rz}, <name>.marker.{x, y, z, rx, ry, rz}.
 
-#include "kincal/framework/sensor.hpp"
+#include "kincal/framework/kinematics/sensor.hpp"
 
 namespace kincal {
 

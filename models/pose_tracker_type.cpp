@@ -1,11 +1,12 @@
-// The pose tracker in model files (framework/generic_model_file.hpp, from its parameters):
+// The pose tracker in model files (framework/extension/generic_model_file.hpp, from its
+// parameters):
 //   { "type": "pose-tracker", "name": "camera",
 //     "frame": { "position": [x, y, z], "rotation_zyx_deg": [rx, ry, rz] },
 //     "marker": { "position": [x, y, z], "rotation_zyx_deg": [rx, ry, rz] } }
 // frame: the tracker's frame in base coordinates; marker: the marker's frame in the end
 // effector's frame (mm, degrees).
 
-#include "kincal/framework/generic_model_file.hpp"
+#include "kincal/framework/extension/generic_model_file.hpp"
 #include "kincal/models/pose_tracker.hpp"
 
 namespace kincal {

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 
 namespace kincal {
 

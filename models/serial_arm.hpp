@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/mechanism.hpp"
+#include "kincal/framework/kinematics/mechanism.hpp"
 
 namespace kincal {
 

@@ -1,6 +1,6 @@
 #include "kincal/models/socket.hpp"
 
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
 

@@ -11,7 +11,7 @@
 // models/fixture_distance.hpp): a socket alone does not fix it.
 // Parameters: <name>.point.{x, y, z} (mm).
 
-#include "kincal/framework/sensor.hpp"
+#include "kincal/framework/kinematics/sensor.hpp"
 
 namespace kincal {
 

@@ -1,11 +1,11 @@
-// The socket in model files (framework/generic_model_file.hpp, from its parameters):
+// The socket in model files (framework/extension/generic_model_file.hpp, from its parameters):
 //   { "type": "socket", "name": "socket0", "point": [x, y, z] }
 // point: the socket's centre in base coordinates (mm). And the preset ur5-urdf-socket.
 
 #include <cmath>
 
-#include "kincal/framework/generic_model_file.hpp"
-#include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/extension/generic_model_file.hpp"
 #include "kincal/models/socket.hpp"
 #include "kincal/models/urdf_arm.hpp"
 

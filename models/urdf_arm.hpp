@@ -30,8 +30,8 @@
 
 #include <memory>
 
-#include "kincal/framework/measurement_model.hpp"
-#include "kincal/framework/mechanism.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
+#include "kincal/framework/kinematics/mechanism.hpp"
 
 namespace kincal {
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/urdf_arm.hpp"
 

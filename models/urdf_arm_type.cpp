@@ -29,8 +29,8 @@
 #include <cmath>
 #include <set>
 
-#include "kincal/framework/message_excerpt.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {

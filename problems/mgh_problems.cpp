@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "kincal/framework/parameters.hpp"  // glob_match, linear in the pattern
+#include "kincal/framework/kinematics/parameters.hpp"  // glob_match, linear in the pattern
 #include "kincal/problems/mgh_definitions.hpp"
 
 namespace kincal::problems {

@@ -7,7 +7,7 @@
 #include <mutex>
 #include <vector>
 
-#include "kincal/framework/least_squares_problem.hpp"
+#include "kincal/framework/least_squares/least_squares_problem.hpp"
 
 namespace kincal::problems {
 

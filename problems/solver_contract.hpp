@@ -5,23 +5,23 @@
 //
 //  1. x is finite and the residuals can be computed there (unless the start could not be);
 //  2. x costs no more than the start, and no more than any point the backend evaluated, to
-//     within the cost's rounding error at x (framework/stationarity.hpp, cost_rounding) and
-//     kCostSlack relative (the same sums in another order);
+//     within the cost's rounding error at x (framework/least_squares/stationarity.hpp,
+//     cost_rounding) and kCostSlack relative (the same sums in another order);
 //  3. final_cost is the cost at x (to kCostSlack), initial_cost the cost at the start;
 //  4. `converged` only where the test the message names holds at x: a message starting with
 //     "gradient" needs max|P(J^T r)| <= gradient_tolerance (+ its rounding bound) at x; any
 //     other claim (relative step, relative cost change, ...) is about the last step, which the
 //     checker cannot repeat, and needs x to pass one of the three tests of
-//     framework/stationarity.hpp: gradient, the relative decrease the Gauss-Newton model still
-//     promises <= function_tolerance, or the length of its step <= parameter_tolerance;
+//     framework/least_squares/stationarity.hpp: gradient, the relative decrease the Gauss-Newton
+//     model still promises <= function_tolerance, or the length of its step <= parameter_tolerance;
 //  5. never `converged` on a plateau (no free parameter affects the residuals at x), and a
 //     `converged` with some such parameters says "plateau" in its message.
 
 #include <string>
 #include <vector>
 
-#include "kincal/framework/solver.hpp"
-#include "kincal/framework/stationarity.hpp"
+#include "kincal/framework/least_squares/solver.hpp"
+#include "kincal/framework/least_squares/stationarity.hpp"
 #include "kincal/problems/recording_problem.hpp"
 
 namespace kincal::problems {

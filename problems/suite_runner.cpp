@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::problems {
 

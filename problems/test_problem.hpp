@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/least_squares_problem.hpp"
+#include "kincal/framework/least_squares/least_squares_problem.hpp"
 
 namespace kincal::problems {
 

@@ -3,7 +3,7 @@
 // it is OFF they are registered as unavailable, so that `--solver ceres` says how to get it
 // and the tests skip them with that reason.
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/solvers/gauss_newton.hpp"
 #include "kincal/solvers/levenberg_marquardt.hpp"
 #ifdef KINCAL_WITH_CERES

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/robust_loss.hpp"
+#include "kincal/framework/least_squares/robust_loss.hpp"
 #include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {

@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "kincal/framework/robust_loss.hpp"
+#include "kincal/framework/least_squares/robust_loss.hpp"
 #include "kincal/solvers/schur_levenberg_marquardt.hpp"
 #include "kincal/solvers/solver_common.hpp"
 

@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "kincal/framework/solver.hpp"
+#include "kincal/framework/least_squares/solver.hpp"
 
 namespace kincal {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/solver.hpp"
+#include "kincal/framework/least_squares/solver.hpp"
 
 namespace kincal {
 

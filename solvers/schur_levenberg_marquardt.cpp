@@ -7,8 +7,8 @@
 #include <optional>
 #include <thread>
 
-#include "kincal/framework/implicit_configuration.hpp"
-#include "kincal/framework/small_lu.hpp"
+#include "kincal/framework/base/small_lu.hpp"
+#include "kincal/framework/calibration/implicit_configuration.hpp"
 #include "kincal/solvers/solver_common.hpp"
 
 namespace kincal {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "kincal/framework/solver.hpp"
-#include "kincal/framework/stationarity.hpp"
+#include "kincal/framework/least_squares/solver.hpp"
+#include "kincal/framework/least_squares/stationarity.hpp"
 
 namespace kincal::detail {
 

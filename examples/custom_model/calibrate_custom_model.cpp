@@ -7,9 +7,9 @@
 
 #include <cmath>
 #include <cstdio>
-#include <kincal/framework/model_registry.hpp>
-#include <kincal/framework/simulation.hpp>
-#include <kincal/framework/solver_registry.hpp>
+#include <kincal/framework/calibration/simulation.hpp>
+#include <kincal/framework/extension/model_registry.hpp>
+#include <kincal/framework/least_squares/solver_registry.hpp>
 #include <kincal/models/model_io.hpp>
 
 #include "example_models.hpp"

@@ -2,7 +2,7 @@
 // Registers the example's mechanism and sensor types and a preset that uses them. Call it
 // once, before anything reads model files or lists models.
 
-#include <kincal/framework/model_registry.hpp>
+#include <kincal/framework/extension/model_registry.hpp>
 
 namespace example {
 

@@ -9,8 +9,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <kincal/framework/least_squares_problem.hpp>
-#include <kincal/framework/solver_registry.hpp>
+#include <kincal/framework/least_squares/least_squares_problem.hpp>
+#include <kincal/framework/least_squares/solver_registry.hpp>
 #include <kincal/version.hpp>
 #include <vector>
 

@@ -1,7 +1,7 @@
 #include "inclinometer.hpp"
 
 #include <cmath>
-#include <kincal/framework/units.hpp>
+#include <kincal/framework/kinematics/units.hpp>
 
 namespace example {
 

@@ -3,7 +3,7 @@
 // the base's xy plane, plus a zero offset (`<name>.offset`, rad). One reading in rad, an
 // angle: its residual is wrapped to (-pi, pi], the smallest manifold-reading example.
 
-#include <kincal/framework/sensor.hpp>
+#include <kincal/framework/kinematics/sensor.hpp>
 
 namespace example {
 

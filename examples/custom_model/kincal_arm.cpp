@@ -7,7 +7,7 @@
 //   kincal-arm calibrate --model arm.json --data data.csv --out calibrated.json
 
 #include <kincal/cli/run.hpp>
-#include <kincal/framework/model_registry.hpp>
+#include <kincal/framework/extension/model_registry.hpp>
 
 #include "example_models.hpp"
 

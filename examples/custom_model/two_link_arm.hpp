@@ -5,7 +5,7 @@
 //   link1.length, link2.length (mm), joint1.offset, joint2.offset (rad).
 // The end effector frame sits at the tip of link 2, its x axis along the link.
 
-#include <kincal/framework/mechanism.hpp>
+#include <kincal/framework/kinematics/mechanism.hpp>
 
 namespace example {
 

@@ -1,8 +1,8 @@
 #include "five_bar.hpp"
 
 #include <cmath>
-#include <kincal/framework/closed_chain_mechanism_impl.hpp>
-#include <kincal/framework/units.hpp>
+#include <kincal/framework/kinematics/closed_chain_mechanism_impl.hpp>
+#include <kincal/framework/kinematics/units.hpp>
 
 // Forward kinematics and the pose Jacobian for two constraints: kincal compiles sizes 3
 // and 6 into the library, any other is instantiated by the mechanism that needs it.

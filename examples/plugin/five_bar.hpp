@@ -12,14 +12,14 @@
 // basis), every Jacobian with respect to the pose is taken in them, and kincal's Newton
 // solves forward kinematics from the two constraints. The constraints are written once, as
 // a function template (autodiff_constraints): AutoDiffClosedChain derives both constraint
-// Jacobians from it by automatic differentiation (kincal/framework/autodiff.hpp). Inverse
-// kinematics is closed form, on the elbow side each arm has at home (its "elbow" sign), and
+// Jacobians from it by automatic differentiation (kincal/framework/kinematics/autodiff.hpp).
+// Inverse kinematics is closed form, on the elbow side each arm has at home (its "elbow" sign), and
 // home_actuators is inverse kinematics of the home pose (Mechanism's default). Parameters, per arm
 // i = 1, 2: arm<i>.base.{x,y}, arm<i>.proximal, arm<i>.distal (mm), arm<i>.offset (rad).
 
 #include <array>
-#include <kincal/framework/autodiff.hpp>
-#include <kincal/framework/closed_chain_mechanism.hpp>
+#include <kincal/framework/kinematics/autodiff.hpp>
+#include <kincal/framework/kinematics/closed_chain_mechanism.hpp>
 
 namespace five_bar_plugin {
 

@@ -8,8 +8,8 @@
 //     "plane": { "azimuth_deg": a, "elevation_deg": e, "distance": h } }
 
 #include <cmath>
-#include <kincal/framework/json_input.hpp>
-#include <kincal/framework/plugin.hpp>
+#include <kincal/framework/extension/plugin.hpp>
+#include <kincal/framework/io/json_input.hpp>
 
 #include "five_bar.hpp"
 #include "laser_displacement.hpp"

@@ -1,7 +1,7 @@
 #include "laser_displacement.hpp"
 
 #include <cmath>
-#include <kincal/framework/units.hpp>
+#include <kincal/framework/kinematics/units.hpp>
 
 namespace five_bar_plugin {
 

@@ -13,12 +13,12 @@
 //
 // The reading is written once, as a function template (autodiff_readings): AutoDiffSensor
 // derives J_reading_pose and J_reading_params from it by automatic differentiation
-// (kincal/framework/autodiff.hpp), the azimuth/elevation derivatives included. A beam that
-// runs (nearly) parallel to the plane, or meets it behind the laser, gives no reading: the
+// (kincal/framework/kinematics/autodiff.hpp), the azimuth/elevation derivatives included. A beam
+// that runs (nearly) parallel to the plane, or meets it behind the laser, gives no reading: the
 // sensor says so (reads_at), and that reading is dropped for that configuration.
 
-#include <kincal/framework/autodiff.hpp>
-#include <kincal/framework/sensor.hpp>
+#include <kincal/framework/kinematics/autodiff.hpp>
+#include <kincal/framework/kinematics/sensor.hpp>
 
 namespace five_bar_plugin {
 

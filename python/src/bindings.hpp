@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "kincal/framework/types.hpp"
+#include "kincal/framework/base/types.hpp"
 
 namespace kincal::python {
 

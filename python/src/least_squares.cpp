@@ -12,7 +12,7 @@
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::python {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "kincal/framework/calibration_problem.hpp"
-#include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/calibration/calibration_problem.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
 #include "model_handle.hpp"
 
 namespace kincal::python {

@@ -13,8 +13,8 @@
 
 #include "bindings.hpp"
 #include "kincal/cli/kinematics_rows.hpp"
-#include "kincal/framework/plugin.hpp"
-#include "kincal/framework/units.hpp"
+#include "kincal/framework/extension/plugin.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
 #include "model_handle.hpp"

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "kincal/framework/mechanism.hpp"
+#include "kincal/framework/kinematics/mechanism.hpp"
 
 namespace kincal::python {
 

@@ -17,9 +17,9 @@
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
-#include "kincal/framework/pose.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/conformance.hpp"
 #include "model_handle.hpp"
 #include "python_mechanism.hpp"

@@ -15,7 +15,7 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/reproduce_study.hpp"
 #include "kincal/cli/simulation_report.hpp"
-#include "kincal/framework/parallel.hpp"
+#include "kincal/framework/base/parallel.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal::python {

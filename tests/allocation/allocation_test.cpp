@@ -8,9 +8,9 @@
 #include <atomic>
 #include <cstdlib>
 
-#include "kincal/framework/implicit_calibration_problem.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/calibration/implicit_calibration_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
 #include "models/autodiff_twins.hpp"
 #include "solvers/solver_fixtures.hpp"
@@ -118,9 +118,9 @@ TEST(CalibrationProblemEvaluation, AllocatesNothingOnceWarm) {
   EXPECT_EQ(g_allocations.load(), before);
 }
 
-// Automatic derivatives (framework/autodiff.hpp) on fixed-size dual numbers and per-thread
-// scratch: the twins of the hexapod and gauge (case 5) and of the PUMA 560 allocate nothing
-// per configuration either.
+// Automatic derivatives (framework/kinematics/autodiff.hpp) on fixed-size dual numbers and
+// per-thread scratch: the twins of the hexapod and gauge (case 5) and of the PUMA 560 allocate
+// nothing per configuration either.
 TEST(AutoDiffEvaluation, AllocatesNothingOnceWarm) {
   ScenarioOptions options;
   options.num_configurations = 20;

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "cli_runner.hpp"
-#include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal {

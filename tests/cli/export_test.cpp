@@ -11,7 +11,7 @@
 
 #include "cli_runner.hpp"
 #include "kincal/cli/export_formats.hpp"
-#include "kincal/framework/pose.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/models/serial_arm.hpp"

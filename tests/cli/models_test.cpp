@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "cli_runner.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal {

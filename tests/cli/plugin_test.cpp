@@ -1,6 +1,6 @@
-// Plug-ins in the stock kincal (framework/plugin.hpp): the example plug-in (examples/plugin,
-// a five-bar linkage and a laser displacement sensor) through every command a user runs,
-// and the ways loading must fail: another kincal version, a name that clashes, not a
+// Plug-ins in the stock kincal (framework/extension/plugin.hpp): the example plug-in
+// (examples/plugin, a five-bar linkage and a laser displacement sensor) through every command a
+// user runs, and the ways loading must fail: another kincal version, a name that clashes, not a
 // plug-in, a plug-in whose Jacobian has a sign flipped (kincal check names it).
 
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
-#include "kincal/framework/plugin.hpp"
+#include "kincal/framework/extension/plugin.hpp"
 
 namespace kincal::testing {
 namespace {

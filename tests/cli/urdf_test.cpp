@@ -15,9 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/pose.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/urdf_arm.hpp"
 

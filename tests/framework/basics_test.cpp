@@ -4,13 +4,13 @@
 
 #include <atomic>
 
-#include "kincal/framework/parallel.hpp"
-#include "kincal/framework/parameters.hpp"
-#include "kincal/framework/pose.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/robust_loss.hpp"
-#include "kincal/framework/solver_registry.hpp"
-#include "kincal/framework/statistics.hpp"
+#include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/base/statistics.hpp"
+#include "kincal/framework/kinematics/parameters.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
+#include "kincal/framework/least_squares/robust_loss.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal {
 namespace {

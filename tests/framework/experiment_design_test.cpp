@@ -3,7 +3,7 @@
 // local optimum: no single swap improves it), determinism, existing data, the prior, and
 // sensor placement with two gauges.
 
-#include "kincal/framework/experiment_design.hpp"
+#include "kincal/framework/design/experiment_design.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <set>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/presets.hpp"

@@ -1,15 +1,15 @@
-// The fit check (framework/fit_check.hpp): the chi-square statistic of calibrate's report and
-// of simulate, what it flags and what it leaves untested.
+// The fit check (framework/calibration/fit_check.hpp): the chi-square statistic of calibrate's
+// report and of simulate, what it flags and what it leaves untested.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
-#include "kincal/framework/validation.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/validation.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -1,5 +1,5 @@
-// The generic model-file reader and writer (framework/generic_model_file.hpp): keys from the
-// parameter names, values in their units (angles in degrees), options, and bad input as one
+// The generic model-file reader and writer (framework/extension/generic_model_file.hpp): keys from
+// the parameter names, values in their units (angles in degrees), options, and bad input as one
 // line naming the key and where it is. The built-in sensors that use it keep their files
 // byte for byte: model_conformance_test.cpp (round trip of every preset) and
 // model_io_test.cpp (the files in examples/) check that.
@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kincal/framework/generic_model_file.hpp"
+#include "kincal/framework/extension/generic_model_file.hpp"
 
 namespace kincal {
 namespace {

@@ -1,18 +1,18 @@
 // Identifiability figures on Jacobians with known singular values, named null-space
 // combinations, and the covariance of a calibration against the spread over many seeds.
 
-#include "kincal/framework/identifiability.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
-#include "kincal/framework/uncertainty.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/least_squares/uncertainty.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -1,7 +1,7 @@
-// JSON that users write (framework/json_input.hpp) and quoting it in messages
-// (framework/message_excerpt.hpp): duplicate keys, nesting and size limits, one-line messages.
+// JSON that users write (framework/io/json_input.hpp) and quoting it in messages
+// (framework/base/message_excerpt.hpp): duplicate keys, nesting and size limits, one-line messages.
 
-#include "kincal/framework/json_input.hpp"
+#include "kincal/framework/io/json_input.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "kincal/framework/message_excerpt.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
 
 namespace kincal {
 namespace {

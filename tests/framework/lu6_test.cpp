@@ -1,11 +1,11 @@
 // The fixed-size 6 x 6 LU of forward kinematics against Eigen's, on random and on
 // pivot-hungry matrices.
 
-#include "kincal/framework/lu6.hpp"
+#include "kincal/framework/base/lu6.hpp"
 
 #include <gtest/gtest.h>
 
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
 
 namespace kincal {
 namespace {

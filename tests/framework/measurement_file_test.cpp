@@ -1,6 +1,6 @@
 // Measurement CSV: columns by name, comments, notices, and every malformed-input error.
 
-#include "kincal/framework/measurement_file.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

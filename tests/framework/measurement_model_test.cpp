@@ -1,14 +1,14 @@
 // The chain rule through forward kinematics: measurement-model and calibration-problem
 // Jacobians against central finite differences, and bit-for-bit reproducibility.
 
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 
 #include <gtest/gtest.h>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/calibration_problem.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/calibration_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

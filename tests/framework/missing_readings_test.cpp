@@ -7,10 +7,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/presets.hpp"

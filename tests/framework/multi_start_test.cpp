@@ -1,15 +1,15 @@
-// Several starts of one problem (framework/multi_start.hpp): the draws, the grouping into
-// distinct minima, independence of the thread count, and the hexapod's far-start minima.
+// Several starts of one problem (framework/calibration/multi_start.hpp): the draws, the grouping
+// into distinct minima, independence of the thread count, and the hexapod's far-start minima.
 
-#include "kincal/framework/multi_start.hpp"
+#include "kincal/framework/calibration/multi_start.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

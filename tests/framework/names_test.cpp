@@ -1,7 +1,7 @@
-// The name policy (framework/names.hpp): what kincal accepts as a name is what its readers
-// accept back, is no spreadsheet formula and cannot drive a terminal.
+// The name policy (framework/kinematics/names.hpp): what kincal accepts as a name is what its
+// readers accept back, is no spreadsheet formula and cannot drive a terminal.
 
-#include "kincal/framework/names.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,14 +2,14 @@
 // propagates through) against known values and finite differences, and the whole against a
 // Monte Carlo of parameter errors through the exact forward kinematics.
 
-#include "kincal/framework/pose_accuracy.hpp"
+#include "kincal/framework/analysis/pose_accuracy.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <cstdio>
 
-#include "kincal/framework/prior_problem.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
-#include "kincal/framework/uncertainty.hpp"
-#include "kincal/framework/validation.hpp"
+#include "kincal/framework/analysis/validation.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/prior_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/least_squares/uncertainty.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/prior_problem.hpp"
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/calibration/prior_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -8,11 +8,11 @@
 #include <cmath>
 #include <vector>
 
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
-#include "kincal/framework/uncertainty.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/least_squares/uncertainty.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -1,6 +1,6 @@
 // A sensor that can say "no reading" (Sensor::can_miss / reads_at): a laser distance sensor
 // on the platform whose beam must hit a plane of the base, written once as a function
-// template (framework/autodiff.hpp) with its beam and plane directions as azimuth and
+// template (framework/kinematics/autodiff.hpp) with its beam and plane directions as azimuth and
 // elevation. Its reading is dropped where the beam grazes the plane or the plane is out of
 // range, without dropping the configuration's other readings; a measured reading that it
 // cannot take at the parameters being evaluated fails the evaluation, as forward kinematics
@@ -12,11 +12,11 @@
 #include <limits>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/autodiff.hpp"
-#include "kincal/framework/calibration_problem.hpp"
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/calibration/calibration_problem.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/kinematics/autodiff.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 

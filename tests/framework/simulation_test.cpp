@@ -1,10 +1,10 @@
 // run_calibration's iteration tracking and the caller's own callback.
 
-#include "kincal/framework/simulation.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 
 #include <gtest/gtest.h>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/pose.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
 
 namespace kincal {
 namespace {

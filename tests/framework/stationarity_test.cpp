@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "kincal/framework/stationarity.hpp"
+#include "kincal/framework/least_squares/stationarity.hpp"
 
 namespace kincal {
 namespace {

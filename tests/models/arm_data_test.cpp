@@ -9,14 +9,14 @@
 #include <cmath>
 #include <sstream>
 
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/cross_validation.hpp"
-#include "kincal/framework/data_checks.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/position_error.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/cross_validation.hpp"
+#include "kincal/framework/analysis/position_error.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/data_checks.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

@@ -1,5 +1,5 @@
-// Automatic derivatives (framework/autodiff.hpp) through the twins of the length gauge, the
-// hexapod and the serial arm (autodiff_twins.hpp): every Jacobian the interfaces need must
+// Automatic derivatives (framework/kinematics/autodiff.hpp) through the twins of the length gauge,
+// the hexapod and the serial arm (autodiff_twins.hpp): every Jacobian the interfaces need must
 // equal the hand-written type's to rounding and pass the same finite-difference checks as the
 // conformance suite (model_conformance_test.cpp), and a calibration on the twin must land
 // where the hand-written model's does.
@@ -8,8 +8,8 @@
 
 #include "autodiff_twins.hpp"
 #include "jacobian_check.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
 

@@ -1,15 +1,15 @@
 #pragma once
 // Automatic-derivative twins of three built-in types, for tests and benchmarks only: the
 // same parameters, actuators and kinematics as the hand-written type (everything but the
-// derivatives is delegated to it), with every Jacobian taken by framework/autodiff.hpp from
-// one function template. Their Jacobians must equal the hand-written ones (to rounding) and
+// derivatives is delegated to it), with every Jacobian taken by framework/kinematics/autodiff.hpp
+// from one function template. Their Jacobians must equal the hand-written ones (to rounding) and
 // finite differences (tests/models/autodiff_test.cpp); benchmarks/micro_benchmarks.cpp
 // measures what the automatic derivatives cost.
 
 #include <memory>
 
-#include "kincal/framework/autodiff.hpp"
-#include "kincal/framework/measurement_model.hpp"
+#include "kincal/framework/kinematics/autodiff.hpp"
+#include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/serial_arm.hpp"

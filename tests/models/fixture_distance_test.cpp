@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/calibration_report.hpp"
-#include "kincal/framework/constrained_problem.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/constrained_problem.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/fixture_distance.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/socket.hpp"

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal {

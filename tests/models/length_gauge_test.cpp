@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
 
 namespace kincal {
 namespace {

@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/conformance.hpp"
 
 namespace kincal {

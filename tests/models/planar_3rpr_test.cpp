@@ -10,8 +10,8 @@
 #include <limits>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal {

@@ -11,12 +11,12 @@
 #include <limits>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/identifiability.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
-#include "kincal/framework/uncertainty.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/least_squares/uncertainty.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
 
 namespace kincal {

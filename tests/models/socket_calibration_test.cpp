@@ -7,9 +7,9 @@
 
 #include <cmath>
 
-#include "kincal/framework/calibration_solve.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/calibration_solve.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/fixture_distance.hpp"
 #include "kincal/models/socket.hpp"
 #include "kincal/models/urdf_arm.hpp"

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/socket.hpp"
 

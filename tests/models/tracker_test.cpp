@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/model_registry.hpp"
-#include "kincal/framework/random.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
 

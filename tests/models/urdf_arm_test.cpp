@@ -11,8 +11,8 @@
 #include <cmath>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/identifiability.hpp"
-#include "kincal/framework/model_registry.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/point_tracker.hpp"
 

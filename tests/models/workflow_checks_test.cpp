@@ -6,11 +6,11 @@
 
 #include <cmath>
 
-#include "kincal/framework/data_checks.hpp"
-#include "kincal/framework/fixed_parameter_sensitivity.hpp"
-#include "kincal/framework/measurement_file.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
+#include "kincal/framework/calibration/data_checks.hpp"
+#include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/presets.hpp"
 

@@ -1,6 +1,6 @@
 // A plug-in whose preset takes a built-in name: loading it must fail naming both.
 
-#include <kincal/framework/plugin.hpp>
+#include <kincal/framework/extension/plugin.hpp>
 #include <stdexcept>
 
 namespace {

@@ -3,7 +3,7 @@
 // function runs (which would abort the test).
 
 #include <cstdlib>
-#include <kincal/framework/plugin.hpp>
+#include <kincal/framework/extension/plugin.hpp>
 
 namespace {
 void register_nothing(kincal::ModelRegistry&, kincal::SolverRegistry&) { std::abort(); }

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite.hpp"
 

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/solver_contract.hpp"
 #include "kincal/problems/suite.hpp"

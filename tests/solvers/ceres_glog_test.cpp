@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "solver_fixtures.hpp"
 
 namespace kincal {

@@ -36,8 +36,8 @@
 #include <cctype>
 #include <cmath>
 
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 #include "solver_fixtures.hpp"
 

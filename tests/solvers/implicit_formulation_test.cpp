@@ -7,11 +7,11 @@
 #include <cmath>
 
 #include "jacobian_check.hpp"
-#include "kincal/framework/calibration_solve.hpp"
-#include "kincal/framework/implicit_calibration_problem.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/calibration_solve.hpp"
+#include "kincal/framework/calibration/implicit_calibration_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/solvers/schur_levenberg_marquardt.hpp"
 #include "solver_fixtures.hpp"

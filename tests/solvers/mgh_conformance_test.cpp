@@ -10,7 +10,7 @@
 #include <cctype>
 #include <map>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite_runner.hpp"
 #include "solver_fixtures.hpp"

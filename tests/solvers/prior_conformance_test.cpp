@@ -8,10 +8,10 @@
 #include <cctype>
 #include <cmath>
 
-#include "kincal/framework/prior_problem.hpp"
-#include "kincal/framework/random.hpp"
-#include "kincal/framework/simulation.hpp"
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/prior_problem.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 #include "solver_fixtures.hpp"
 

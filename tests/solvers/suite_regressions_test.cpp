@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "kincal/framework/solver_registry.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/solver_contract.hpp"
 #include "kincal/problems/suite.hpp"

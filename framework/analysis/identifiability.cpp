@@ -1,0 +1,258 @@
+#include "kincal/framework/analysis/identifiability.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace kincal {
+
+namespace {
+
+// A column this much shorter than the longest is rounding noise of a zero column (e.g. a
+// rotation about an axis through the measured point, 1e-17 mm against lever arms of metres):
+// scaled to unit norm it would look independent of everything, so it counts as zero.
+constexpr double kZeroColumn = 1e-12;
+
+// J D^-1 with unit-norm columns; zero columns (kZeroColumn) stay zero.
+MatrixXd scale_columns(const MatrixXd& J, VectorXd& norms) {
+  norms = J.colwise().norm().transpose();
+  const double longest = norms.size() ? norms.maxCoeff() : 0.0;
+  for (int i = 0; i < norms.size(); ++i)
+    if (norms[i] <= kZeroColumn * longest) norms[i] = 0;
+  MatrixXd scaled = J;
+  for (int i = 0; i < J.cols(); ++i) {
+    if (norms[i] > 0)
+      scaled.col(i) /= norms[i];
+    else
+      scaled.col(i).setZero();
+  }
+  return scaled;
+}
+
+ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& norms,
+                                      const std::vector<std::string>& names, double s,
+                                      bool null_space, double cutoff) {
+  // Back to parameter units: scaled coordinate z_i = D_i p_i, so p_i = z_i / D_i. An unseen
+  // parameter (D_i = 0) keeps its scaled coefficient.
+  VectorXd v(v_scaled.size());
+  for (int i = 0; i < v.size(); ++i) v[i] = norms[i] > 0 ? v_scaled[i] / norms[i] : v_scaled[i];
+  v.normalize();
+  // Sign convention: the largest term is positive, so the output is deterministic.
+  Eigen::Index largest = 0;
+  v.cwiseAbs().maxCoeff(&largest);
+  if (v[largest] < 0) v = -v;
+  ParameterCombination c;
+  c.singular_value = s;
+  c.null_space = null_space;
+  const double max_abs = std::abs(v[largest]);
+  for (int i = 0; i < v.size(); ++i)
+    if (std::abs(v[i]) >= cutoff * max_abs) c.terms.emplace_back(names[i], v[i]);
+  std::stable_sort(c.terms.begin(), c.terms.end(), [](const auto& a, const auto& b) {
+    return std::abs(a.second) > std::abs(b.second);
+  });
+  return c;
+}
+
+}  // namespace
+
+std::string ParameterCombination::describe() const {
+  std::string out;
+  char buf[32];
+  for (const auto& [name, coefficient] : terms) {
+    std::snprintf(buf, sizeof buf, "%+.3f ", coefficient);
+    out += (out.empty() ? "" : " ") + std::string(buf) + name;
+  }
+  return out;
+}
+
+Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std::string>& names,
+                                        const IdentifiabilityOptions& options) {
+  Identifiability a;
+  a.num_residuals = static_cast<int>(J.rows());
+  a.num_parameters = static_cast<int>(J.cols());
+  a.names = names;
+  a.rcond = options.rcond;
+  const int n = a.num_parameters;
+  if (n == 0) return a;
+  if (a.num_residuals == 0) {  // no reading: nothing is seen (and Eigen's SVD needs rows)
+    a.column_norms = a.singular_values = VectorXd::Zero(n);
+    a.unseen = names;
+    a.condition_number = std::numeric_limits<double>::infinity();
+    return a;
+  }
+
+  const MatrixXd scaled = scale_columns(J, a.column_norms);
+  for (int i = 0; i < n; ++i)
+    if (a.column_norms[i] == 0) a.unseen.push_back(names[i]);
+
+  // Full V: with fewer residuals than parameters the missing directions are null space too.
+  const Eigen::JacobiSVD<MatrixXd> svd(scaled, Eigen::ComputeFullV);
+  a.singular_values = VectorXd::Zero(n);
+  a.singular_values.head(svd.singularValues().size()) = svd.singularValues();
+  const VectorXd& s = a.singular_values;
+  const double s_max = s[0];
+  a.rank_threshold = std::max(a.num_residuals, n) * std::numeric_limits<double>::epsilon() * s_max;
+  a.numerical_threshold = options.rcond * s_max;
+  for (int i = 0; i < n; ++i) {
+    a.rank += s[i] > a.rank_threshold;
+    a.numerical_rank += s[i] > a.numerical_threshold;
+  }
+
+  // Singular values below the numerical-rank threshold are treated as zero everywhere else
+  // (the rank, calibrate's refusal to solve, the null-space combinations); when they come
+  // from an exact deficiency they are rounding noise of the SVD (1e-17), so ratios built
+  // from them would be random numbers, not measures. A rank-deficient problem therefore
+  // gets an infinite condition number and indices of 0, as if they were exactly 0.
+  const double s_min = s[n - 1];
+  a.condition_number = std::numeric_limits<double>::infinity();
+  if (!a.rank_deficient() && a.rank == n && s_min > 0) {
+    a.condition_number = s_max / s_min;
+    double log_product = 0, inverse_squares = 0;
+    for (int i = 0; i < n; ++i) {
+      log_product += std::log(s[i]);
+      inverse_squares += 1.0 / (s[i] * s[i]);
+    }
+    a.o1 = std::exp(log_product / n) / std::sqrt(static_cast<double>(a.num_residuals));
+    a.o2 = s_min / s_max;
+    a.o3 = s_min;
+    a.o4 = s_min * s_min / s_max;
+    a.o5 = 1.0 / inverse_squares;
+  }
+
+  // Combinations come from the seen columns only: an unseen parameter is reported by name
+  // above, and leaving it in would mix it arbitrarily into the other null-space directions.
+  std::vector<int> seen;
+  for (int i = 0; i < n; ++i)
+    if (a.column_norms[i] > 0) seen.push_back(i);
+  if (seen.empty()) return a;
+  const int n_seen = static_cast<int>(seen.size());
+  MatrixXd scaled_seen(scaled.rows(), n_seen);
+  VectorXd norms_seen(n_seen);
+  std::vector<std::string> names_seen;
+  for (int k = 0; k < n_seen; ++k) {
+    scaled_seen.col(k) = scaled.col(seen[k]);
+    norms_seen[k] = a.column_norms[seen[k]];
+    names_seen.push_back(names[seen[k]]);
+  }
+  const Eigen::JacobiSVD<MatrixXd> svd_seen(scaled_seen, Eigen::ComputeFullV);
+  VectorXd s_seen = VectorXd::Zero(n_seen);
+  s_seen.head(svd_seen.singularValues().size()) = svd_seen.singularValues();
+  for (int i = n_seen - 1; i >= 0; --i) {
+    const bool null_space = !(s_seen[i] > a.numerical_threshold);
+    if (!null_space && !(s_seen[i] < options.weak_ratio * s_max)) break;
+    a.combinations.push_back(make_combination(svd_seen.matrixV().col(i), norms_seen, names_seen,
+                                              s_seen[i], null_space, options.term_cutoff));
+  }
+  return a;
+}
+
+void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
+               const VectorXd& data_share, const IdentifiabilityOptions& options) {
+  const int n = static_cast<int>(J.cols());
+  a.data_share = data_share;
+  a.numerical_rank_with_prior = 0;
+  if (n == 0) return;  // Eigen's SVD of a matrix without columns is not defined
+  MatrixXd stacked = MatrixXd::Zero(J.rows() + n, n);
+  stacked.topRows(J.rows()) = J;
+  stacked.bottomRows(n).diagonal() = precision.cwiseSqrt();
+  VectorXd norms;
+  const MatrixXd scaled = scale_columns(stacked, norms);
+  const Eigen::JacobiSVD<MatrixXd> svd(scaled);
+  const VectorXd& s = svd.singularValues();
+  for (int i = 0; i < s.size(); ++i)
+    a.numerical_rank_with_prior += s.size() && s[i] > options.rcond * s[0];
+}
+
+std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options) {
+  if (J.cols() == 0 || J.rows() == 0) return {};
+  std::vector<std::string> names(J.cols());
+  const Identifiability a = analyze_identifiability(J, names, options);
+  VectorXd norms;
+  const MatrixXd scaled = scale_columns(J, norms);
+  const Eigen::ColPivHouseholderQR<MatrixXd> qr(scaled);
+  std::vector<int> keep;
+  for (int k = 0; k < a.numerical_rank; ++k) keep.push_back(qr.colsPermutation().indices()[k]);
+  std::sort(keep.begin(), keep.end());
+  return keep;
+}
+
+std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
+                                     const IdentifiabilityOptions& options) {
+  const int n = static_cast<int>(J.cols());
+  if (priority.empty()) return identifiable_subset(J, options);
+  std::vector<std::string> names(n);
+  const int rank = analyze_identifiability(J, names, options).numerical_rank;
+  VectorXd norms;
+  MatrixXd residual = scale_columns(J, norms);
+  std::vector<bool> chosen(n, false);
+  std::vector<int> keep;
+  while (static_cast<int>(keep.size()) < rank) {
+    const VectorXd part = residual.colwise().norm().transpose();
+    int best = -1;
+    // The lowest class with a clearly independent column, then any column.
+    int best_class = 0;
+    for (int i = 0; i < n; ++i)
+      if (!chosen[i] && part[i] > kPreferredPart &&
+          (best < 0 || priority[i] < best_class ||
+           (priority[i] == best_class && part[i] > part[best]))) {
+        best = i;
+        best_class = priority[i];
+      }
+    if (best < 0)
+      for (int i = 0; i < n; ++i)
+        if (!chosen[i] && (best < 0 || part[i] > part[best])) best = i;
+    if (best < 0 || !(part[best] > 0)) break;
+    chosen[best] = true;
+    keep.push_back(best);
+    const VectorXd q = residual.col(best) / part[best];
+    residual -= q * (q.transpose() * residual);
+  }
+  std::sort(keep.begin(), keep.end());
+  return keep;
+}
+
+std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
+                                                     const std::vector<std::string>& names,
+                                                     const std::vector<int>& keep,
+                                                     const IdentifiabilityOptions& options) {
+  VectorXd norms;
+  const MatrixXd scaled = scale_columns(J, norms);
+  MatrixXd kept(J.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    kept.col(static_cast<Eigen::Index>(k)) = scaled.col(keep[k]);
+  // Eigen's decompositions do not take a matrix without columns: nothing kept, nothing to
+  // express the others by (each is then described as it is).
+  Eigen::ColPivHouseholderQR<MatrixXd> qr;
+  if (!keep.empty()) qr.compute(kept);
+  std::vector<DependentParameter> out;
+  std::size_t next = 0;
+  for (int i = 0; i < J.cols(); ++i) {
+    if (next < keep.size() && keep[next] == i) {
+      ++next;
+      continue;
+    }
+    DependentParameter d;
+    d.name = names[i];
+    d.unseen = !(norms[i] > 0);
+    if (!d.unseen && !keep.empty()) {
+      // Scaled: column_i = sum_k c_k kept_k; in parameter units p_k = c_k D_i / D_k.
+      const VectorXd c = qr.solve(VectorXd(scaled.col(i)));
+      VectorXd coefficient(c.size());
+      for (int k = 0; k < c.size(); ++k) coefficient[k] = c[k] * norms[i] / norms[keep[k]];
+      const double largest = coefficient.cwiseAbs().maxCoeff();
+      for (int k = 0; k < c.size(); ++k)
+        if (std::abs(coefficient[k]) >= options.term_cutoff * largest && largest > 0)
+          d.equivalent.emplace_back(names[keep[k]], coefficient[k]);
+      std::stable_sort(d.equivalent.begin(), d.equivalent.end(), [](const auto& a, const auto& b) {
+        return std::abs(a.second) > std::abs(b.second);
+      });
+    }
+    out.push_back(d);
+  }
+  return out;
+}
+
+}  // namespace kincal

@@ -1,0 +1,62 @@
+#include "kincal/framework/calibration/calibration_solve.hpp"
+
+#include <memory>
+#include <stdexcept>
+
+#include "kincal/framework/calibration/constrained_problem.hpp"
+#include "kincal/framework/calibration/implicit_calibration_problem.hpp"
+
+namespace kincal {
+
+const char* to_string(Formulation formulation) {
+  return formulation == Formulation::kImplicit ? "implicit" : "nested";
+}
+
+Formulation parse_formulation(const std::string& text) {
+  if (text == "nested") return Formulation::kNested;
+  if (text == "implicit") return Formulation::kImplicit;
+  throw std::invalid_argument("formulation must be nested or implicit, not '" + text + "'");
+}
+
+Formulation default_formulation(const MeasurementModel&) { return Formulation::kNested; }
+
+namespace {
+
+// Why `requested` cannot be solved implicitly here, or empty.
+std::string implicit_obstacle(const Solver& solver, const CalibrationProblem& problem,
+                              const Prior& prior, const SolverOptions& options) {
+  if (!ImplicitCalibrationProblem::applicable(problem.model()))
+    return problem.model().mechanism().type() + " is not a closed chain";
+  if (prior.any()) return "a prior is not part of it yet";
+  if (!problem.model().constraints().empty())
+    return "the model's parameter-only constraints are not part of it yet";
+  if (problem.num_parameters() == 0) return "there is no free parameter";
+  if (!solver.solves_implicit(options))
+    return "solver " + solver.name() + " does not solve it with these options";
+  return {};
+}
+
+}  // namespace
+
+CalibrationSolve solve_calibration(const Solver& solver, const CalibrationProblem& problem,
+                                   const Prior& prior, VectorXd& x, const SolverOptions& options,
+                                   Formulation requested) {
+  CalibrationSolve out;
+  if (requested == Formulation::kImplicit) {
+    const std::string obstacle = implicit_obstacle(solver, problem, prior, options);
+    if (obstacle.empty()) {
+      // The problem outlives the solve: a non-owning pointer is enough.
+      const ImplicitCalibrationProblem implicit(
+          std::shared_ptr<const CalibrationProblem>(&problem, [](const CalibrationProblem*) {}));
+      out.summary = solver.solve_implicit(implicit, x, options);
+      out.formulation = Formulation::kImplicit;
+      return out;
+    }
+    out.note = "implicit formulation not used (" + obstacle + "): solved nested";
+  }
+  out.summary = solve_nested_calibration(solver, problem, prior, x, options);
+  out.formulation = Formulation::kNested;
+  return out;
+}
+
+}  // namespace kincal

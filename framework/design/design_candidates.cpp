@@ -1,0 +1,222 @@
+// Experiment design, first stage: the singularity margin, the design setup (noise, scales,
+// workspace) and the candidate configurations with their whitened reading rows.
+#include "kincal/framework/design/experiment_design.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include "kincal/framework/base/random.hpp"
+#include "kincal/framework/design/design_stages.hpp"
+
+namespace kincal {
+
+using namespace design_detail;
+
+SingularityGauge::SingularityGauge(const MeasurementModel& model, const VectorXd& params)
+    : model_(model), params_(params) {
+  const Mechanism& mechanism = model.mechanism();
+  home_.resize(mechanism.num_actuators());
+  const InverseKinematicsResult ik =
+      mechanism.home_actuators(params.head(mechanism.num_parameters()), home_);
+  if (!ik.ok())
+    throw std::invalid_argument("the model's home pose is not reachable: inverse kinematics " +
+                                ik.describe());
+  const ForwardKinematicsResult fk =
+      mechanism.forward_kinematics(params.head(mechanism.num_parameters()), home_,
+                                   mechanism.home_pose(), model.forward_kinematics_options());
+  if (!fk.ok())
+    throw std::invalid_argument("forward kinematics at the model's home configuration " +
+                                fk.describe());
+  Matrix6Xd J;
+  // No moving actuator (every range 0) has no Jacobian to weigh: a block of a 6 x 0 matrix is
+  // undefined behaviour in Eigen.
+  if (actuator_jacobian(home_, fk.pose, J) && J.cols() > 0) {
+    const double t = J.topRows<3>().norm(), r = J.bottomRows<3>().norm();
+    rotation_length_ = r > 0 && t > 0 ? t / r : 1;
+  }
+  home_inverse_condition_ = inverse_condition(home_, fk.pose);
+  if (!(home_inverse_condition_ > 0)) home_inverse_condition_ = 1;
+}
+
+bool SingularityGauge::actuator_jacobian(const ActuatorsRef& q, const Pose& pose,
+                                         Matrix6Xd& J) const {
+  const Mechanism& mechanism = model_.mechanism();
+  const VectorXd& range = model_.actuator_ranges();
+  const int na = mechanism.num_actuators();
+  Matrix6Xd all(6, na);
+  if (!mechanism.pose_jacobian_actuators(params_.head(mechanism.num_parameters()), q, pose,
+                                         model_.forward_kinematics_options(), all))
+    return false;
+  int moving = 0;
+  for (int i = 0; i < na; ++i) moving += range[i] > 0;
+  J.resize(6, moving);
+  int column = 0;
+  for (int i = 0; i < na; ++i)
+    if (range[i] > 0) J.col(column++) = all.col(i) * range[i];  // a fixed actuator has no say
+  return true;
+}
+
+double SingularityGauge::inverse_condition(const ActuatorsRef& q, const Pose& pose) const {
+  Matrix6Xd J;
+  if (!actuator_jacobian(q, pose, J)) return 0;
+  if (J.cols() == 0) return 1;
+  J.bottomRows<3>() *= rotation_length_;
+  // The singular values of J are the square roots of the largest min(6, columns) eigenvalues
+  // of the fixed-size J J^T: cheaper than an SVD of J, and precise enough for a margin (it
+  // loses only conditions beyond 1e8).
+  const Matrix6d JJt = J * J.transpose();
+  const Vector6d l = Eigen::SelfAdjointEigenSolver<Matrix6d>(JJt, Eigen::EigenvaluesOnly)
+                         .eigenvalues();  // ascending
+  const int k = static_cast<int>(std::min<Eigen::Index>(6, J.cols()));
+  return l[5] > 0 ? std::sqrt(std::max(l[6 - k], 0.0) / l[5]) : 0;
+}
+
+double SingularityGauge::margin(const ActuatorsRef& q, const Pose& pose) const {
+  return inverse_condition(q, pose) / home_inverse_condition_;
+}
+
+namespace {
+
+// The normalised whitened rows of the readings of `sensor` from a full reading Jacobian.
+void sensor_rows(const MeasurementModel& model, const DesignSetup& setup, const MatrixXd& J,
+                 int sensor, Eigen::Ref<MatrixXd> out) {
+  const int o = model.sensor_reading_offset(sensor);
+  const int k = model.sensors()[sensor]->num_readings();
+  for (int r = 0; r < k; ++r)
+    for (std::size_t c = 0; c < setup.free_indices.size(); ++c)
+      out(r, static_cast<int>(c)) = J(o + r, setup.free_indices[c]) *
+                                    setup.scale[static_cast<int>(c)] / setup.noise_std[o + r];
+}
+
+}  // namespace
+
+DesignSetup make_design_setup(const MeasurementModel& model, const DesignOptions& options,
+                              const Measurements* existing) {
+  DesignSetup s;
+  s.free_indices = model.parameters().free_indices();
+  const int n = static_cast<int>(s.free_indices.size());
+  if (n == 0) throw std::invalid_argument("no free parameters: nothing to design for");
+  s.scale = nominal_parameter_std(model, s.free_indices, options.default_error_mm,
+                                  options.default_error_rad);
+  s.noise_std = options.noise_std.size() ? options.noise_std : model.reading_std();
+  if (s.noise_std.size() != model.num_readings() || !(s.noise_std.array() > 0).all() ||
+      !s.noise_std.allFinite())
+    throw std::invalid_argument("the reading noise std must be finite and > 0 for every reading");
+  if (!(options.orientation_length >= 0) || !std::isfinite(options.orientation_length))
+    throw std::invalid_argument("the orientation length must be finite and >= 0");
+  s.base_information = MatrixXd::Zero(n, n);
+  for (int c = 0; c < n; ++c) {
+    const Parameter& p = model.parameters()[s.free_indices[c]];
+    if (!p.has_prior()) continue;
+    s.has_prior = true;
+    s.base_information(c, c) += std::pow(s.scale[c] / p.prior_std, 2);
+  }
+  const VectorXd nominal = model.parameters().nominal_values();
+  if (existing && existing->size() > 0) {
+    auto ws = model.make_workspace();
+    VectorXd readings(model.num_readings());
+    MatrixXd J(model.num_readings(), model.num_parameters());
+    Eigen::Ref<MatrixXd> J_ref(J);
+    for (int row = 0; row < existing->size(); ++row) {
+      const ForwardKinematicsResult fk =
+          model.predict(nominal, existing->actuators.row(row).transpose(), readings, &J_ref, ws);
+      if (!fk.ok())
+        throw std::invalid_argument("existing data row " + std::to_string(row + 1) +
+                                    ": forward kinematics at the nominal values " + fk.describe());
+      for (int sensor = 0; sensor < static_cast<int>(model.sensors().size()); ++sensor) {
+        const int o = model.sensor_reading_offset(sensor);
+        if (std::isnan(existing->readings(row, o))) continue;
+        MatrixXd x(model.sensors()[sensor]->num_readings(), n);
+        sensor_rows(model, s, J, sensor, x);
+        s.base_information += x.transpose() * x;
+        s.existing_readings += static_cast<int>(x.rows());
+      }
+    }
+  }
+  s.workspace = sample_workspace(model, nominal, s.free_indices, options.workspace_samples,
+                                 derive_seed(options.seed, kWorkspaceStream));
+  s.workspace_weight = MatrixXd::Zero(n, n);
+  const double l2 = options.orientation_length * options.orientation_length;
+  for (const Matrix6Xd& J : s.workspace.J_free) {
+    const MatrixXd Jp = J.topRows<3>() * s.scale.asDiagonal();
+    s.workspace_weight += Jp.transpose() * Jp;
+    if (l2 > 0) {
+      const MatrixXd Jr = J.bottomRows<3>() * s.scale.asDiagonal();
+      s.workspace_weight += l2 * (Jr.transpose() * Jr);
+    }
+  }
+  if (!s.workspace.J_free.empty()) s.workspace_weight /= double(s.workspace.J_free.size());
+  return s;
+}
+
+DesignCandidates make_design_candidates(const MeasurementModel& model, const DesignSetup& setup,
+                                        const DesignOptions& options) {
+  const Mechanism& mechanism = model.mechanism();
+  const int na = mechanism.num_actuators();
+  const int n = static_cast<int>(setup.free_indices.size());
+  const VectorXd nominal = model.parameters().nominal_values();
+  const SingularityGauge gauge(model, nominal);
+  const VectorXd& home = gauge.home_actuators();
+  const VectorXd& range = model.actuator_ranges();
+  const int num_corners = na <= 12 ? (1 << na) : 0;
+  const int total = num_corners + std::max(options.num_random, 0);
+
+  DesignCandidates out;
+  const int num_sensors = static_cast<int>(model.sensors().size());
+  std::vector<int> k(num_sensors);
+  int rows_per_configuration = 0;
+  for (int s = 0; s < num_sensors; ++s)
+    rows_per_configuration += k[s] = model.sensors()[s]->num_readings();
+  out.configurations.resize(total, na);
+  out.margins.resize(total);
+  out.rows.resize(static_cast<Eigen::Index>(total) * rows_per_configuration, n);
+  out.row_offset.push_back(0);
+  auto ws = model.make_workspace();
+  VectorXd readings(model.num_readings()), q(na);
+  MatrixXd J(model.num_readings(), model.num_parameters());
+  Eigen::Ref<MatrixXd> J_ref(J);
+  Random rng(derive_seed(options.seed, kCandidateStream));
+  int kept = 0;
+  for (int i = 0; i < total; ++i) {
+    if (i % 256 == 0 && !keep_going(options, "candidates", i, total)) {
+      out.stopped = true;
+      break;
+    }
+    const bool corner = i < num_corners;
+    for (int a = 0; a < na; ++a)
+      q[a] = home[a] + (corner ? ((i >> a) & 1 ? range[a] : -range[a]) : rng.symmetric(range[a]));
+    const ForwardKinematicsResult fk = model.predict(nominal, q, readings, &J_ref, ws);
+    if (!fk.ok() || !J.allFinite()) {
+      ++out.rejected_unreachable;
+      continue;
+    }
+    const double margin = gauge.margin(q, fk.pose);
+    if (!(margin >= options.min_singularity_margin)) {
+      ++out.rejected_singular;
+      continue;
+    }
+    if (corner) ++out.num_corners;
+    out.configurations.row(kept) = q.transpose();
+    out.margins[kept] = margin;
+    for (int s = 0; s < num_sensors; ++s) {
+      const int first = out.row_offset.back();
+      sensor_rows(model, setup, J, s, out.rows.middleRows(first, k[s]));
+      out.configuration.push_back(kept);
+      out.sensor.push_back(s);
+      out.row_offset.push_back(first + k[s]);
+    }
+    ++kept;
+  }
+  out.configurations.conservativeResize(kept, na);
+  out.margins.conservativeResize(kept);
+  out.rows.conservativeResize(out.row_offset.back(), n);
+  return out;
+}
+
+}  // namespace kincal

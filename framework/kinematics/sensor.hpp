@@ -1,0 +1,70 @@
+#pragma once
+// The Sensor interface: what an external sensor reads when the mechanism is at a pose.
+
+#include <string>
+#include <vector>
+
+#include "kincal/framework/kinematics/parameters.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
+
+namespace kincal {
+
+class Sensor {
+ public:
+  virtual ~Sensor() = default;
+
+  /// Sensor type as written in model files, e.g. "length-gauge".
+  virtual std::string type() const = 0;
+  /// Name of the sensor: the prefix of its parameter names and reading columns.
+  virtual const std::string& name() const = 0;
+  /// Number of scalar readings per configuration (1 for a length gauge).
+  virtual int num_readings() const = 0;
+  /// Column names of the readings in measurement files (num_readings() of them).
+  virtual std::vector<std::string> reading_names() const { return {name()}; }
+  /// Unit of each reading ("mm" or "rad"), in reading_names() order.
+  virtual std::vector<std::string> reading_units() const = 0;
+  /// Index of the first of three readings that are the measured point's position (x, y, z in
+  /// mm, in the sensor's own Cartesian frame), or -1 when the sensor measures no point (a
+  /// length gauge). Accuracy in the field's terms (3-D position error) is computed from them.
+  virtual int position_reading_index() const { return -1; }
+  /// Parameter layout with nominal values and units; all fixed (a model's mask frees them).
+  virtual const std::vector<Parameter>& parameters() const = 0;
+  int num_parameters() const { return static_cast<int>(parameters().size()); }
+
+  /// Readings at `pose` and, when the pointers are non-null, J_reading_pose
+  /// (num_readings x 6) and J_reading_params (num_readings x num_parameters), each presized
+  /// by the caller so that no allocation happens here. For readings that live on a manifold
+  /// (a rotation), the Jacobian rows are taken in its tangent space, the space of
+  /// reading_error() (see PoseTracker).
+  virtual void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                       Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,
+                       MatrixXd* J_reading_params) const = 0;
+
+  /// Whether the sensor can fail to read at some poses (a beam grazing or missing its
+  /// target, a reading out of range). Only then is reads_at() called, so sensors that always
+  /// read cost nothing.
+  virtual bool can_miss() const { return false; }
+  /// Whether the sensor gives a reading at `pose`; when not, a short reason without the
+  /// sensor's name in `reason` (when non-null), e.g. "beam misses the plane". A reading the
+  /// sensor cannot take is dropped for that configuration, like an unmeasured one (NaN in
+  /// the predicted readings; see MeasurementModel::predict), and reported when data are read
+  /// (find_missed_readings in measurement_file.hpp). Default: always.
+  virtual bool reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                        std::string* reason) const;
+
+  /// Whether reading_error() is more than predicted - measured. Only then is it called with
+  /// a Jacobian, so plain sensors cost nothing.
+  virtual bool has_manifold_readings() const { return false; }
+  /// The residual of a predicted reading against a measured one and, when asked for,
+  /// J_error_predicted (num_readings x num_readings): how the error moves with the
+  /// predicted reading's tangent perturbation. Default: predicted - measured, identity.
+  virtual void reading_error(const Eigen::Ref<const VectorXd>& predicted,
+                             const Eigen::Ref<const VectorXd>& measured, Eigen::Ref<VectorXd> error,
+                             MatrixXd* J_error_predicted) const;
+  /// `reading` moved by the tangent perturbation `delta`, the inverse of reading_error:
+  /// reading_error(retract(m, d), m) = d. Default: reading + delta. Simulation adds noise
+  /// through it.
+  virtual void retract(Eigen::Ref<VectorXd> reading, const Eigen::Ref<const VectorXd>& delta) const;
+};
+
+}  // namespace kincal
