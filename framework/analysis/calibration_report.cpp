@@ -46,7 +46,9 @@ std::string outlier_meaning(const CalibrationReport& r) {
 
 namespace {
 
-double median(std::vector<double> values) {
+// The middle element (the upper one of an even count, no interpolation): the robust scale of
+// the outlier flags has always used it, unlike base/statistics.hpp's interpolating median.
+double upper_median(std::vector<double> values) {
   if (values.empty()) return 0;
   const auto mid = values.begin() + values.size() / 2;
   std::nth_element(values.begin(), mid, values.end());
@@ -138,7 +140,7 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   r.outlier_z = normal_two_sided_quantile(kOutlierFamilyProbability /
                                           std::max(1.0, static_cast<double>(r.num_readings)));
   for (const auto& [unit, values] : magnitudes) {
-    r.outlier_threshold_by_unit[unit] = std::max(r.outlier_z * 1.4826 * median(values), 1e-9);
+    r.outlier_threshold_by_unit[unit] = std::max(r.outlier_z * 1.4826 * upper_median(values), 1e-9);
   }
   if (!r.reading_units.empty() && r.outlier_threshold_by_unit.count(r.reading_units[0]))
     r.outlier_threshold = r.outlier_threshold_by_unit[r.reading_units[0]];
