@@ -21,8 +21,8 @@ case $step in
     rm -rf "$prefix"
     mkdir -p "$work"
     "$cmake_cmd" --install "$build" --prefix "$prefix" >"$work/install.log"
-    for f in include/kincal/version.hpp include/kincal/framework/solver_registry.hpp \
-      include/kincal/framework/plugin.hpp include/kincal/models/conformance.hpp \
+    for f in include/kincal/version.hpp include/kincal/framework/least_squares/solver_registry.hpp \
+      include/kincal/framework/extension/plugin.hpp include/kincal/models/conformance.hpp \
       lib*/cmake/kincal/KincalPlugin.cmake \
       include/kincal/cli/run.hpp lib*/cmake/kincal/kincalConfig.cmake \
       lib*/cmake/kincal/kincalConfigVersion.cmake lib*/pkgconfig/kincal.pc bin/kincal; do
