@@ -1,5 +1,5 @@
-// kincal list: what this build has: solver backends, preset models, mechanism and sensor
-// types. One line each, name first, and the plug-in file for what a plug-in added; with
+// kincal list: what this build has: solver backends, preset models, mechanism, sensor and
+// constraint types. One line each, name first, and the plug-in file for what a plug-in added; with
 // --json the same as one object.
 
 #include <iostream>
@@ -16,7 +16,7 @@ namespace kincal::cli {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: kincal list [solvers|models|mechanisms|sensors] [--json FILE|-]   "
+    "usage: kincal list [solvers|models|mechanisms|sensors|constraints] [--json FILE|-]   "
     "(everything when no section is given)";
 
 struct Entry {
@@ -47,6 +47,13 @@ Entries mechanisms() {
   Entries out;
   for (const auto& type : ModelRegistry::global().mechanisms())
     out.push_back({type.type, type.description, plugin_providing("mechanism type", type.type)});
+  return out;
+}
+
+Entries constraints() {
+  Entries out;
+  for (const auto& type : ModelRegistry::global().constraints())
+    out.push_back({type.type, type.description, plugin_providing("constraint type", type.type)});
   return out;
 }
 
@@ -84,7 +91,8 @@ int run_list(const Args& args) {
   po::options_description options("kincal list");
   std::string what;
   options.add_options()("what", po::value<std::string>(&what),
-                        "solvers, models (presets), mechanisms or sensors; all when omitted");
+                        "solvers, models (presets), mechanisms, sensors or constraints; all when "
+                        "omitted");
   add_json_option(options, "the list");
   options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
   po::positional_options_description positional;
@@ -105,11 +113,16 @@ int run_list(const Args& args) {
     throw CliError(option_error_message(e, args) + " (" + kUsage + ")");
   }
   const std::vector<std::pair<std::string, Entries (*)()>> sections = {
-      {"solvers", solvers}, {"models", models}, {"mechanisms", mechanisms}, {"sensors", sensors}};
+      {"solvers", solvers},
+      {"models", models},
+      {"mechanisms", mechanisms},
+      {"sensors", sensors},
+      {"constraints", constraints}};
   bool known = what.empty();
   for (const auto& section : sections) known = known || what == section.first;
   if (!known)
-    throw CliError("cannot list '" + what + "' (expected solvers, models, mechanisms or sensors)");
+    throw CliError("cannot list '" + what +
+                   "' (expected solvers, models, mechanisms, sensors or constraints)");
   const std::string json_file = json_output(vm);
   OutputPlan plan;
   if (!json_file.empty()) plan.output("--json", json_file);

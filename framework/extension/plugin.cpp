@@ -57,6 +57,9 @@ std::vector<std::string> clashes(const ModelRegistry& scratch,
   check(
       scratch.presets(), target.presets(), [](const auto& p) { return p.name; }, "preset");
   check(
+      scratch.constraints(), target.constraints(), [](const auto& t) { return t.type; },
+      "constraint type");
+  check(
       scratch.export_formats(), target.export_formats(),
       [](const auto& f) { return f.mechanism_type + "/" + f.format; }, "export format");
   for (const auto& info : scratch_solvers.list()) {
@@ -144,6 +147,7 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
   for (const auto& t : scratch_models.sensors()) models.add_sensor(t);
   for (const auto& p : scratch_models.presets()) models.add_preset(p);
   for (const auto& f : scratch_models.export_formats()) models.add_export_format(f);
+  for (const auto& c : scratch_models.constraints()) models.add_constraint(c);
   solvers.add_all(scratch_solvers);
 
   auto& owners = state.owner_of_name;
@@ -154,6 +158,9 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
       owners, scratch_models.sensors(), [](const auto& t) { return t.type; }, "sensor type", file);
   remember_owner(
       owners, scratch_models.presets(), [](const auto& p) { return p.name; }, "preset", file);
+  remember_owner(
+      owners, scratch_models.constraints(), [](const auto& c) { return c.type; }, "constraint type",
+      file);
   for (const auto& info_entry : scratch_solvers.list())
     owners["solver '" + info_entry.name.substr(0, info_entry.name.find(':')) + "'"] = file;
   state.loaded_into.insert({file, &models, &solvers});

@@ -110,8 +110,8 @@ std::vector<std::string> plugins_from_environment();
 std::vector<std::string> loaded_plugins();
 
 /// The plug-in file (absolute path) that registered `name` as a `kind` ("mechanism type",
-/// "sensor type", "preset" or "solver"; a solver family by its name before ':'), or "" for
-/// what is built in. Lets `kincal list` say where a type came from.
+/// "sensor type", "constraint type", "preset" or "solver"; a solver family by its name before ':'),
+/// or "" for what is built in. Lets `kincal list` say where a type came from.
 std::string plugin_providing(const std::string& kind, const std::string& name);
 
 }  // namespace kincal

@@ -76,14 +76,16 @@ TEST(CliVersion, EveryCommandAndTheProgramPrintTheVersionAndBackends) {
 TEST(CliList, NoArgumentListsEverySection) {
   const auto r = run_cli("list");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* section : {"solvers:\n", "models:\n", "mechanisms:\n", "sensors:\n"})
+  for (const char* section :
+       {"solvers:\n", "models:\n", "mechanisms:\n", "sensors:\n", "constraints:\n"})
     EXPECT_NE(r.out.find(section), std::string::npos) << section << "\n" << r.out;
   EXPECT_NE(r.out.find("cube-hexapod"), std::string::npos);
   EXPECT_NE(r.out.find("length-gauge"), std::string::npos);
+  EXPECT_NE(r.out.find("\nfixture-distance "), std::string::npos) << r.out;
   const auto j = run_cli("list --json -");
   ASSERT_EQ(j.exit_code, 0) << j.err;
   const Json list = Json::parse(j.out);
-  for (const char* section : {"solvers", "models", "mechanisms", "sensors"})
+  for (const char* section : {"solvers", "models", "mechanisms", "sensors", "constraints"})
     EXPECT_FALSE(list[section].empty()) << section;
   const auto one = Json::parse(run_cli("list models --json -").out);
   EXPECT_EQ(one.size(), 3u);  // format, version and the one section
