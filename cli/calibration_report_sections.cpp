@@ -424,6 +424,23 @@ std::string calibration_outliers_html(const Json& r) {
   return out + "</tr>" + table + "</table>";
 }
 
+std::string calibration_constraints_html(const Json& r) {
+  const Json& constraints = member(r, "constraints");
+  if (!constraints.is_array() || constraints.empty()) return {};
+  std::string out =
+      "<p>Known relations between parameters, fitted with the data; a residual of a few stds "
+      "says the data and the stated value disagree.</p><table><tr><th>constraint</th>"
+      "<th>type</th><th>residual</th><th>std</th><th>residual / std</th></tr>";
+  for (const auto& c : constraints) {
+    const std::string unit = " " + text_of(c, "unit");
+    const double residual = num(member(c, "residual")), std = num(member(c, "std"));
+    out += "<tr><td class=\"name\">" + esc(text_of(c, "label")) + "</td><td class=\"name\">" +
+           esc(text_of(c, "type")) + "</td><td>" + esc(fmt(residual, 4) + unit) + "</td><td>" +
+           esc(fmt(std, 4) + unit) + "</td><td>" + esc(fmt(residual / std, 3)) + "</td></tr>";
+  }
+  return out + "</table>";
+}
+
 std::string calibration_summary_html(const Json& r) {
   std::string out = "<table>";
   auto row = [&](const std::string& key, const std::string& value) {

@@ -15,6 +15,9 @@ std::string calibration_residuals_html(const nlohmann::ordered_json& r);
 std::string calibration_parameters_html(const nlohmann::ordered_json& r);
 /// The correlation heat map.
 std::string calibration_correlation_html(const nlohmann::ordered_json& r);
+/// The model's parameter-only constraints (e.g. a known distance between two sockets): each
+/// one's residual at the estimate against its stated std. Empty when there are none.
+std::string calibration_constraints_html(const nlohmann::ordered_json& r);
 /// The flagged configurations and their residuals.
 std::string calibration_outliers_html(const nlohmann::ordered_json& r);
 /// Files, solver, outcome, residual RMS/max, sigma_hat, the calibrated model's SHA-256.

@@ -172,6 +172,8 @@ std::string render_calibration_html(const Json& r) {
   page.add_section("summary", "Summary", calibration_summary_html(r));
   page.add_section("residuals", "Residuals", calibration_residuals_html(r));
   page.add_section("parameters", "Parameter corrections", calibration_parameters_html(r));
+  const std::string constraints = calibration_constraints_html(r);
+  if (!constraints.empty()) page.add_section("constraints", "Constraints", constraints);
   page.add_section("correlation", "Correlations", calibration_correlation_html(r));
   page.add_section("identifiability", "Identifiability", identifiability_html(r));
   page.add_section("outliers", "Outliers", calibration_outliers_html(r));

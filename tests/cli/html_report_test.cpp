@@ -192,7 +192,25 @@ TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   // Without the field, no section and no verdict about it.
   const std::string plain = render_calibration_html(hostile_report());
   EXPECT_EQ(plain.find("id=\"pose-accuracy\""), std::string::npos);
+  EXPECT_EQ(plain.find("id=\"constraints\""), std::string::npos);
   EXPECT_EQ(plain.find("expected to beat"), std::string::npos);
+}
+
+// Parameter-only constraints (a known distance between two sockets) get a table of their
+// residuals against their stds, with hostile labels escaped.
+TEST(HtmlReport, ConstraintsAreListedWithTheirResiduals) {
+  Json r = hostile_report();
+  r["constraints"] = Json::array({{{"type", "fixture-distance"},
+                                   {"label", "|socket0 - socket1| <b>"},
+                                   {"residual", 0.02},
+                                   {"std", 0.05},
+                                   {"unit", "mm"}}});
+  const std::string html = render_calibration_html(r);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("id=\"constraints\""), std::string::npos);
+  EXPECT_NE(html.find("|socket0 - socket1| &lt;b&gt;"), std::string::npos) << html;
+  EXPECT_NE(html.find("0.02 mm"), std::string::npos);
+  EXPECT_NE(html.find("<td>0.4</td>"), std::string::npos);  // residual / std
 }
 
 // A point-measuring sensor: the measured 3-D position error (before, registration only,
