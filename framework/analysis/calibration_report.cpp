@@ -7,10 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <sstream>
 
-#include "kincal/framework/analysis/validation.hpp"
-#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/base/statistics.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 

@@ -1,16 +1,7 @@
 // The calibration report as JSON (calibrate --json): NaN and infinity written as null.
 #include "kincal/framework/analysis/calibration_report.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <limits>
-#include <sstream>
-
-#include "kincal/framework/analysis/validation.hpp"
-#include "kincal/framework/base/message_excerpt.hpp"
-#include "kincal/framework/calibration/constrained_problem.hpp"
-#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
 

@@ -4,12 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <sstream>
 
-#include "kincal/framework/analysis/validation.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
-#include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
