@@ -7,6 +7,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "kincal/framework/analysis/identifiability.hpp"
+
 namespace kincal {
 
 const char* to_string(UrdfJointType type) {
@@ -342,6 +344,27 @@ std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {
     priority[UrdfArm::joint_index(j) + UrdfArm::kOffset] = 1;
   }
   return priority;
+}
+
+void free_what_home_configurations_determine(MeasurementModel& model, double a, double b,
+                                             double d) {
+  const auto& arm = dynamic_cast<const UrdfArm&>(model.mechanism());
+  const VectorXd nominal = model.parameters().nominal_values();
+  VectorXd home(arm.num_joints()), q(arm.num_joints()), readings(model.num_readings());
+  arm.home_actuators(nominal, home);
+  auto ws = model.make_workspace();
+  const int configurations = 30;
+  MatrixXd J(configurations * model.num_readings(), model.num_parameters());
+  MatrixXd block(model.num_readings(), model.num_parameters());
+  for (int c = 0; c < configurations; ++c) {
+    for (int i = 0; i < q.size(); ++i)
+      q[i] = home[i] + UrdfArm::kDefaultRevoluteRange * std::sin(a * c + b * i + d * c * i);
+    Eigen::Ref<MatrixXd> ref(block);
+    model.predict(nominal, q, readings, &ref, ws);
+    J.middleRows(c * model.num_readings(), model.num_readings()) = block;
+  }
+  for (int i : identifiable_subset(J, urdf_arm_parameter_priority(model)))
+    model.parameters().set_free(model.parameters()[i].name, true);
 }
 
 }  // namespace kincal

@@ -6,7 +6,6 @@
 
 #include <cmath>
 
-#include "kincal/framework/analysis/identifiability.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
@@ -197,22 +196,7 @@ std::shared_ptr<MeasurementModel> make_ur5_urdf() {
       std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
   // The identification Jacobian at nominal on 30 fixed configurations spread over the default
   // box around home; the parameters its pivoted QR keeps are the free set.
-  const VectorXd nominal = model->parameters().nominal_values();
-  VectorXd home(arm->num_joints()), q(arm->num_joints()), readings(model->num_readings());
-  arm->home_actuators(nominal, home);
-  auto ws = model->make_workspace();
-  const int configurations = 30;
-  MatrixXd J(configurations * model->num_readings(), model->num_parameters());
-  MatrixXd block(model->num_readings(), model->num_parameters());
-  for (int c = 0; c < configurations; ++c) {
-    for (int i = 0; i < q.size(); ++i)
-      q[i] = home[i] + UrdfArm::kDefaultRevoluteRange * std::sin(1.7 * c + 2.3 * i + 0.1 * c * i);
-    Eigen::Ref<MatrixXd> ref(block);
-    model->predict(nominal, q, readings, &ref, ws);
-    J.middleRows(c * model->num_readings(), model->num_readings()) = block;
-  }
-  for (int i : identifiable_subset(J, urdf_arm_parameter_priority(*model)))
-    model->parameters().set_free(model->parameters()[i].name, true);
+  free_what_home_configurations_determine(*model, 1.7, 2.3, 0.1);
   return model;
 }
 
