@@ -152,65 +152,59 @@ std::vector<ConformanceCheck> check_model_file(const ModelFactory& make) {
   return out;
 }
 
+namespace {
+
+// A mechanism Jacobian against central differences of forward kinematics at the first four
+// configurations of the scenario drawn with `seed`: J_pose_params (`wrt_params`; forward
+// kinematics from home, as a calibration runs it) or J_pose_actuators (from the pose itself,
+// with a larger step, as experiment design's singularity margin uses it).
+ConformanceCheck pose_jacobian_check(const ModelFactory& make, std::uint64_t seed, bool wrt_params,
+                                     const std::string& name) {
+  const Scenario s = scenario_of(make, seed);
+  const Mechanism& mechanism = s.model->mechanism();
+  const VectorXd params = s.truth.head(mechanism.num_parameters());
+  const auto fk_options = s.model->forward_kinematics_options();
+  std::vector<ConformanceCheck> parts;
+  for (int j = 0; j < std::min(4, s.calibration.size()); ++j) {
+    const VectorXd q = s.calibration.actuators.row(j).transpose();
+    const auto fk = mechanism.forward_kinematics(params, q, mechanism.home_pose(), fk_options);
+    if (!fk.ok()) throw std::runtime_error("forward kinematics: " + fk.describe());
+    Matrix6Xd J(6, wrt_params ? mechanism.num_parameters() : mechanism.num_actuators());
+    if (wrt_params)
+      mechanism.pose_jacobian_params(params, q, fk.pose, J);
+    else if (!mechanism.pose_jacobian_actuators(params, q, fk.pose, fk_options, J))
+      throw std::runtime_error("pose_jacobian_actuators failed at configuration " +
+                               std::to_string(j));
+    std::string fk_failure;
+    auto pose_at = [&](const VectorXd& moved) -> VectorXd {
+      const auto at =
+          wrt_params ? mechanism.forward_kinematics(moved, q, mechanism.home_pose(), fk_options)
+                     : mechanism.forward_kinematics(params, moved, fk.pose, fk_options);
+      if (!at.ok()) fk_failure = at.describe();
+      return pose_difference(fk.pose, at.pose);
+    };
+    const MatrixXd numeric =
+        numerical_jacobian(pose_at, wrt_params ? params : q, wrt_params ? 1e-6 : 1e-5);
+    if (!fk_failure.empty()) throw std::runtime_error("forward kinematics: " + fk_failure);
+    parts.push_back(
+        compare_jacobians(name, J, numeric, 1e-6,
+                          wrt_params ? s.model->parameters().names() : mechanism.actuator_names()));
+    parts.back().detail = "configuration " + std::to_string(j) + ", " + parts.back().detail;
+  }
+  return worst_of(name, parts);
+}
+
+}  // namespace
+
 std::vector<ConformanceCheck> check_mechanism_jacobians(const ModelFactory& make) {
   std::vector<ConformanceCheck> out;
   const std::string params_name = "J_pose_params of the mechanism";
-  guarded(out, params_name, [&] {
-    const Scenario s = scenario_of(make, 3);
-    const Mechanism& mechanism = s.model->mechanism();
-    const VectorXd params = s.truth.head(mechanism.num_parameters());
-    const auto fk_options = s.model->forward_kinematics_options();
-    std::vector<ConformanceCheck> parts;
-    for (int j = 0; j < std::min(4, s.calibration.size()); ++j) {
-      const VectorXd q = s.calibration.actuators.row(j).transpose();
-      const auto fk = mechanism.forward_kinematics(params, q, mechanism.home_pose(), fk_options);
-      if (!fk.ok()) throw std::runtime_error("forward kinematics: " + fk.describe());
-      Matrix6Xd J(6, mechanism.num_parameters());
-      mechanism.pose_jacobian_params(params, q, fk.pose, J);
-      std::string fk_failure;
-      auto pose_at = [&](const VectorXd& p) -> VectorXd {
-        const auto moved = mechanism.forward_kinematics(p, q, mechanism.home_pose(), fk_options);
-        if (!moved.ok()) fk_failure = moved.describe();
-        return pose_difference(fk.pose, moved.pose);
-      };
-      const MatrixXd numeric = numerical_jacobian(pose_at, params, 1e-6);
-      if (!fk_failure.empty()) throw std::runtime_error("forward kinematics: " + fk_failure);
-      parts.push_back(
-          compare_jacobians(params_name, J, numeric, 1e-6, s.model->parameters().names()));
-      parts.back().detail = "configuration " + std::to_string(j) + ", " + parts.back().detail;
-    }
-    out.push_back(worst_of(params_name, parts));
-  });
-  // d pose / d q (experiment design's singularity margin), with another step.
+  guarded(out, params_name,
+          [&] { out.push_back(pose_jacobian_check(make, 3, true, params_name)); });
+  // d pose / d q (experiment design's singularity margin).
   const std::string actuators_name = "J_pose_actuators of the mechanism";
-  guarded(out, actuators_name, [&] {
-    const Scenario s = scenario_of(make, 5);
-    const Mechanism& mechanism = s.model->mechanism();
-    const VectorXd params = s.truth.head(mechanism.num_parameters());
-    const auto fk_options = s.model->forward_kinematics_options();
-    std::vector<ConformanceCheck> parts;
-    for (int j = 0; j < std::min(4, s.calibration.size()); ++j) {
-      const VectorXd q = s.calibration.actuators.row(j).transpose();
-      const auto fk = mechanism.forward_kinematics(params, q, mechanism.home_pose(), fk_options);
-      if (!fk.ok()) throw std::runtime_error("forward kinematics: " + fk.describe());
-      Matrix6Xd J(6, mechanism.num_actuators());
-      if (!mechanism.pose_jacobian_actuators(params, q, fk.pose, fk_options, J))
-        throw std::runtime_error("pose_jacobian_actuators failed at configuration " +
-                                 std::to_string(j));
-      std::string fk_failure;
-      auto pose_at = [&](const VectorXd& moved_q) -> VectorXd {
-        const auto moved = mechanism.forward_kinematics(params, moved_q, fk.pose, fk_options);
-        if (!moved.ok()) fk_failure = moved.describe();
-        return pose_difference(fk.pose, moved.pose);
-      };
-      const MatrixXd numeric = numerical_jacobian(pose_at, q, 1e-5);
-      if (!fk_failure.empty()) throw std::runtime_error("forward kinematics: " + fk_failure);
-      parts.push_back(
-          compare_jacobians(actuators_name, J, numeric, 1e-6, mechanism.actuator_names()));
-      parts.back().detail = "configuration " + std::to_string(j) + ", " + parts.back().detail;
-    }
-    out.push_back(worst_of(actuators_name, parts));
-  });
+  guarded(out, actuators_name,
+          [&] { out.push_back(pose_jacobian_check(make, 5, false, actuators_name)); });
   return out;
 }
 
