@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "kincal/framework/base/statistics.hpp"
@@ -13,34 +12,6 @@
 #include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
-
-namespace {
-
-std::string format(const char* fmt, double a) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, a);
-  return buf;
-}
-
-}  // namespace
-
-std::string sigma_unit(const CalibrationReport& r) {
-  if (r.weighted) return "reading_std";
-  if (r.residual_rms.size() == 1) return r.residual_rms.begin()->first;
-  return "mixed";
-}
-
-std::string outlier_meaning(const CalibrationReport& r) {
-  return "a configuration is flagged when one of its residuals" +
-         std::string(r.weighted ? " (divided by its reading_std)" : "") + " exceeds " +
-         format("%.3g", r.outlier_z) +
-         " robust standard deviations (1.4826 x the median |residual| of its unit): the level "
-         "that clean Gaussian noise on all " +
-         std::to_string(r.num_readings) + " readings exceeds anywhere with probability " +
-         format("%.2g", kOutlierFamilyProbability) +
-         " (Bonferroni), so a flag on clean data is rare and a flagged configuration is "
-         "worth checking";
-}
 
 namespace {
 

@@ -21,6 +21,24 @@ std::string format(const char* fmt, double a) {
 
 }  // namespace
 
+std::string sigma_unit(const CalibrationReport& r) {
+  if (r.weighted) return "reading_std";
+  if (r.residual_rms.size() == 1) return r.residual_rms.begin()->first;
+  return "mixed";
+}
+
+std::string outlier_meaning(const CalibrationReport& r) {
+  return "a configuration is flagged when one of its residuals" +
+         std::string(r.weighted ? " (divided by its reading_std)" : "") + " exceeds " +
+         format("%.3g", r.outlier_z) +
+         " robust standard deviations (1.4826 x the median |residual| of its unit): the level "
+         "that clean Gaussian noise on all " +
+         std::to_string(r.num_readings) + " readings exceeds anywhere with probability " +
+         format("%.2g", kOutlierFamilyProbability) +
+         " (Bonferroni), so a flag on clean data is rare and a flagged configuration is "
+         "worth checking";
+}
+
 std::string to_text(const Identifiability& a) {
   std::ostringstream out;
   out << "identifiability (" << a.num_residuals << " residuals, " << a.num_parameters
