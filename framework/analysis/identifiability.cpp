@@ -1,5 +1,7 @@
 #include "kincal/framework/analysis/identifiability.hpp"
 
+#include "kincal/framework/base/triangular_factor.hpp"
+
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -16,20 +18,30 @@ namespace {
 // scaled to unit norm it would look independent of everything, so it counts as zero.
 constexpr double kZeroColumn = 1e-12;
 
-// J D^-1 with unit-norm columns; zero columns (kZeroColumn) stay zero.
-MatrixXd scale_columns(const MatrixXd& J, VectorXd& norms) {
-  norms = J.colwise().norm().transpose();
+// The column norms of J, those at the rounding noise of a zero column (kZeroColumn) set to 0.
+VectorXd column_norms(const MatrixXd& J) {
+  VectorXd norms = J.colwise().norm().transpose();
   const double longest = norms.size() ? norms.maxCoeff() : 0.0;
   for (int i = 0; i < norms.size(); ++i)
     if (norms[i] <= kZeroColumn * longest) norms[i] = 0;
-  MatrixXd scaled = J;
-  for (int i = 0; i < J.cols(); ++i) {
+  return norms;
+}
+
+// A D^-1 for the column norms D: unit-norm columns; zero columns stay zero.
+MatrixXd scaled_by(MatrixXd A, const VectorXd& norms) {
+  for (int i = 0; i < A.cols(); ++i) {
     if (norms[i] > 0)
-      scaled.col(i) /= norms[i];
+      A.col(i) /= norms[i];
     else
-      scaled.col(i).setZero();
+      A.col(i).setZero();
   }
-  return scaled;
+  return A;
+}
+
+// J D^-1 with unit-norm columns; zero columns (kZeroColumn) stay zero.
+MatrixXd scale_columns(const MatrixXd& J, VectorXd& norms) {
+  norms = column_norms(J);
+  return scaled_by(J, norms);
 }
 
 ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& norms,
@@ -84,7 +96,10 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
     return a;
   }
 
-  const MatrixXd scaled = scale_columns(J, a.column_norms);
+  // The SVDs below see only J^T J, so J's triangular factor stands in for it: a calibration
+  // with 10^6 readings would otherwise copy its Jacobian several times over here.
+  a.column_norms = column_norms(J);
+  const MatrixXd scaled = scaled_by(triangular_factor(J), a.column_norms);
   for (int i = 0; i < n; ++i)
     if (a.column_norms[i] == 0) a.unseen.push_back(names[i]);
 
@@ -155,8 +170,9 @@ void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
   a.data_share = data_share;
   a.numerical_rank_with_prior = 0;
   if (n == 0) return;  // Eigen's SVD of a matrix without columns is not defined
-  MatrixXd stacked = MatrixXd::Zero(J.rows() + n, n);
-  stacked.topRows(J.rows()) = J;
+  const MatrixXd R = triangular_factor(J);  // as in analyze_identifiability
+  MatrixXd stacked = MatrixXd::Zero(R.rows() + n, n);
+  stacked.topRows(R.rows()) = R;
   stacked.bottomRows(n).diagonal() = precision.cwiseSqrt();
   VectorXd norms;
   const MatrixXd scaled = scale_columns(stacked, norms);

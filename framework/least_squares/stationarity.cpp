@@ -113,23 +113,33 @@ void measure_stationarity(const VectorXd& x, const VectorXd& r, const MatrixXd& 
   if (!s.cost_test(options) && !s.step_test(options)) return;
 
   // The Gauss-Newton step over the free, live columns, each scaled to unit norm so that rank
-  // decisions do not depend on units: dx = -A^+ r (minimum norm), decrease 1/2 |A y|^2.
+  // decisions do not depend on units: dx = -A^+ r (minimum norm), decrease 1/2 |A y|^2. Through
+  // the triangular factor of [A r | 0], formed block by block (no copy of A): its leading
+  // k x k block is A's R, the next column's head is Q^T r, and |A y| = |R y|.
   const Eigen::Index k = static_cast<Eigen::Index>(free.size());
-  auto A = scratch.scaled.leftCols(k);
   VectorXd& column_norm = scratch.free_gradient;  // reused: one entry per free column
-  for (Eigen::Index c = 0; c < k; ++c) {
-    column_norm[c] = J.col(free[c]).norm();
-    A.col(c) = J.col(free[c]) / column_norm[c];
+  for (Eigen::Index c = 0; c < k; ++c) column_norm[c] = J.col(free[c]).norm();
+  MatrixXd& block = scratch.block;
+  TriangularFactor& factor = scratch.factor;
+  factor.reset();
+  block.setZero();
+  for (Eigen::Index begin = 0; begin < r.size(); begin += block.rows()) {
+    const Eigen::Index rows = std::min(block.rows(), r.size() - begin);
+    for (Eigen::Index c = 0; c < k; ++c)
+      block.col(c).head(rows) = J.col(free[c]).segment(begin, rows) / column_norm[c];
+    block.col(k).head(rows) = r.segment(begin, rows);
+    factor.add_rows(block.topRows(rows));
   }
+  const auto R = factor.R().topLeftCorner(k, k);
   Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod;
-  cod.setThreshold(eps * static_cast<double>(std::max(A.rows(), A.cols())));
-  cod.compute(A);
-  const VectorXd y = cod.solve(r);
+  cod.setThreshold(eps * static_cast<double>(std::max(r.size(), k)));
+  cod.compute(R);
+  const VectorXd y = cod.solve(factor.R().col(k).head(k));
   double step2 = 0;
   for (Eigen::Index c = 0; c < k; ++c) step2 += std::pow(y[c] / column_norm[c], 2);
   if (std::sqrt(step2) > x_norm + 1) return;  // too long to mean anything: keep Cauchy's
   s.gauss_newton_trusted = true;
-  s.predicted_relative_decrease = std::min(1.0, (A * y).squaredNorm() / r.squaredNorm());
+  s.predicted_relative_decrease = std::min(1.0, (R * y).squaredNorm() / r.squaredNorm());
   s.relative_step = std::sqrt(step2) / (x_norm + options.parameter_tolerance);
 }
 

@@ -4,9 +4,11 @@
 // to check their own claims before making them; the contract checker
 // (problems/solver_contract.hpp) recomputes it at the point a backend returned.
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
+#include "kincal/framework/base/triangular_factor.hpp"
 #include "kincal/framework/least_squares/solver.hpp"
 
 namespace kincal {
@@ -86,14 +88,22 @@ double cost_rounding(const VectorXd& x, const VectorXd& r, const MatrixXd& J);
 Stationarity measure_stationarity(const VectorXd& x, const VectorXd& r, const MatrixXd& J,
                                   const SolverOptions& options);
 
-/// Working space of the measure, sized once with the problem's m and n (the Gauss-Newton
-/// step's decomposition still allocates: backends measure only when a test has fired).
+/// Working space of the measure, sized once with the problem's m and n: about n^2 + 1024 n
+/// numbers besides two m-vectors, however large m (the Gauss-Newton step's decomposition
+/// still allocates: backends measure only when a test has fired).
 struct StationarityScratch {
-  StationarityScratch(int m, int n) : gradient(n), free_gradient(n), image(m), scaled(m, n) {
+  StationarityScratch(int m, int n)
+      : gradient(n),
+        free_gradient(n),
+        image(m),
+        block(std::clamp(m, 1, kRowsPerBlock), n + 1),
+        factor(n + 1, block.rows()) {
     free.reserve(static_cast<std::size_t>(n));
   }
+  static constexpr int kRowsPerBlock = 1024;
   VectorXd gradient, free_gradient, image;
-  MatrixXd scaled;
+  MatrixXd block;           ///< rows of [scaled free columns of J, r, zeros]
+  TriangularFactor factor;  ///< of those rows
   std::vector<int> free;
 };
 

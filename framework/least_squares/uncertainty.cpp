@@ -1,5 +1,7 @@
 #include "kincal/framework/least_squares/uncertainty.hpp"
 
+#include "kincal/framework/base/triangular_factor.hpp"
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -63,7 +65,8 @@ MatrixXd parameter_covariance(const MatrixXd& J, double sigma, double rcond) {
   // No reading, a Jacobian that is zero (no reading depends on any parameter) or not
   // finite: nothing is determined, which is not a variance of 0.
   if (J.rows() == 0 || !J.allFinite() || J.isZero(0)) return MatrixXd::Constant(n, n, kNaN);
-  const Eigen::JacobiSVD<MatrixXd> svd(J, Eigen::ComputeThinV);
+  // The SVD of J's triangular factor: the same singular values and V without copying J.
+  const Eigen::JacobiSVD<MatrixXd> svd(triangular_factor(J), Eigen::ComputeThinV);
   const VectorXd& s = svd.singularValues();
   const double threshold = rcond * (s.size() ? s[0] : 0.0);
   VectorXd inv_s2 = VectorXd::Zero(s.size());
@@ -103,10 +106,12 @@ ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& res
 
 namespace {
 
-// [J / sigma; diag(sqrt(precision))]: the whitened data stacked with the prior's rows.
+// [R / sigma; diag(sqrt(precision))], R J's triangular factor: the whitened data stacked with
+// the prior's rows, as far as J^T J goes.
 MatrixXd stack_prior(const MatrixXd& J, const VectorXd& precision, double sigma) {
-  MatrixXd stacked = MatrixXd::Zero(J.rows() + J.cols(), J.cols());
-  stacked.topRows(J.rows()) = J / sigma;
+  const MatrixXd R = triangular_factor(J);
+  MatrixXd stacked = MatrixXd::Zero(R.rows() + J.cols(), J.cols());
+  stacked.topRows(R.rows()) = R / sigma;
   stacked.bottomRows(J.cols()).diagonal() = precision.cwiseSqrt();
   return stacked;
 }

@@ -1,0 +1,41 @@
+#include "kincal/framework/base/triangular_factor.hpp"
+
+#include <algorithm>
+
+namespace kincal {
+
+namespace {
+
+// Enough rows per QR that the n x n head stacked on each block is a small share of the work,
+// few enough that the block stays in cache.
+constexpr Eigen::Index kMaxRowsPerBlock = 1024;
+
+}  // namespace
+
+TriangularFactor::TriangularFactor(Eigen::Index cols, Eigen::Index rows_per_block)
+    : R_(MatrixXd::Zero(cols, cols)),
+      stacked_(cols + std::clamp<Eigen::Index>(rows_per_block, 1, kMaxRowsPerBlock), cols),
+      qr_(stacked_.rows(), cols) {}
+
+void TriangularFactor::add_rows(const Eigen::Ref<const MatrixXd>& rows) {
+  const Eigen::Index n = R_.cols(), block = stacked_.rows() - n;
+  if (n == 0) return;
+  for (Eigen::Index begin = 0; begin < rows.rows(); begin += block) {
+    const Eigen::Index count = std::min(block, rows.rows() - begin);
+    // A short block is padded with zero rows, which leave R as it is: the QR keeps one size.
+    stacked_.topRows(n) = R_;
+    stacked_.middleRows(n, count) = rows.middleRows(begin, count);
+    stacked_.bottomRows(block - count).setZero();
+    qr_.compute(stacked_);
+    R_ = qr_.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+  }
+}
+
+MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A) {
+  if (A.rows() <= A.cols()) return A;
+  TriangularFactor factor(A.cols(), A.rows());
+  factor.add_rows(A);
+  return factor.R();
+}
+
+}  // namespace kincal

@@ -1,0 +1,88 @@
+// The triangular factor of a tall matrix, formed block by block, against Eigen's decompositions
+// of the whole matrix: what the identifiability analysis, the covariance and the stationarity
+// measure take from it (A^T A, singular values, least-squares solutions) must not change.
+
+#include "kincal/framework/base/triangular_factor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
+
+#include "kincal/framework/base/random.hpp"
+
+namespace kincal {
+namespace {
+
+MatrixXd random_matrix(Random& rng, int rows, int cols) {
+  MatrixXd a(rows, cols);
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = rng.symmetric(1.0);
+  return a;
+}
+
+TEST(TriangularFactor, KeepsTheGramMatrixAndTheSingularValues) {
+  Random rng(3);
+  // Fewer rows than one block, exactly one, and several blocks with a short last one.
+  for (const int rows : {40, 1024, 2500}) {
+    MatrixXd A = random_matrix(rng, rows, 7);
+    A.col(3) *= 1e-6;  // ill-conditioned, as calibration Jacobians are
+    const MatrixXd R = triangular_factor(A);
+    ASSERT_EQ(R.rows(), 7);
+    EXPECT_TRUE(R.isUpperTriangular(0.0)) << rows;
+    const MatrixXd gram = A.transpose() * A;
+    EXPECT_LT((R.transpose() * R - gram).norm(), 1e-12 * gram.norm()) << rows;
+    const VectorXd s = Eigen::JacobiSVD<MatrixXd>(A).singularValues();
+    const VectorXd s_R = Eigen::JacobiSVD<MatrixXd>(R).singularValues();
+    EXPECT_LT((s - s_R).cwiseQuotient(s).cwiseAbs().maxCoeff(), 1e-10) << rows;
+  }
+}
+
+TEST(TriangularFactor, RowsAddedInPiecesGiveTheSameFactor) {
+  Random rng(5);
+  const MatrixXd A = random_matrix(rng, 300, 5);
+  TriangularFactor pieces(5, 64);
+  pieces.add_rows(A.topRows(1));
+  pieces.add_rows(A.middleRows(1, 150));
+  pieces.add_rows(A.bottomRows(149));
+  const MatrixXd whole = triangular_factor(A);
+  // Unique up to the signs of the rows.
+  for (int i = 0; i < 5; ++i) {
+    const double sign = whole(i, i) * pieces.R()(i, i) < 0 ? -1.0 : 1.0;
+    EXPECT_LT((sign * pieces.R().row(i) - whole.row(i)).norm(), 1e-12 * whole.norm()) << i;
+  }
+  pieces.reset();
+  pieces.add_rows(A);
+  EXPECT_LT((pieces.R().transpose() * pieces.R() - A.transpose() * A).norm(), 1e-11);
+}
+
+TEST(TriangularFactor, AZeroColumnStaysExactlyZero) {
+  Random rng(7);
+  MatrixXd A = random_matrix(rng, 2000, 6);
+  A.col(2).setZero();
+  const MatrixXd R = triangular_factor(A);
+  EXPECT_TRUE(R.col(2).isZero(0.0));
+}
+
+TEST(TriangularFactor, SolvesLeastSquaresThroughTheAugmentedFactor) {
+  // The factor of [A b]: its leading block is A's R and its last column's head is Q^T b, so
+  // R y = Q^T b is the least-squares solution of A y = b (the stationarity measure's use).
+  Random rng(9);
+  const MatrixXd A = random_matrix(rng, 3000, 4);
+  const VectorXd b = random_matrix(rng, 3000, 1).col(0);
+  MatrixXd augmented(3000, 5);
+  augmented << A, b;
+  const MatrixXd F = triangular_factor(augmented);
+  const VectorXd y = F.topLeftCorner(4, 4).triangularView<Eigen::Upper>().solve(F.col(4).head(4));
+  const VectorXd expected = A.colPivHouseholderQr().solve(b);
+  EXPECT_LT((y - expected).norm(), 1e-12 * expected.norm());
+  // |A y - b| is the factor's last diagonal entry.
+  EXPECT_NEAR(std::abs(F(4, 4)), (A * y - b).norm(), 1e-10);
+}
+
+TEST(TriangularFactor, AMatrixWithNoMoreRowsThanColumnsIsReturnedAsItIs) {
+  Random rng(13);
+  const MatrixXd A = random_matrix(rng, 3, 5);
+  EXPECT_EQ(triangular_factor(A), A);
+}
+
+}  // namespace
+}  // namespace kincal
