@@ -202,6 +202,7 @@ int run_calibrate(const Args& args) {
   add_starts_option(options);
   options.add_options()("seed", po::value<Seed>()->default_value(Seed{1}, "1"),
                         "random seed for the starts of --starts");
+  add_threads_option(options);
   po::variables_map vm;
   if (!parse_command_line("calibrate", args, options, vm)) return 0;
   const int starts = starts_option(vm);
@@ -218,6 +219,7 @@ int run_calibrate(const Args& args) {
   // Every check that does not need the data comes first, so a typo costs nothing.
   reject_loss_as_solver_option(vm);
   SolverChoice choice = make_solver_choice(vm);
+  choice.options.num_threads = threads_option(vm);
   const RobustLoss loss = loss_option(vm, choice);
   const OutputPlan plan = plan_files(vm);
 
@@ -296,6 +298,7 @@ int run_calibrate(const Args& args) {
     // starts solve the nested problem, with the model's constraints and the prior.
     MultiStartOptions multi;
     multi.starts = starts;
+    multi.threads = choice.options.num_threads;
     multi.seed = vm["seed"].as<Seed>().value;
     multi.spread = model_start_spread(*model, free, 5.0, 0.01);
     with_nested_problem(problem, prior, [&](const LeastSquaresProblem& solved_problem) {

@@ -16,6 +16,7 @@
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/progress.hpp"
 #include "kincal/cli/reproduce_study.hpp"
+#include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/base/random.hpp"
@@ -28,19 +29,18 @@ int run_reproduce(const Args& args) {
   po::options_description options("kincal reproduce");
   options.add_options()("trials", po::value<int>()->default_value(100),
                         "Monte Carlo trials (seeds) per case")(
-      "threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)")(
       "out", po::value<std::string>()->default_value("reproduce-out"),
       "directory for summary.csv, trials.csv and trace.csv (created with its parents)");
   add_json_option(options, "the summary per case");
   add_progress_option(options);
   add_scenario_options(options, false);
   add_solver_options(options);
+  add_threads_option(options);
   po::variables_map vm;
   if (!parse_command_line("reproduce", args, options, vm)) return 0;
   const int num_trials = vm["trials"].as<int>();
   if (num_trials < 1) throw CliError("--trials must be at least 1");
-  const int threads = vm["threads"].as<int>();
-  if (threads < 0 || threads > 1024) throw CliError("--threads must be from 0 to 1024");
+  const int threads = threads_option(vm);
   int unused_case = 0;
   const ScenarioOptions base = scenario_options_from(vm, &unused_case);
   const SolverChoice choice = make_solver_choice(vm);
@@ -57,7 +57,7 @@ int run_reproduce(const Args& args) {
       largest_case * (kConfigurationBytes +
                       model->num_readings() * solve_bytes_per_row(model->parameters().num_free())) +
       base.num_validation * kConfigurationBytes;
-  const int workers = threads == 0 ? hardware_threads() : threads;
+  const int workers = threads;
   // The validation set first: it is part of every worker's share in the check of --trials.
   check_memory("--validation " + std::to_string(base.num_validation), base.num_validation,
                workers * kConfigurationBytes, "pose", workers * largest_case * 4096.0);

@@ -171,6 +171,7 @@ int run_simulate(const Args& args) {
   add_scenario_options(options, true);
   add_data_size_option(options);
   add_solver_options(options);
+  add_threads_option(options);
   add_formulation_option(options);
   add_json_option(options, "the result");
   options.add_options()("trace", po::value<std::string>(),
@@ -234,6 +235,7 @@ int run_simulate(const Args& args) {
     scenario_options.prior_std_rad = prior_std.get(kRadian, 0);
   }
   SolverChoice choice = make_solver_choice(vm);
+  choice.options.num_threads = threads_option(vm);
   const int starts = starts_option(vm);
 
   // Every file is checked before the run, so a typo does not cost a solve.
@@ -366,7 +368,8 @@ int run_simulate(const Args& args) {
       note("simulate",
            "--starts solves the nested formulation; the best start is solved again "
            "in the implicit one");
-    starts_report.result = solve_scenario_starts(scenario, *choice.solver, choice.options, starts);
+    starts_report.result = solve_scenario_starts(scenario, *choice.solver, choice.options, starts,
+                                                 choice.options.num_threads);
     starts_report.seed = scenario.options.seed;
     starts_report.spread_from = "the simulated parameter errors";
     const StartOutcome& best = starts_report.result.starts[starts_report.result.best_start];

@@ -7,6 +7,7 @@
 
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
@@ -132,6 +133,17 @@ void add_allow_rank_deficient_option(po::options_description& options) {
                         "ones at their model values and solve for the rest instead of stopping "
                         "(what an arm imported from a URDF does by default, without "
                         "--free/--fix)");
+}
+
+void add_threads_option(po::options_description& options) {
+  options.add_options()("threads", po::value<int>()->default_value(0),
+                        "worker threads (0 = all cores)");
+}
+
+int threads_option(const po::variables_map& vm) {
+  const int threads = vm["threads"].as<int>();
+  if (threads < 0 || threads > 1024) throw CliError("--threads must be from 0 to 1024");
+  return threads == 0 ? hardware_threads() : threads;
 }
 
 void add_noise_std_option(po::options_description& options, const std::string& meaning) {

@@ -8,6 +8,7 @@
 //                      observability, simulate
 //   --noise-std SPEC   the readings' noise as a standard deviation per unit (0.0007mm):
 //                      calibrate, validate, observability, design, simulate
+//   --threads N        worker threads, 0 = all cores: calibrate, simulate, reproduce
 
 #include <string>
 #include <vector>
@@ -51,6 +52,13 @@ void add_config_range_option(po::options_description& options);
 /// Adds --allow-rank-deficient: fix what the data cannot determine instead of stopping
 /// (calibrate, simulate; cli/identifiability_check.hpp).
 void add_allow_rank_deficient_option(po::options_description& options);
+
+/// Adds --threads N (default 0 = all cores): the worker threads that evaluate the residuals
+/// (calibrate, simulate: split only when each thread gets 256 configurations or more) or that
+/// run the trials (reproduce). kincal's own solvers give the same result for every N.
+void add_threads_option(po::options_description& options);
+/// --threads, checked (0 to 1024), with 0 as the number of cores.
+int threads_option(const po::variables_map& vm);
 
 /// Adds --noise-std SPEC: `meaning` says what the std does in this command (e.g. "replaces
 /// the model's reading_std"), after the shared text.

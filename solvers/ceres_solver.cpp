@@ -16,6 +16,9 @@
 namespace kincal {
 namespace {
 
+// Below this many residual blocks per thread, Ceres runs on one (see solve()).
+constexpr int kMinBlocksPerCeresThread = 256;
+
 // Ceres logs through glog, whose flags belong to the host program: this backend never
 // changes them (a host that set up its logging keeps it). It stays quiet by other means:
 // Ceres' own progress logging is off (logging_type SILENT), and a block whose residuals or
@@ -295,7 +298,12 @@ class CeresSolver final : public Solver {
       }
     }
 
-    ceres::Solver::Options ceres_opts = ceres_options(options, options.num_threads);
+    // Threads only for a problem large enough to pay for them, as in kincal's own evaluation:
+    // Ceres sums the cost over threads in an order that varies from run to run, so a small
+    // problem stays bit-for-bit reproducible.
+    const int threads =
+        std::min(options.num_threads, problem.num_residual_blocks() / kMinBlocksPerCeresThread);
+    ceres::Solver::Options ceres_opts = ceres_options(options, threads);
     TraceCallback trace(monitor, failures, x.data(), n);
     ceres_opts.callbacks.push_back(&trace);
     ceres_opts.update_state_every_iteration = true;

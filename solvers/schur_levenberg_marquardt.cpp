@@ -44,10 +44,12 @@ struct Linearization {
   VectorXd g;        // m Dof
   MatrixXd G_inv;    // m Dof x Dof
   MatrixXd G_theta;  // m Dof x p
+  VectorXd costs;    // m, 1/2 |rhat_j|^2 per configuration
   double cost = 0;   // 1/2 |rhat|^2
 
   void resize(int m, int k, int p, int dof) {
     poses.resize(static_cast<std::size_t>(m));
+    costs.setZero(m);
     R.setZero(m * k, p);
     rhat.setZero(m * k);
     errors.setZero(m * k);
@@ -67,6 +69,7 @@ struct Linearization {
     g.swap(other.g);
     G_inv.swap(other.G_inv);
     G_theta.swap(other.G_theta);
+    costs.swap(other.costs);
     std::swap(cost, other.cost);
   }
 };
@@ -234,45 +237,45 @@ class SchurKernel {
   }
 
   // Linearises every configuration at (`full`, `poses`), restoring the closure first when
-  // `restore`. Threads over configurations when there are many.
+  // `restore`. Threads over configurations when there are many; the cost is summed in
+  // configuration order whatever the threads, so the result does not depend on their number.
   bool linearize_all(const VectorXd& full, const std::vector<Pose>& poses, bool restore, bool rows,
                      const Linearization& rows_from, Linearization& lin, int num_threads,
                      std::string* why) const {
-    auto run = [&](int begin, int end, double* cost, std::string* reason) {
-      *cost = 0;
-      for (int j = begin; j < end; ++j) {
-        double c = 0;
+    auto run = [&](int begin, int end, std::string* reason) {
+      for (int j = begin; j < end; ++j)
         if (!linearize(j, full, poses[static_cast<std::size_t>(j)], restore, rows, rows_from, lin,
-                       &c, reason))
+                       &lin.costs[j], reason))
           return false;
-        *cost += c;
-      }
       return true;
     };
     const int threads = std::max(1, std::min(num_threads, m_ / kMinConfigurationsPerThread));
-    if (threads <= 1) return run(0, m_, &lin.cost, why);
-    std::vector<std::thread> pool;
-    std::vector<std::string> reasons(static_cast<std::size_t>(threads));
-    std::vector<double> costs(static_cast<std::size_t>(threads), 0.0);
-    std::vector<char> ok(static_cast<std::size_t>(threads), 1);
-    const int chunk = (m_ + threads - 1) / threads;
-    for (int t = 0; t < threads; ++t) {
-      const int begin = t * chunk, end = std::min(m_, begin + chunk);
-      pool.emplace_back([&, t, begin, end] {
-        const auto s = static_cast<std::size_t>(t);
-        ok[s] = run(begin, end, &costs[s], &reasons[s]);
-      });
-    }
-    for (auto& th : pool) th.join();
-    lin.cost = 0;
-    for (int t = 0; t < threads; ++t) {
-      const auto s = static_cast<std::size_t>(t);
-      if (!ok[s]) {
-        if (why) *why = reasons[s];
-        return false;
+    bool ok = true;
+    if (threads <= 1) {
+      ok = run(0, m_, why);
+    } else {
+      std::vector<std::thread> pool;
+      std::vector<std::string> reasons(static_cast<std::size_t>(threads));
+      std::vector<char> done(static_cast<std::size_t>(threads), 1);
+      const int chunk = (m_ + threads - 1) / threads;
+      for (int t = 0; t < threads; ++t) {
+        const int begin = t * chunk, end = std::min(m_, begin + chunk);
+        pool.emplace_back([&, t, begin, end] {
+          const auto s = static_cast<std::size_t>(t);
+          done[s] = run(begin, end, &reasons[s]);
+        });
       }
-      lin.cost += costs[s];
+      for (auto& th : pool) th.join();
+      for (int t = 0; t < threads && ok; ++t) {
+        const auto s = static_cast<std::size_t>(t);
+        if (!done[s]) {
+          if (why) *why = reasons[s];
+          ok = false;
+        }
+      }
     }
+    if (!ok) return false;
+    lin.cost = lin.costs.sum();
     return true;
   }
 

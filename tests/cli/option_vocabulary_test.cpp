@@ -78,10 +78,17 @@ TEST(OptionVocabulary, SharedOptionsAreSpelledAndWrittenTheSameInEveryCommand) {
   // Options whose meaning is the same wherever they appear: the same help, word for word
   // (they come from one function). Others shared by name (--model, --out, --poses...) mean
   // "the command's model/output/count" and must at least take a value alike.
-  const std::set<std::string> same_text = {"prior-std",    "free",          "fix",
-                                           "max-data-size", "skip-bad-rows", "progress",
-                                           "allow-rank-deficient",           "rcond",
-                                           "param-error",  "config-range"};
+  const std::set<std::string> same_text = {"prior-std",
+                                           "free",
+                                           "fix",
+                                           "max-data-size",
+                                           "skip-bad-rows",
+                                           "progress",
+                                           "allow-rank-deficient",
+                                           "rcond",
+                                           "param-error",
+                                           "config-range",
+                                           "threads"};
   std::map<std::string, std::pair<std::string, HelpOption>> first;
   for (const auto& [command, options] : all) {
     for (const auto& [name, option] : options) {
@@ -97,7 +104,8 @@ TEST(OptionVocabulary, SharedOptionsAreSpelledAndWrittenTheSameInEveryCommand) {
           << "--" << name << " takes a value in " << other << " but not in " << command
           << " (or the other way round)";
       if (same_text.count(name)) {
-        EXPECT_EQ(option.spec, reference.spec) << "--" << name << ": " << command << " vs " << other;
+        EXPECT_EQ(option.spec, reference.spec)
+            << "--" << name << ": " << command << " vs " << other;
         EXPECT_EQ(option.description, reference.description)
             << "--" << name << " is described differently in " << command << " and " << other;
       }
@@ -107,8 +115,9 @@ TEST(OptionVocabulary, SharedOptionsAreSpelledAndWrittenTheSameInEveryCommand) {
   // simulate, named as such), and every command with readings to weigh takes it.
   for (const char* command : {"calibrate", "validate", "observability", "design", "simulate"}) {
     ASSERT_EQ(all.at(command).count("noise-std"), 1u) << command << " has no --noise-std";
-    EXPECT_EQ(all.at(command).at("noise-std").description.rfind(
-                  "the readings' noise standard deviation per unit", 0),
+    EXPECT_EQ(all.at(command)
+                  .at("noise-std")
+                  .description.rfind("the readings' noise standard deviation per unit", 0),
               0u)
         << command << ": " << all.at(command).at("noise-std").description;
   }
@@ -123,8 +132,8 @@ TEST(OptionVocabulary, SharedOptionsAreSpelledAndWrittenTheSameInEveryCommand) {
         EXPECT_EQ(retired.count(name), 0u) << command << " still has --" << name;
         continue;
       }
-      EXPECT_EQ(options.count(target), 1u) << command << ": --" << name << " aliases --" << target
-                                           << ", which it does not have";
+      EXPECT_EQ(options.count(target), 1u)
+          << command << ": --" << name << " aliases --" << target << ", which it does not have";
     }
 }
 
@@ -135,7 +144,8 @@ class OptionVocabularyRuns : public ::testing::Test {
     ASSERT_EQ(run_cli("model --out " + model()).exit_code, 0);
     const CliResult sim = run_cli("simulate --model " + model() +
                                   " --poses 30 --seed 3 --validation 1 --noise-std 0.0007mm "
-                                  "--write-data " + data());
+                                  "--write-data " +
+                                  data());
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
   }
   static void TearDownTestSuite() { delete dir_; }
@@ -155,8 +165,8 @@ TempDir* OptionVocabularyRuns::dir_ = nullptr;
 
 TEST_F(OptionVocabularyRuns, EveryPriorFormWorksInEveryCommandThatTakesAPrior) {
   for (const auto& [command, line] : with_prior()) {
-    for (const std::string prior : {"2.887mm,0.0058rad", "'leg*=2.887mm'",
-                                    "'leg*=2.887mm,*.z=0.5'", "0.5mm --prior-std 'leg1*=1mm'"}) {
+    for (const std::string prior : {"2.887mm,0.0058rad", "'leg*=2.887mm'", "'leg*=2.887mm,*.z=0.5'",
+                                    "0.5mm --prior-std 'leg1*=1mm'"}) {
       const CliResult run = run_cli(line + " --noise-std 0.0007mm --prior-std " + prior);
       EXPECT_EQ(run.exit_code, 0) << command << " --prior-std " << prior << ": " << run.err;
     }
