@@ -65,11 +65,42 @@ struct BlockScratch {
   MeasurementModel::Workspace model;
 };
 
+// Newton steps forward kinematics may take from a warm start before it starts again from
+// home: from the pose of a nearby parameter vector it converges in one to three.
+constexpr int kWarmStartNewtonSteps = 3;
+
 }  // namespace
+
+struct CalibrationProblem::LastPoses : WarmStart {
+  std::vector<Pose> poses;
+  std::vector<char> known;  // not bool: blocks on different threads write neighbouring entries
+};
+
+std::unique_ptr<WarmStart> CalibrationProblem::make_warm_start() const {
+  if (!model_->mechanism().forward_kinematics_has_assemblies()) return nullptr;
+  auto last = std::make_unique<LastPoses>();
+  last->poses.assign(static_cast<std::size_t>(data_.size()), model_->mechanism().home_pose());
+  last->known.assign(static_cast<std::size_t>(data_.size()), 0);
+  return last;
+}
 
 bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
                                         Eigen::Ref<VectorXd> residuals,
                                         Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {
+  return evaluate_block_from(block, x, residuals, jacobian, why, nullptr);
+}
+
+bool CalibrationProblem::evaluate_block_warm(int block, const VectorXd& x,
+                                             Eigen::Ref<VectorXd> residuals,
+                                             Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                             WarmStart& warm) const {
+  return evaluate_block_from(block, x, residuals, jacobian, why, dynamic_cast<LastPoses*>(&warm));
+}
+
+bool CalibrationProblem::evaluate_block_from(int block, const VectorXd& x,
+                                             Eigen::Ref<VectorXd> residuals,
+                                             Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                             LastPoses* last) const {
   thread_local BlockScratch scratch;
   const int k = model_->num_readings();
   // A contiguous copy: a row of the column-major readings would be heap-copied to bind to the
@@ -86,9 +117,22 @@ bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
   scratch.predicted.resize(k);
   if (jacobian) scratch.J_full.resize(k, base_.size());
   Eigen::Ref<MatrixXd> J_ref(scratch.J_full);
-  const ForwardKinematicsResult fk =
+  // Warm: from the configuration's last pose, in the few Newton steps that stay on its
+  // assembly (a step of the parameters that moves the pose further, as a line search's wild
+  // probe can, could carry it onto another); otherwise, or if that fails, from home.
+  const auto j = static_cast<std::size_t>(block);
+  const bool warm = last && last->known[j];
+  ForwardKinematicsResult fk =
       model_->predict(scratch.full, data_.actuators.row(block).transpose(), scratch.predicted,
-                      jacobian ? &J_ref : nullptr, scratch.model);
+                      jacobian ? &J_ref : nullptr, scratch.model, warm ? &last->poses[j] : nullptr,
+                      warm ? kWarmStartNewtonSteps : -1);
+  if (warm && !fk.ok())
+    fk = model_->predict(scratch.full, data_.actuators.row(block).transpose(), scratch.predicted,
+                         jacobian ? &J_ref : nullptr, scratch.model);
+  if (last && fk.ok()) {
+    last->poses[j] = fk.pose;
+    last->known[j] = 1;
+  }
   if (!fk.ok()) {
     if (why)
       *why = "configuration " + std::to_string(block + 1) + ": forward kinematics " + fk.describe();

@@ -37,6 +37,16 @@ class CalibrationProblem : public LeastSquaresProblem {
 
   bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override;
+  /// For a mechanism whose forward kinematics iterates (a closed chain): each
+  /// configuration's pose at the last evaluation where forward kinematics converged, from
+  /// which the next starts instead of from the home pose. Null for the others.
+  std::unique_ptr<WarmStart> make_warm_start() const override;
+  /// evaluate_block with forward kinematics from the configuration's last pose in `warm`;
+  /// where that fails, from the home pose again, so a warm start never fails an evaluation
+  /// the home pose would not.
+  bool evaluate_block_warm(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                           Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                           WarmStart& warm) const override;
 
   /// Full parameter vector with the free entries taken from x.
   VectorXd full_parameters(const VectorXd& x) const;
@@ -53,6 +63,10 @@ class CalibrationProblem : public LeastSquaresProblem {
   const std::vector<int>& free_indices() const { return free_indices_; }
 
  private:
+  struct LastPoses;
+  bool evaluate_block_from(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                           Eigen::Ref<MatrixXd>* jacobian, std::string* why, LastPoses* last) const;
+
   std::shared_ptr<const MeasurementModel> model_;
   Measurements data_;
   VectorXd base_;

@@ -64,6 +64,15 @@ ConstrainedProblem::ConstrainedProblem(const CalibrationProblem& data)
   constraint_blocks_ = k > 0 ? (num_constraint_residuals_ + k - 1) / k : 0;
 }
 
+bool ConstrainedProblem::evaluate_block_warm(int block, const VectorXd& x,
+                                             Eigen::Ref<VectorXd> residuals,
+                                             Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                             WarmStart& warm) const {
+  if (block < data_blocks_)
+    return data_.evaluate_block_warm(block, x, residuals, jacobian, why, warm);
+  return evaluate_block(block, x, residuals, jacobian, why);
+}
+
 bool ConstrainedProblem::evaluate_block(int block, const VectorXd& x,
                                         Eigen::Ref<VectorXd> residuals,
                                         Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {

@@ -42,6 +42,14 @@ PriorProblem::PriorProblem(const LeastSquaresProblem& data, Prior prior)
   prior_blocks_ = k > 0 ? (static_cast<int>(with_prior_.size()) + k - 1) / k : 0;
 }
 
+bool PriorProblem::evaluate_block_warm(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                                       Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                       WarmStart& warm) const {
+  if (block < data_blocks_)
+    return data_.evaluate_block_warm(block, x, residuals, jacobian, why, warm);
+  return evaluate_block(block, x, residuals, jacobian, why);
+}
+
 bool PriorProblem::evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                                   Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {
   if (block < data_blocks_) return data_.evaluate_block(block, x, residuals, jacobian, why);

@@ -51,6 +51,11 @@ class PriorProblem : public LeastSquaresProblem {
 
   bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override;
+  /// The data problem's warm start; its blocks are evaluated with it, the others as they are.
+  std::unique_ptr<WarmStart> make_warm_start() const override { return data_.make_warm_start(); }
+  bool evaluate_block_warm(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                           Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                           WarmStart& warm) const override;
 
   const LeastSquaresProblem& data_problem() const { return data_; }
   const Prior& prior() const { return prior_; }

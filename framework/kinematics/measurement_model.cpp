@@ -100,11 +100,14 @@ void MeasurementModel::prepare(Workspace& ws) const {
 ForwardKinematicsResult MeasurementModel::predict(const Eigen::Ref<const VectorXd>& params,
                                                   const ActuatorsRef& q,
                                                   Eigen::Ref<VectorXd> readings,
-                                                  Eigen::Ref<MatrixXd>* J, Workspace& ws) const {
+                                                  Eigen::Ref<MatrixXd>* J, Workspace& ws,
+                                                  const Pose* start, int max_newton_steps) const {
   const int n_mech = mechanism_->num_parameters();
   const auto mech_params = params.head(n_mech);
-  const ForwardKinematicsResult fk =
-      mechanism_->forward_kinematics(mech_params, q, mechanism_->home_pose(), fk_options_);
+  ForwardKinematicsOptions options = fk_options_;
+  if (max_newton_steps >= 0) options.max_iterations = max_newton_steps;
+  const ForwardKinematicsResult fk = mechanism_->forward_kinematics(
+      mech_params, q, start ? *start : mechanism_->home_pose(), options);
   if (!fk.ok()) return fk;
 
   if (J) prepare(ws);

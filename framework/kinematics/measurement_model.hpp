@@ -65,14 +65,16 @@ class MeasurementModel {
   /// Resizes `ws` for this model (no-op when it already fits).
   void prepare(Workspace& ws) const;
 
-  /// Predicted readings for actuator values q (forward kinematics from the home pose) and,
-  /// when J is non-null, their Jacobian (num_readings x num_parameters, presized) with
-  /// respect to the full parameter vector. Returns the forward kinematics result: when it
-  /// failed, the readings are left unspecified. The readings of a sensor that does not read
-  /// at the pose reached (Sensor::reads_at) are NaN, their Jacobian rows zero.
+  /// Predicted readings for actuator values q (forward kinematics from `start`, or from the
+  /// home pose when null, in at most `max_newton_steps` steps when >= 0) and, when J is
+  /// non-null, their Jacobian (num_readings x num_parameters, presized) with respect to the
+  /// full parameter vector. Returns the forward kinematics result, with the pose reached:
+  /// when it failed, the readings are left unspecified. The readings of a sensor that does
+  /// not read at the pose reached (Sensor::reads_at) are NaN, their Jacobian rows zero.
   ForwardKinematicsResult predict(const Eigen::Ref<const VectorXd>& params, const ActuatorsRef& q,
                                   Eigen::Ref<VectorXd> readings, Eigen::Ref<MatrixXd>* J,
-                                  Workspace& ws) const;
+                                  Workspace& ws, const Pose* start = nullptr,
+                                  int max_newton_steps = -1) const;
 
   /// Readings at a known pose (no forward kinematics): used to simulate sensors. NaN for a
   /// sensor that does not read there, as in predict().

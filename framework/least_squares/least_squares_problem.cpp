@@ -19,8 +19,15 @@ constexpr int kMinBlocksPerThread = 256;
 
 }  // namespace
 
+bool LeastSquaresProblem::evaluate_block_warm(int block, const VectorXd& x,
+                                              Eigen::Ref<VectorXd> residuals,
+                                              Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                              WarmStart&) const {
+  return evaluate_block(block, x, residuals, jacobian, why);
+}
+
 bool LeastSquaresProblem::evaluate(const VectorXd& x, VectorXd* residuals, MatrixXd* jacobian,
-                                   std::string* why, int num_threads) const {
+                                   std::string* why, int num_threads, WarmStart* warm) const {
   const int blocks = num_residual_blocks();
   const int k = residuals_per_block();
   const int n = num_parameters();
@@ -33,16 +40,20 @@ bool LeastSquaresProblem::evaluate(const VectorXd& x, VectorXd* residuals, Matri
     // With no parameters the Jacobian has no storage, and a block of it would offset a null
     // pointer (undefined behaviour, found by UBSan): each block gets an empty k x 0 matrix.
     MatrixXd no_columns(k, 0);
+    auto block = [&](int b, Eigen::Ref<MatrixXd>* rows) {
+      return warm ? evaluate_block_warm(b, x, r.segment(b * k, k), rows, reason, *warm)
+                  : evaluate_block(b, x, r.segment(b * k, k), rows, reason);
+    };
     for (int b = begin; b < end; ++b) {
       bool ok;
       if (jacobian && n == 0) {
         Eigen::Ref<MatrixXd> rows(no_columns);
-        ok = evaluate_block(b, x, r.segment(b * k, k), &rows, reason);
+        ok = block(b, &rows);
       } else if (jacobian) {
         Eigen::Ref<MatrixXd> rows = jacobian->middleRows(b * k, k);
-        ok = evaluate_block(b, x, r.segment(b * k, k), &rows, reason);
+        ok = block(b, &rows);
       } else {
-        ok = evaluate_block(b, x, r.segment(b * k, k), nullptr, reason);
+        ok = block(b, nullptr);
       }
       if (!ok) return false;
     }

@@ -4,12 +4,25 @@
 // so that backends such as Ceres can see one residual block per measurement, and so that
 // evaluation can be split across threads.
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "kincal/framework/base/types.hpp"
 
 namespace kincal {
+
+/// What a problem carries from one evaluation to the next within one solve, so that an inner
+/// iteration starts closer to its answer (a calibration problem keeps each configuration's
+/// last pose, from which forward kinematics starts; docs/architecture.md, "Warm starts").
+/// Made by LeastSquaresProblem::make_warm_start(), owned by one solve and passed to its
+/// evaluations only, never shared by concurrent solves: evaluation stays thread-safe, and a
+/// solve's result depends only on its own history. It may change residuals only at the
+/// rounding level of the inner iteration.
+class WarmStart {
+ public:
+  virtual ~WarmStart() = default;
+};
 
 class LeastSquaresProblem {
  public:
@@ -29,12 +42,20 @@ class LeastSquaresProblem {
   /// Must be safe to call concurrently from several threads.
   virtual bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                               Eigen::Ref<MatrixXd>* jacobian, std::string* why) const = 0;
+  /// A warm start for one solve; null (the default) when evaluations have nothing to carry.
+  virtual std::unique_ptr<WarmStart> make_warm_start() const { return nullptr; }
+  /// evaluate_block with `warm`, which came from this problem's make_warm_start(); calls for
+  /// different blocks may run concurrently. Default: evaluate_block.
+  virtual bool evaluate_block_warm(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                                   Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                   WarmStart& warm) const;
 
   /// All residuals and, when `jacobian` is non-null, the full Jacobian. Sizes the outputs.
   /// Stops at the first failing block. Splits blocks over `num_threads` threads when the
   /// problem is large enough for that to pay.
+  /// With `warm` (from make_warm_start(), or null), each block is evaluated warm.
   bool evaluate(const VectorXd& x, VectorXd* residuals, MatrixXd* jacobian,
-                std::string* why = nullptr, int num_threads = 1) const;
+                std::string* why = nullptr, int num_threads = 1, WarmStart* warm = nullptr) const;
 
   /// 1/2 |r(x)|^2, or +infinity when the residuals cannot be computed.
   double cost(const VectorXd& x, std::string* why = nullptr) const;

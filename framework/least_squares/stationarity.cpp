@@ -131,15 +131,28 @@ void measure_stationarity(const VectorXd& x, const VectorXd& r, const MatrixXd& 
     factor.add_rows(block.topRows(rows));
   }
   const auto R = factor.R().topLeftCorner(k, k);
-  Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod;
-  cod.setThreshold(eps * static_cast<double>(std::max(r.size(), k)));
-  cod.compute(R);
-  const VectorXd y = cod.solve(factor.R().col(k).head(k));
+  VectorXd& y = scratch.step;
+  y.head(k) = factor.R().col(k).head(k);
+  const double smallest = R.diagonal().cwiseAbs().minCoeff();
+  const double largest = R.diagonal().cwiseAbs().maxCoeff();
+  if (smallest > std::sqrt(eps) * largest) {
+    // Clearly of full rank: the triangular solve, without allocating (lm measures inside its
+    // loop). A hidden near-singularity would give a step too long to trust, refused below.
+    R.triangularView<Eigen::Upper>().solveInPlace(y.head(k));
+  } else {
+    Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod;
+    cod.setThreshold(eps * static_cast<double>(std::max(r.size(), k)));
+    cod.compute(R);
+    y.head(k) = cod.solve(factor.R().col(k).head(k));
+  }
   double step2 = 0;
   for (Eigen::Index c = 0; c < k; ++c) step2 += std::pow(y[c] / column_norm[c], 2);
   if (std::sqrt(step2) > x_norm + 1) return;  // too long to mean anything: keep Cauchy's
   s.gauss_newton_trusted = true;
-  s.predicted_relative_decrease = std::min(1.0, (R * y).squaredNorm() / r.squaredNorm());
+  double decrease2 = 0;  // |R y|^2, entry by entry: no temporary
+  for (Eigen::Index i = 0; i < k; ++i)
+    decrease2 += std::pow(R.row(i).tail(k - i).dot(y.segment(i, k - i)), 2);
+  s.predicted_relative_decrease = std::min(1.0, decrease2 / r.squaredNorm());
   s.relative_step = std::sqrt(step2) / (x_norm + options.parameter_tolerance);
 }
 

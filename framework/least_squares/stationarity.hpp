@@ -89,19 +89,21 @@ Stationarity measure_stationarity(const VectorXd& x, const VectorXd& r, const Ma
                                   const SolverOptions& options);
 
 /// Working space of the measure, sized once with the problem's m and n: about n^2 + 1024 n
-/// numbers besides two m-vectors, however large m (the Gauss-Newton step's decomposition
-/// still allocates: backends measure only when a test has fired).
+/// numbers besides two m-vectors, however large m. Nothing is allocated while the free
+/// columns are clearly of full rank (near a rank deficiency the Gauss-Newton step's
+/// decomposition still allocates).
 struct StationarityScratch {
   StationarityScratch(int m, int n)
       : gradient(n),
         free_gradient(n),
         image(m),
+        step(n),
         block(std::clamp(m, 1, kRowsPerBlock), n + 1),
         factor(n + 1, block.rows()) {
     free.reserve(static_cast<std::size_t>(n));
   }
   static constexpr int kRowsPerBlock = 1024;
-  VectorXd gradient, free_gradient, image;
+  VectorXd gradient, free_gradient, image, step;
   MatrixXd block;           ///< rows of [scaled free columns of J, r, zeros]
   TriangularFactor factor;  ///< of those rows
   std::vector<int> free;

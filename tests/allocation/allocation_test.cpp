@@ -116,6 +116,13 @@ TEST(CalibrationProblemEvaluation, AllocatesNothingOnceWarm) {
   ASSERT_TRUE(problem->evaluate(x, &r, &J));
   ASSERT_TRUE(problem->evaluate(x, &r, nullptr));
   EXPECT_EQ(g_allocations.load(), before);
+  // With a warm start (forward kinematics from the last poses), once it is made.
+  const std::unique_ptr<WarmStart> warm = problem->make_warm_start();
+  ASSERT_TRUE(problem->evaluate(x, &r, &J, nullptr, 1, warm.get()));
+  const long warm_before = g_allocations.load();
+  ASSERT_TRUE(problem->evaluate(x, &r, &J, nullptr, 1, warm.get()));
+  ASSERT_TRUE(problem->evaluate(x, &r, nullptr, nullptr, 1, warm.get()));
+  EXPECT_EQ(g_allocations.load(), warm_before);
 }
 
 // Automatic derivatives (framework/kinematics/autodiff.hpp) on fixed-size dual numbers and
