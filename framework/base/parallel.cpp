@@ -67,4 +67,16 @@ void parallel_for(int count, int threads, const std::function<void(int)>& body,
   if (error) std::rethrow_exception(error);
 }
 
+void parallel_chunks(int count, int chunk_size, const std::function<void(int, int, int)>& body) {
+  const int chunks = chunk_count(count, chunk_size);
+  auto run = [&](int chunk) {
+    body(chunk, chunk * chunk_size, std::min(count, (chunk + 1) * chunk_size));
+  };
+  if (chunks < 2) {
+    for (int chunk = 0; chunk < chunks; ++chunk) run(chunk);
+    return;
+  }
+  parallel_for(chunks, 0, run);
+}
+
 }  // namespace kincal

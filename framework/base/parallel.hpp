@@ -13,6 +13,15 @@ namespace kincal {
 void parallel_for(int count, int threads, const std::function<void(int)>& body,
                   const char* progress_label = nullptr);
 
+/// Calls body(chunk, begin, end) for the chunks [begin, end) of [0, count), `chunk_size` items
+/// each (the last may be shorter), on all cores when there are at least two chunks, else in
+/// this thread. The chunks do not depend on the thread count: per-chunk results combined in
+/// chunk order give the same answer however many threads ran. For per-row passes over large
+/// data (forward kinematics of 10^6 rows takes 1.4 s on one core).
+void parallel_chunks(int count, int chunk_size, const std::function<void(int, int, int)>& body);
+/// The number of chunks parallel_chunks makes.
+inline int chunk_count(int count, int chunk_size) { return (count + chunk_size - 1) / chunk_size; }
+
 /// Number of hardware threads, at least 1.
 int hardware_threads();
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
@@ -23,6 +24,9 @@ double rotation_angle(const Matrix3d& a, const Matrix3d& b) {
   return log_so3(a.transpose() * b).norm();
 }
 
+// Rows per chunk of the per-row passes, which run in parallel (base/parallel.hpp).
+constexpr int kRowsPerChunk = 4096;
+
 }  // namespace
 
 HomePoseCheck check_poses_near_home(const MeasurementModel& model, const VectorXd& params,
@@ -33,13 +37,16 @@ HomePoseCheck check_poses_near_home(const MeasurementModel& model, const VectorX
   if (!mechanism.forward_kinematics_has_assemblies()) return check;
   const Pose& home = mechanism.home_pose();
   const auto mechanism_params = params.head(static_cast<int>(mechanism.parameters().size()));
+  std::vector<ForwardKinematicsResult> reached(static_cast<std::size_t>(data.size()));
+  parallel_chunks(data.size(), kRowsPerChunk, [&](int, int begin, int end) {
+    for (int row = begin; row < end; ++row)
+      reached[static_cast<std::size_t>(row)] =
+          mechanism.forward_kinematics(mechanism_params, data.actuators.row(row).transpose(), home,
+                                       model.forward_kinematics_options());
+  });
   std::vector<Pose> poses;
-  for (int row = 0; row < data.size(); ++row) {
-    const VectorXd q = data.actuators.row(row).transpose();
-    const ForwardKinematicsResult fk =
-        mechanism.forward_kinematics(mechanism_params, q, home, model.forward_kinematics_options());
+  for (const ForwardKinematicsResult& fk : reached)
     if (fk.ok()) poses.push_back(fk.pose);
-  }
   check.poses = static_cast<int>(poses.size());
   if (poses.empty()) return check;
   Vector3d centre = Vector3d::Zero();
@@ -226,21 +233,35 @@ std::string check_data_units(const MeasurementModel& model, const VectorXd& para
   for (int i = 0; i < k; ++i)
     if (units[i] == kMillimetre && !suffixed(na + i)) mm_readings.push_back(i);
   if (mm_readings.empty()) return "";
-  auto ws = model.make_workspace();
-  VectorXd predicted(k);
-  double as_given = 0, scaled = 0;
-  int count = 0;
-  for (int r = 0; r < data.size(); ++r) {
-    if (!model.predict(params, data.actuators.row(r).transpose(), predicted, nullptr, ws).ok() ||
-        !predicted.allFinite())
-      continue;
-    for (int i : mm_readings) {
-      const double v = data.readings(r, i);
-      if (std::isnan(v)) continue;
-      as_given += (predicted[i] - v) * (predicted[i] - v);
-      scaled += (predicted[i] - 1000 * v) * (predicted[i] - 1000 * v);
-      ++count;
+  // Sums per chunk of rows, added in chunk order.
+  struct Sums {
+    double as_given = 0, scaled = 0;
+    long count = 0;
+  };
+  std::vector<Sums> sums(static_cast<std::size_t>(chunk_count(data.size(), kRowsPerChunk)));
+  parallel_chunks(data.size(), kRowsPerChunk, [&](int chunk, int begin, int end) {
+    auto ws = model.make_workspace();
+    VectorXd predicted(k);
+    Sums& sum = sums[static_cast<std::size_t>(chunk)];
+    for (int r = begin; r < end; ++r) {
+      if (!model.predict(params, data.actuators.row(r).transpose(), predicted, nullptr, ws).ok() ||
+          !predicted.allFinite())
+        continue;
+      for (int i : mm_readings) {
+        const double v = data.readings(r, i);
+        if (std::isnan(v)) continue;
+        sum.as_given += (predicted[i] - v) * (predicted[i] - v);
+        sum.scaled += (predicted[i] - 1000 * v) * (predicted[i] - 1000 * v);
+        ++sum.count;
+      }
     }
+  });
+  double as_given = 0, scaled = 0;
+  long count = 0;
+  for (const Sums& sum : sums) {
+    as_given += sum.as_given;
+    scaled += sum.scaled;
+    count += sum.count;
   }
   if (count == 0) return "";
   as_given = std::sqrt(as_given / count);

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/base/parallel.hpp"
 
 namespace kincal {
 
@@ -25,15 +26,28 @@ std::string trim(const std::string& s) {
   return s.substr(first, last - first + 1);
 }
 
-std::vector<std::string> split_fields(const std::string& line, char separator = ',') {
-  std::vector<std::string> fields;
+// The fields of `line`, trimmed, into `fields` (whose storage is reused from line to line).
+void split_fields(const std::string& line, char separator, std::vector<std::string>& fields) {
+  fields.clear();
   std::string::size_type start = 0;
   while (true) {
     const auto comma = line.find(separator, start);
-    fields.push_back(trim(line.substr(start, comma - start)));
+    const auto end = comma == std::string::npos ? line.size() : comma;
+    auto first = start, last = end;
+    while (first < last && (line[first] == ' ' || line[first] == '\t' || line[first] == '\r'))
+      ++first;
+    while (last > first &&
+           (line[last - 1] == ' ' || line[last - 1] == '\t' || line[last - 1] == '\r'))
+      --last;
+    fields.emplace_back(line, first, last - first);
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+}
+
+std::vector<std::string> split_fields(const std::string& line, char separator = ',') {
+  std::vector<std::string> fields;
+  split_fields(line, separator, fields);
   return fields;
 }
 
@@ -66,19 +80,21 @@ std::string join(const std::vector<std::string>& names) {
 // strtod accepts "nan" and "inf", and stops at the first bad character (an embedded NUL
 // included): check both. Underflow (1e-400) rounds to zero or a subnormal number, as any
 // decimal rounds to the nearest double; overflow (1e999) has no double to round to.
-double parse_value(const std::string& field, const std::string& where) {
-  if (field.empty()) throw std::invalid_argument(where + " is empty, expected a number");
+// `where()` says where the field is, for a message: called only when there is one.
+template <typename Where>
+double parse_value(const std::string& field, const Where& where) {
+  if (field.empty()) throw std::invalid_argument(where() + " is empty, expected a number");
   const char* begin = field.c_str();
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(begin, &end);
   if (end != begin + field.size())
-    throw std::invalid_argument(where + ": '" + message_excerpt(field) + "' is not a number");
+    throw std::invalid_argument(where() + ": '" + message_excerpt(field) + "' is not a number");
   if (!std::isfinite(v) && errno != ERANGE)
-    throw std::invalid_argument(where + ": '" + message_excerpt(field) +
+    throw std::invalid_argument(where() + ": '" + message_excerpt(field) +
                                 "' is not a finite number");
   if (!std::isfinite(v))
-    throw std::invalid_argument(where + ": '" + message_excerpt(field) +
+    throw std::invalid_argument(where() + ": '" + message_excerpt(field) +
                                 "' is beyond the range of a double (magnitude above 1.8e308)");
   return v;
 }
@@ -132,6 +148,9 @@ class LineReader {
   int line_number_ = 0;
   std::size_t bytes_ = 0;
 };
+
+// Rows per chunk of the per-row forward kinematics passes, which run in parallel.
+constexpr int kRowsPerChunk = 4096;
 
 }  // namespace
 
@@ -230,53 +249,63 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                               "' (not an actuator or reading of the model)");
 
   const int num_actuators = static_cast<int>(actuator_names.size());
-  std::vector<std::vector<double>> rows;
+  // The values row after row, wanted.size() each. The messages' "file:line" strings are built
+  // only when thrown: a string per row and field, and a vector per row, were most of the time
+  // of reading 10^6 rows.
+  const std::size_t per_row = wanted.size();
+  std::vector<double> values;
+  std::vector<std::string> fields;
+  std::size_t num_rows = 0;
   while (reader.next(line)) {
-    if (is_skipped(trim(line))) continue;
-    const auto fields = split_fields(line, separator);
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;  // blank or a comment
+    split_fields(line, separator, fields);
     const int line_number = reader.line_number();
-    const std::string at = source + ":" + std::to_string(line_number);
+    const auto at = [&] { return source + ":" + std::to_string(line_number); };
     if (fields.size() != header.size())
-      throw std::invalid_argument(at + ": " + std::to_string(fields.size()) + " fields, expected " +
-                                  std::to_string(header.size()) + " as in the header");
-    std::vector<double> values;
-    for (std::size_t w = 0; w < wanted.size(); ++w) {
+      throw std::invalid_argument(at() + ": " + std::to_string(fields.size()) +
+                                  " fields, expected " + std::to_string(header.size()) +
+                                  " as in the header");
+    if ((num_rows + 1) * table_bytes_per_row(per_row) > limits.max_table_bytes)
+      throw std::invalid_argument(at() + ": the rows read so far need more than the " +
+                                  std::to_string(limits.max_table_bytes >> 20) +
+                                  " MiB of memory allowed for them; expected a smaller file");
+    for (std::size_t w = 0; w < per_row; ++w) {
       const std::string& field = fields[columns[w]];
       // An empty reading is one the sensor did not take (NaN); an actuator value is always
       // known, since it was commanded.
-      const bool reading = static_cast<int>(w) >= static_cast<int>(actuator_names.size());
+      const bool reading = static_cast<int>(w) >= num_actuators;
       // With ';' or tabs between fields, "1,5" is a decimal comma: never guess what it means.
       if (separator != ',' && field.find(',') != std::string::npos)
-        throw std::invalid_argument(at + ": field '" + wanted[w] + "': '" + message_excerpt(field) +
+        throw std::invalid_argument(at() + ": field '" + wanted[w] + "': '" +
+                                    message_excerpt(field) +
                                     "' has a decimal comma (fields are "
                                     "separated by " +
                                     separator_name(separator) +
                                     "); expected a decimal point: export the file with '.' as "
                                     "the decimal mark, or as comma-separated CSV");
-      values.push_back(reading && field.empty()
-                           ? std::numeric_limits<double>::quiet_NaN()
-                           : parse_value(field, at + ": field '" + wanted[w] + "'"));
+      values.push_back(reading && field.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                                : parse_value(field, [&] {
+                                                    return at() + ": field '" + wanted[w] + "'";
+                                                  }));
     }
-    if ((rows.size() + 1) * table_bytes_per_row(values.size()) > limits.max_table_bytes)
-      throw std::invalid_argument(at + ": the rows read so far need more than the " +
-                                  std::to_string(limits.max_table_bytes >> 20) +
-                                  " MiB of memory allowed for them; expected a smaller file");
-    rows.push_back(std::move(values));
+    ++num_rows;
     table.line_numbers.push_back(line_number);
   }
   // Reading stops at a read error as at the end of the file: tell them apart.
   if (in.bad())
     throw std::invalid_argument(source + ": read error after line " +
                                 std::to_string(reader.line_number()));
-  if (rows.empty()) throw std::invalid_argument(source + ": no measurement rows after the header");
+  if (num_rows == 0) throw std::invalid_argument(source + ": no measurement rows after the header");
 
-  const int m = static_cast<int>(rows.size());
+  const int m = static_cast<int>(num_rows);
   table.data.actuators.resize(m, num_actuators);
   table.data.readings.resize(m, static_cast<int>(reading_names.size()));
   for (int r = 0; r < m; ++r) {
-    for (int c = 0; c < num_actuators; ++c) table.data.actuators(r, c) = rows[r][c];
+    const double* row = values.data() + static_cast<std::size_t>(r) * per_row;
+    for (int c = 0; c < num_actuators; ++c) table.data.actuators(r, c) = row[c];
     for (int c = 0; c < table.data.readings.cols(); ++c)
-      table.data.readings(r, c) = rows[r][num_actuators + c];
+      table.data.readings(r, c) = row[num_actuators + c];
   }
   return table;
 }
@@ -392,57 +421,70 @@ void check_sensor_readings(const MeasurementModel& model, MeasurementTable& tabl
 std::vector<UnreachableRow> find_unreachable_rows(const MeasurementModel& model,
                                                   const VectorXd& params,
                                                   const Measurements& data) {
+  // Per chunk of rows, in parallel; the chunks' findings joined in row order.
+  std::vector<std::vector<UnreachableRow>> found(
+      static_cast<std::size_t>(chunk_count(data.size(), kRowsPerChunk)));
+  parallel_chunks(data.size(), kRowsPerChunk, [&](int chunk, int begin, int end) {
+    std::vector<UnreachableRow>& bad = found[static_cast<std::size_t>(chunk)];
+    auto ws = model.make_workspace();
+    VectorXd readings(model.num_readings());
+    for (int r = begin; r < end; ++r) {
+      if (data.readings.row(r).array().isNaN().all()) continue;  // nothing measured: not used
+      const ForwardKinematicsResult fk =
+          model.predict(params, data.actuators.row(r).transpose(), readings, nullptr, ws);
+      if (!fk.ok()) {
+        bad.push_back({r, fk.describe()});
+        continue;
+      }
+      if (!model.sensors_can_miss()) continue;
+      // Every measured reading missed: nothing of the row can be used.
+      std::string reasons;
+      bool any_read = false;
+      for (int i = 0; i < model.num_readings() && !any_read; ++i)
+        any_read = !std::isnan(data.readings(r, i)) && !std::isnan(readings[i]);
+      if (any_read) continue;
+      for (int s = 0; s < static_cast<int>(model.sensors().size()); ++s) {
+        std::string reason;
+        if (model.sensor_reads_at(params, fk.pose, s, &reason)) continue;
+        reasons += (reasons.empty() ? "" : "; ") + model.sensors()[s]->name() + ": " + reason;
+      }
+      bad.push_back({r, "gives no reading (" + reasons + ")"});
+    }
+  });
   std::vector<UnreachableRow> bad;
-  auto ws = model.make_workspace();
-  VectorXd readings(model.num_readings());
-  for (int r = 0; r < data.size(); ++r) {
-    if (data.readings.row(r).array().isNaN().all()) continue;  // nothing measured: not used
-    const ForwardKinematicsResult fk =
-        model.predict(params, data.actuators.row(r).transpose(), readings, nullptr, ws);
-    if (!fk.ok()) {
-      bad.push_back({r, fk.describe()});
-      continue;
-    }
-    if (!model.sensors_can_miss()) continue;
-    // Every measured reading missed: nothing of the row can be used.
-    std::string reasons;
-    bool any_read = false;
-    for (int i = 0; i < model.num_readings() && !any_read; ++i)
-      any_read = !std::isnan(data.readings(r, i)) && !std::isnan(readings[i]);
-    if (any_read) continue;
-    for (int s = 0; s < static_cast<int>(model.sensors().size()); ++s) {
-      std::string reason;
-      if (model.sensor_reads_at(params, fk.pose, s, &reason)) continue;
-      reasons += (reasons.empty() ? "" : "; ") + model.sensors()[s]->name() + ": " + reason;
-    }
-    bad.push_back({r, "gives no reading (" + reasons + ")"});
-  }
+  for (const auto& part : found) bad.insert(bad.end(), part.begin(), part.end());
   return bad;
 }
 
 std::vector<MissedReading> find_missed_readings(const MeasurementModel& model,
                                                 const VectorXd& params, const Measurements& data) {
-  std::vector<MissedReading> missed;
-  if (!model.sensors_can_miss()) return missed;
+  if (!model.sensors_can_miss()) return {};
   const Mechanism& mechanism = model.mechanism();
-  for (int r = 0; r < data.size(); ++r) {
-    const ForwardKinematicsResult fk = mechanism.forward_kinematics(
-        params.head(mechanism.num_parameters()), data.actuators.row(r).transpose(),
-        mechanism.home_pose(), model.forward_kinematics_options());
-    if (!fk.ok()) continue;  // find_unreachable_rows reports it
-    std::vector<MissedReading> row;
-    bool any_read = false;
-    for (int s = 0; s < static_cast<int>(model.sensors().size()); ++s) {
-      const int o = model.sensor_reading_offset(s), k = model.sensors()[s]->num_readings();
-      if (data.readings.row(r).segment(o, k).array().isNaN().all()) continue;  // not measured
-      std::string reason;
-      if (model.sensor_reads_at(params, fk.pose, s, &reason))
-        any_read = true;
-      else
-        row.push_back({r, s, reason});
+  std::vector<std::vector<MissedReading>> found(
+      static_cast<std::size_t>(chunk_count(data.size(), kRowsPerChunk)));
+  parallel_chunks(data.size(), kRowsPerChunk, [&](int chunk, int begin, int end) {
+    std::vector<MissedReading>& missed = found[static_cast<std::size_t>(chunk)];
+    for (int r = begin; r < end; ++r) {
+      const ForwardKinematicsResult fk = mechanism.forward_kinematics(
+          params.head(mechanism.num_parameters()), data.actuators.row(r).transpose(),
+          mechanism.home_pose(), model.forward_kinematics_options());
+      if (!fk.ok()) continue;  // find_unreachable_rows reports it
+      std::vector<MissedReading> row;
+      bool any_read = false;
+      for (int s = 0; s < static_cast<int>(model.sensors().size()); ++s) {
+        const int o = model.sensor_reading_offset(s), k = model.sensors()[s]->num_readings();
+        if (data.readings.row(r).segment(o, k).array().isNaN().all()) continue;  // not measured
+        std::string reason;
+        if (model.sensor_reads_at(params, fk.pose, s, &reason))
+          any_read = true;
+        else
+          row.push_back({r, s, reason});
+      }
+      if (any_read) missed.insert(missed.end(), row.begin(), row.end());
     }
-    if (any_read) missed.insert(missed.end(), row.begin(), row.end());
-  }
+  });
+  std::vector<MissedReading> missed;
+  for (const auto& part : found) missed.insert(missed.end(), part.begin(), part.end());
   return missed;
 }
 

@@ -1,5 +1,7 @@
 #include "kincal/framework/least_squares/least_squares_problem.hpp"
 
+#include "kincal/framework/base/parallel.hpp"
+
 #include <algorithm>
 #include <limits>
 #include <thread>
@@ -60,7 +62,8 @@ bool LeastSquaresProblem::evaluate(const VectorXd& x, VectorXd* residuals, Matri
     return true;
   };
 
-  const int threads = std::max(1, std::min(num_threads, blocks / kMinBlocksPerThread));
+  const int wanted = num_threads > 0 ? num_threads : hardware_threads();
+  const int threads = std::max(1, std::min(wanted, blocks / kMinBlocksPerThread));
   if (threads <= 1) return run_range(0, blocks, why);
 
   // Contiguous chunks, one per thread; the first failure (lowest block) is reported.

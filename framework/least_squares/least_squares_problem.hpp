@@ -51,11 +51,11 @@ class LeastSquaresProblem {
                                    WarmStart& warm) const;
 
   /// All residuals and, when `jacobian` is non-null, the full Jacobian. Sizes the outputs.
-  /// Stops at the first failing block. Splits blocks over `num_threads` threads when the
-  /// problem is large enough for that to pay.
+  /// Stops at the first failing block. Splits blocks over `num_threads` threads (0 = all
+  /// cores) when each gets at least 256 of them; the result does not depend on the number.
   /// With `warm` (from make_warm_start(), or null), each block is evaluated warm.
   bool evaluate(const VectorXd& x, VectorXd* residuals, MatrixXd* jacobian,
-                std::string* why = nullptr, int num_threads = 1, WarmStart* warm = nullptr) const;
+                std::string* why = nullptr, int num_threads = 0, WarmStart* warm = nullptr) const;
 
   /// 1/2 |r(x)|^2, or +infinity when the residuals cannot be computed.
   double cost(const VectorXd& x, std::string* why = nullptr) const;
