@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "kincal/framework/base/gram_matrix.hpp"
 #include "kincal/framework/least_squares/robust_loss.hpp"
 #include "kincal/solvers/schur_levenberg_marquardt.hpp"
 #include "kincal/solvers/solver_common.hpp"
@@ -325,8 +326,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     for (int j = 0; j < n; ++j)
       if (ws.active[j]) ws.B.col(j).setZero();
     if (settings.linear_solver == LinearSolver::kCholesky) {
-      ws.H.setZero();
-      ws.H.selfadjointView<Eigen::Lower>().rankUpdate(ws.B.transpose());
+      gram_lower(ws.B, ws.H);
     } else {
       ws.qr.compute(ws.B);
     }

@@ -51,7 +51,8 @@ std::string encoder_stroke_hint(const MeasurementModel& model, const VectorXd& p
 /// a thousandth of their length at home (median ratio within [1/3000, 1/300]) are metres.
 /// Length readings (mm) that the model at `params` predicts ten times better when multiplied
 /// by 1000 are metres (checked only when `table` holds the model's readings and forward
-/// kinematics reaches the rows). Returns one sentence saying what was seen and how to fix it
+/// kinematics reaches the rows; from 20000 rows on, on evenly spaced rows, 10000 to 20000
+/// of them). Returns one sentence saying what was seen and how to fix it
 /// (name the columns <name>_deg / <name>_m, or convert), or "" when nothing looks wrong.
 /// Columns read with a unit suffix are not checked: the suffix states the unit.
 std::string check_data_units(const MeasurementModel& model, const VectorXd& params,

@@ -96,10 +96,13 @@ ParameterUncertainty estimate_uncertainty(const MatrixXd& J, const VectorXd& res
   u.effective_degrees_of_freedom = m - n;
   u.sigma = u.degrees_of_freedom > 0 ? std::sqrt(psi.squaredNorm() / u.degrees_of_freedom) : kNaN;
   u.robust_factor = robust_factor(residuals, loss, n);
-  u.covariance = parameter_covariance(J, u.robust_factor * u.sigma, rcond);
+  // Both covariances need only J^T J: one triangular factor serves them (the same matrix
+  // parameter_covariance would form from J).
+  const MatrixXd R = m > 0 ? triangular_factor(J) : J;
+  u.covariance = parameter_covariance(R, u.robust_factor * u.sigma, rcond);
   u.std = std_from(u.covariance);
   // The correlation does not depend on sigma: take it from (J^T J)^-1, defined even for m = n.
-  const MatrixXd unit = parameter_covariance(J, 1.0, rcond);
+  const MatrixXd unit = parameter_covariance(R, 1.0, rcond);
   u.correlation = correlation_from(unit, std_from(unit));
   return u;
 }
