@@ -405,3 +405,44 @@ TEST(CliKinematics, IkAndFkAreInverse) {
 
 }  // namespace
 }  // namespace kincal
+
+namespace kincal {
+namespace {
+
+// --threads splits the evaluation of 600 configurations over threads (from 256 per thread
+// on); the result must not depend on it, to the last digit of the report, and a count out of
+// range is one line and a non-zero exit.
+TEST(CliThreads, TheResultDoesNotDependOnTheThreadCount) {
+  const kincal::testing::TempDir dir("threads");
+  const std::string model = dir / "M.json", data = dir / "D.csv";
+  ASSERT_EQ(kincal::testing::run_cli("model --out " + model).exit_code, 0);
+  const auto sim = kincal::testing::run_cli(
+      "simulate --model " + model +
+      " --poses 600 --noise-half-width 0.0125 --seed 4 --validation 1 --threads 2 --write-data " +
+      data);
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  std::map<int, Json> reports;
+  for (const int threads : {1, 2, 3}) {
+    const std::string json = dir / ("R" + std::to_string(threads) + ".json");
+    const auto run =
+        kincal::testing::run_cli("calibrate --model " + model + " --data " + data + " --threads " +
+                                 std::to_string(threads) + " --json " + json);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    reports[threads] = Json::parse(kincal::testing::read_text(json));
+  }
+  for (const int threads : {2, 3}) {
+    EXPECT_EQ(reports[threads]["parameters"], reports[1]["parameters"]) << threads;
+    EXPECT_EQ(reports[threads]["final_cost"], reports[1]["final_cost"]) << threads;
+    EXPECT_EQ(reports[threads]["iterations"], reports[1]["iterations"]) << threads;
+  }
+  for (const char* bad : {"-1", "1025", "two"}) {
+    const auto run = kincal::testing::run_cli("calibrate --model " + model + " --data " + data +
+                                              " --threads " + bad);
+    EXPECT_NE(run.exit_code, 0) << bad;
+    EXPECT_NE(run.err.find("--threads"), std::string::npos) << bad << ": " << run.err;
+    EXPECT_EQ(kincal::testing::count_lines(run.err), 1) << run.err;
+  }
+}
+
+}  // namespace
+}  // namespace kincal

@@ -90,3 +90,27 @@ TEST(Simulation, PlannedConfigurationsOfTheWrongSizeNameWhatDiffers) {
 
 }  // namespace
 }  // namespace kincal
+
+namespace kincal {
+namespace {
+
+// Configurations are drawn in batches whose forward kinematics runs on all cores from two
+// batches (8192 configurations) on; they must be those of a one-by-one draw, so a large
+// scenario begins with the configurations, readings and truth of a small one of the same seed.
+TEST(Simulation, ALargeScenarioBeginsWithTheSmallOneOfTheSameSeed) {
+  ScenarioOptions options;
+  options.noise_half_width = 0.0125;
+  options.num_validation = 3;
+  options.seed = 21;
+  options.num_configurations = 60;
+  const Scenario small = make_scenario(make_cube_hexapod(), options);
+  options.num_configurations = 9000;
+  const Scenario large = make_scenario(make_cube_hexapod(), options);
+  EXPECT_EQ(small.truth, large.truth);
+  EXPECT_EQ(small.calibration.actuators, large.calibration.actuators.topRows(60));
+  EXPECT_EQ(small.calibration.readings, large.calibration.readings.topRows(60));
+  EXPECT_EQ(small.validation_actuators, large.validation_actuators);
+}
+
+}  // namespace
+}  // namespace kincal

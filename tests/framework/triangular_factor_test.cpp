@@ -1,13 +1,18 @@
 // The triangular factor of a tall matrix, formed block by block, against Eigen's decompositions
 // of the whole matrix: what the identifiability analysis, the covariance and the stationarity
-// measure take from it (A^T A, singular values, least-squares solutions) must not change.
+// measure take from it (A^T A, singular values, least-squares solutions) must not change. And
+// the other tall-matrix helpers of large calibrations: B^T B on all cores, fixed chunks.
 
 #include "kincal/framework/base/triangular_factor.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
+#include <vector>
 
+#include "kincal/framework/base/gram_matrix.hpp"
+#include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/base/random.hpp"
 
 namespace kincal {
@@ -76,6 +81,51 @@ TEST(TriangularFactor, SolvesLeastSquaresThroughTheAugmentedFactor) {
   EXPECT_LT((y - expected).norm(), 1e-12 * expected.norm());
   // |A y - b| is the factor's last diagonal entry.
   EXPECT_NEAR(std::abs(F(4, 4)), (A * y - b).norm(), 1e-10);
+}
+
+TEST(TriangularFactor, ALargeMatrixSplitOverCoresGivesTheSameGramMatrix) {
+  // From 131072 rows on, chunks of 65536 rows are factored on all cores and stacked in order.
+  Random rng(17);
+  const MatrixXd A = random_matrix(rng, 300000, 6);
+  const MatrixXd R = triangular_factor(A);
+  EXPECT_TRUE(R.isUpperTriangular(0.0));
+  const MatrixXd gram = A.transpose() * A;
+  EXPECT_LT((R.transpose() * R - gram).norm(), 1e-12 * gram.norm());
+  TriangularFactor serial(6);
+  serial.add_rows(A);
+  for (int i = 0; i < 6; ++i)  // the same factor, up to the signs of its rows
+    EXPECT_NEAR(std::abs(R(i, i)), std::abs(serial.R()(i, i)), 1e-10 * std::abs(R(i, i))) << i;
+}
+
+TEST(GramMatrix, IsBTransposeBOnSmallAndOnLargeMatrices) {
+  Random rng(19);
+  for (const int rows : {50, 300000}) {  // one rank update; chunks on all cores
+    const MatrixXd B = random_matrix(rng, rows, 5);
+    MatrixXd H = MatrixXd::Constant(5, 5, 7.0);  // whatever was there is replaced
+    gram_lower(B, H);
+    const MatrixXd expected = B.transpose() * B;
+    EXPECT_LT((H.triangularView<Eigen::Lower>().toDenseMatrix() -
+               expected.triangularView<Eigen::Lower>().toDenseMatrix())
+                  .norm(),
+              1e-12 * expected.norm())
+        << rows;
+    EXPECT_TRUE(H.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0.0)) << rows;
+  }
+}
+
+TEST(ParallelChunks, VisitsEveryItemOnceInFixedChunks) {
+  for (const int count : {0, 1, 999, 1000, 1001, 123457}) {
+    std::vector<int> visits(static_cast<std::size_t>(count), 0);
+    std::vector<int> chunk_begin(static_cast<std::size_t>(chunk_count(count, 1000)), -1);
+    parallel_chunks(count, 1000, [&](int chunk, int begin, int end) {
+      chunk_begin[static_cast<std::size_t>(chunk)] = begin;
+      EXPECT_EQ(end, std::min(count, begin + 1000));
+      for (int i = begin; i < end; ++i) ++visits[static_cast<std::size_t>(i)];
+    });
+    for (int v : visits) ASSERT_EQ(v, 1) << count;
+    for (std::size_t c = 0; c < chunk_begin.size(); ++c)
+      EXPECT_EQ(chunk_begin[c], static_cast<int>(c) * 1000) << count;
+  }
 }
 
 TEST(TriangularFactor, AMatrixWithNoMoreRowsThanColumnsIsReturnedAsItIs) {
