@@ -130,12 +130,8 @@ class EvaluationLog {
 class BlockCost final : public ceres::CostFunction {
  public:
   BlockCost(const LeastSquaresProblem& problem, int block, FailureLog& failures,
-            EvaluationLog& evaluations, WarmStart* warm)
-      : problem_(problem),
-        block_(block),
-        failures_(failures),
-        evaluations_(evaluations),
-        warm_(warm) {
+            EvaluationLog& evaluations)
+      : problem_(problem), block_(block), failures_(failures), evaluations_(evaluations) {
     set_num_residuals(problem.residuals_per_block());
     mutable_parameter_block_sizes()->push_back(problem.num_parameters());
   }
@@ -155,15 +151,13 @@ class BlockCost final : public ceres::CostFunction {
     if (jacobians && jacobians[0]) {
       scratch.J.resize(k, n);
       Eigen::Ref<MatrixXd> J(scratch.J);
-      ok = warm_ ? problem_.evaluate_block_warm(block_, scratch.x, r, &J, &why, *warm_)
-                 : problem_.evaluate_block(block_, scratch.x, r, &J, &why);
+      ok = problem_.evaluate_block(block_, scratch.x, r, &J, &why);
       if (ok)
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             jacobians[0], k, n) = scratch.J;
       if (ok && r.allFinite()) evaluations_.add(block_, scratch.x, r, &scratch.J);
     } else {
-      ok = warm_ ? problem_.evaluate_block_warm(block_, scratch.x, r, nullptr, &why, *warm_)
-                 : problem_.evaluate_block(block_, scratch.x, r, nullptr, &why);
+      ok = problem_.evaluate_block(block_, scratch.x, r, nullptr, &why);
       if (ok && r.allFinite()) evaluations_.add(block_, scratch.x, r, nullptr);
     }
     if (!ok) {
@@ -182,7 +176,6 @@ class BlockCost final : public ceres::CostFunction {
   int block_;
   FailureLog& failures_;
   EvaluationLog& evaluations_;
-  WarmStart* warm_;  // the solve's, or null: each block touches only its own entry
 };
 
 // Records accepted iterates in our trace and forwards them to the user's callback. Ceres
@@ -294,12 +287,9 @@ class CeresSolver final : public Solver {
       loss_function = std::make_unique<ceres::CauchyLoss>(loss.delta);
 
     FailureLog failures;
-    // Forward kinematics starts from the poses of the last evaluation, as in lm (a trust
-    // region too; case 5: 12.4 -> 8.1 ms).
-    const std::unique_ptr<WarmStart> warm = problem.make_warm_start();
     EvaluationLog evaluations(problem.num_residual_blocks(), problem.residuals_per_block(), n);
     for (int b = 0; b < problem.num_residual_blocks(); ++b)
-      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures, evaluations, warm.get()),
+      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures, evaluations),
                                      loss_function.get(), x.data());
     if (options.lower_bounds && options.upper_bounds) {
       for (int i = 0; i < n; ++i) {

@@ -272,7 +272,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
 
   // Forward kinematics starts from the poses of this solve's last evaluation: the trust region
   // keeps trial points near the iterate, so one to three Newton steps instead of about four
-  // from home (lm on case 5: 2.6 -> 1.9 ms). Not in gn or the line-search backends, whose
+  // from home (lm on case 5: 2.6 -> 1.9 ms). Not in the other backends (gn, Ceres, NLopt), whose
   // end games measured worse with it (docs/architecture.md, "Warm starts").
   const std::unique_ptr<WarmStart> warm = problem.make_warm_start();
   std::string why;
