@@ -19,13 +19,6 @@ namespace kincal {
 
 namespace {
 
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  const auto last = s.find_last_not_of(" \t\r");
-  return s.substr(first, last - first + 1);
-}
-
 // The fields of `line`, trimmed, into `fields` (whose storage is reused from line to line).
 void split_fields(const std::string& line, char separator, std::vector<std::string>& fields) {
   fields.clear();
@@ -69,7 +62,11 @@ char detect_separator(const std::string& header, const std::string& at) {
   return semicolon ? ';' : tab ? '\t' : ',';
 }
 
-bool is_skipped(const std::string& trimmed) { return trimmed.empty() || trimmed[0] == '#'; }
+// A blank line or a comment ('#' after any blanks): skipped. Tested in place, without a copy.
+bool is_skipped(const std::string& line) {
+  const auto first = line.find_first_not_of(" \t\r");
+  return first == std::string::npos || line[first] == '#';
+}
 
 std::string join(const std::vector<std::string>& names) {
   std::string out;
@@ -187,7 +184,7 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   int header_line = 0;
   char separator = ',';
   while (reader.next(line)) {
-    if (is_skipped(trim(line))) continue;
+    if (is_skipped(line)) continue;
     header_line = reader.line_number();
     separator = detect_separator(line, source + ":" + std::to_string(header_line));
     header = split_fields(line, separator);
@@ -257,8 +254,7 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   std::vector<std::string> fields;
   std::size_t num_rows = 0;
   while (reader.next(line)) {
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;  // blank or a comment
+    if (is_skipped(line)) continue;
     split_fields(line, separator, fields);
     const int line_number = reader.line_number();
     const auto at = [&] { return source + ":" + std::to_string(line_number); };
