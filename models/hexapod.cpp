@@ -65,18 +65,27 @@ bool Hexapod::actuators_valid(const ParamsRef& params, const ActuatorsRef& q) co
 
 void Hexapod::constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                           Vector6d& g, Matrix6d* J_g_pose) const {
+  // Leg by leg in separate passes over arrays, so that the six square roots and divisions,
+  // whose latency is most of the time here, are independent and run in pairs.
+  double v[3][kLegs], a[3][kLegs], length[kLegs];
   for (int leg = 0; leg < kLegs; ++leg) {
-    const Vector3d b = params.segment<3>(base_index(leg));
-    const Vector3d a = pose.rotation * params.segment<3>(platform_index(leg));
-    const Vector3d leg_vector = pose.translation + a - b;
-    const double length = leg_vector.norm();
-    g[leg] = length - (q[leg] + params[offset_index(leg)]);
-    if (J_g_pose) {
-      // d|v| = n . dv with dv = dt + dw x a  =>  row = [n^T, (a x n)^T].
-      const Vector3d n = leg_vector / length;
-      J_g_pose->row(leg).head<3>() = n.transpose();
-      J_g_pose->row(leg).tail<3>() = a.cross(n).transpose();
+    const Vector3d rotated = pose.rotation * params.segment<3>(platform_index(leg));
+    const Vector3d leg_vector = pose.translation + rotated - params.segment<3>(base_index(leg));
+    for (int i = 0; i < 3; ++i) {
+      a[i][leg] = rotated[i];
+      v[i][leg] = leg_vector[i];
     }
+  }
+  for (int leg = 0; leg < kLegs; ++leg)
+    length[leg] = std::sqrt(v[0][leg] * v[0][leg] + v[1][leg] * v[1][leg] + v[2][leg] * v[2][leg]);
+  for (int leg = 0; leg < kLegs; ++leg) g[leg] = length[leg] - (q[leg] + params[offset_index(leg)]);
+  if (!J_g_pose) return;
+  // d|v| = n . dv with dv = dt + dw x a  =>  row = [n^T, (a x n)^T].
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const Vector3d n(v[0][leg] / length[leg], v[1][leg] / length[leg], v[2][leg] / length[leg]);
+    const Vector3d arm(a[0][leg], a[1][leg], a[2][leg]);
+    J_g_pose->row(leg).head<3>() = n.transpose();
+    J_g_pose->row(leg).tail<3>() = arm.cross(n).transpose();
   }
 }
 
