@@ -136,14 +136,39 @@ class SchurKernel {
       // are then formed with that factorisation (a pose 1e-10 away) and g = 0 (the step leaves
       // ~|g|^2, below the rounding of the constraints): one evaluation of the constraints and
       // one factorisation per configuration when the linear step already closed it.
+      // The first step is a chord step with rows_from's G_pose^-1 (factored at the pose the
+      // linear step started from): a matrix-vector product instead of a factorisation. It is
+      // kept only if it lowers the residual, as it does unless the step was long. On case 5
+      // it saves one factorisation in three (docs/benchmarks.md).
       const ForwardKinematicsOptions& fk = model_.forward_kinematics_options();
+      bool chord_pending = true, judging_chord = false;
+      Pose before_chord;
+      double residual_before_chord = 0;
       for (int it = 0;; ++it) {
         mechanism_.constraints(mech, q, pose, c.g, rows ? &c.G_pose : &G_scratch);
         const Mat& G = rows ? c.G_pose : G_scratch;
-        const double residual = c.g.cwiseAbs().maxCoeff();
+        double residual = c.g.cwiseAbs().maxCoeff();
+        if (judging_chord) {
+          judging_chord = false;
+          if (!(residual < residual_before_chord)) {
+            pose = before_chord;
+            mechanism_.constraints(mech, q, pose, c.g, rows ? &c.G_pose : &G_scratch);
+            residual = residual_before_chord;
+          }
+        }
         if (!std::isfinite(residual)) return fail("closure constraints not finite");
         if (it > fk.max_iterations)
           return fail("closure not restored (residual " + std::to_string(residual) + ")");
+        if (chord_pending && residual > fk.tolerance) {
+          chord_pending = false;
+          judging_chord = true;
+          before_chord = pose;
+          residual_before_chord = residual;
+          const Mat inverse = rows_from.G_inv.middleRows<Dof>(crow);
+          pose = moved_pose<Dof>(mechanism_, pose, -(inverse * c.g));
+          continue;
+        }
+        chord_pending = false;
         lu.emplace(G);
         if (lu->near_singular(G)) return fail("closure Jacobian singular");
         pose = moved_pose<Dof>(mechanism_, pose, -lu->solve(c.g));
@@ -182,9 +207,12 @@ class SchurKernel {
       lin.M.row(row + i) = lambda.transpose();
       lin.errors[row + i] = c.errors[i];
       lin.rhat[row + i] = c.errors[i] - lambda.dot(c.g);
+      // Column by column with fixed-size dot products: G_theta's columns are contiguous,
+      // R's rows are not (a dynamic row product here was a tenth of the solve).
+      auto R_row = lin.R.row(row + i);
       for (int f = 0; f < p_; ++f)
-        lin.R(row + i, f) = c.H_params(i, nested_.free_indices()[static_cast<std::size_t>(f)]);
-      lin.R.row(row + i).noalias() -= lambda.transpose() * G_theta;
+        R_row[f] = c.H_params(i, nested_.free_indices()[static_cast<std::size_t>(f)]) -
+                   lambda.dot(G_theta.col(f).template head<Dof>());
     }
     // C = I + M M^T / w^2 = L L^T; rows and residuals whitened by L^-1.
     const auto Mj = lin.M.middleRows(row, k_);
@@ -205,27 +233,30 @@ class SchurKernel {
     return std::isfinite(*cost);
   }
 
-  // The pose step of configuration j for the parameter step `dx`, from the linearisation
+  // The pose step of configuration j for the parameter step dx, from the linearisation
   // `lin`: the u = G_pose dp minimising w^2 |g + G_params dx + u|^2 + |e + H_params dx + M u|^2
   // (the Schur complement's back-substitution), in the same w^2-free form, with
-  // H_params dx = E dx + M G_params dx and E dx = L (R dx).
-  Vec pose_step(int j, const VectorXd& dx, const Linearization& lin) const {
+  // H_params dx = E dx + M G_params dx and E dx = L (R dx). `R_dx` = lin.R dx and `G_dx` =
+  // lin.G_theta dx, formed for every configuration at once (pose_products): two
+  // matrix-vector products over contiguous columns instead of strided rows per configuration.
+  Vec pose_step(int j, const VectorXd& R_dx, const VectorXd& G_dx_all,
+                const Linearization& lin) const {
     if (!problem_.measured(j)) return Vec::Zero();
     const int row = j * k_, crow = j * Dof;
-    const Vec G_dx = lin.G_theta.middleRows<Dof>(crow) * dx;
+    const Vec G_dx = G_dx_all.segment<Dof>(crow);
     const Vec a = lin.g.segment<Dof>(crow) + G_dx;
     Vec u;
     if (k_ == 1) {
       // (w^2 I + m m^T)^-1 m = m / (w^2 + |m|^2): no factorisation.
       const Vec mi = lin.M.row(row).transpose();
-      const double d = lin.errors[row] + lin.L(row, 0) * lin.R.row(row).dot(dx) + mi.dot(G_dx);
+      const double d = lin.errors[row] + lin.L(row, 0) * R_dx[row] + mi.dot(G_dx);
       u = -a - mi * ((d - mi.dot(a)) / (w_ * w_ + mi.squaredNorm()));
     } else {
       Vec rhs = Vec::Zero();
       Mat normal = Mat::Identity() * (w_ * w_);
       for (int i = 0; i < k_; ++i) {
         double reduced = 0;
-        for (int l = 0; l <= i; ++l) reduced += lin.L(row + i, l) * lin.R.row(row + l).dot(dx);
+        for (int l = 0; l <= i; ++l) reduced += lin.L(row + i, l) * R_dx[row + l];
         const Vec mi = lin.M.row(row + i).transpose();
         const double d = lin.errors[row + i] + reduced + mi.dot(G_dx);
         rhs += mi * (d - mi.dot(a));
@@ -234,6 +265,13 @@ class SchurKernel {
       u = -a - normal.llt().solve(rhs);
     }
     return lin.G_inv.middleRows<Dof>(crow) * u;
+  }
+
+  // R_dx and G_dx of pose_step for the parameter step dx (sized once by the caller).
+  static void pose_products(const Linearization& lin, const VectorXd& dx, VectorXd& R_dx,
+                            VectorXd& G_dx) {
+    R_dx.noalias() = lin.R * dx;
+    G_dx.noalias() = lin.G_theta * dx;
   }
 
   // Linearises every configuration at (`full`, `poses`), restoring the closure first when
@@ -362,10 +400,12 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
     return out.allFinite();
   };
   // The poses moved by the back-substituted steps for the parameter step `step`.
+  VectorXd R_step(m * k), G_step(m * Dof);
   auto move_poses = [&](const VectorXd& step) {
+    SchurKernel<Dof>::pose_products(lin, step, R_step, G_step);
     for (int j = 0; j < m; ++j) {
       const auto s = static_cast<std::size_t>(j);
-      poses[s] = kernel.moved(lin.poses[s], kernel.pose_step(j, step, lin));
+      poses[s] = kernel.moved(lin.poses[s], kernel.pose_step(j, R_step, G_step, lin));
     }
   };
   auto test_holds = [&](bool gradient_claim) {
@@ -550,7 +590,9 @@ VectorXd schur_step_with(const ImplicitCalibrationProblem& problem, const Vector
   const VectorXd dx = -S.llt().solve(lin.R.transpose() * lin.rhat);
   VectorXd step(problem.num_parameters());
   step.head(n) = dx;
-  for (int j = 0; j < m; ++j) step.segment<Dof>(n + Dof * j) = kernel.pose_step(j, dx, lin);
+  VectorXd R_dx(m * kernel.k()), G_dx(m * Dof);
+  SchurKernel<Dof>::pose_products(lin, dx, R_dx, G_dx);
+  for (int j = 0; j < m; ++j) step.segment<Dof>(n + Dof * j) = kernel.pose_step(j, R_dx, G_dx, lin);
   return step;
 }
 
