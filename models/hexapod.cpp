@@ -63,49 +63,59 @@ bool Hexapod::actuators_valid(const ParamsRef& params, const ActuatorsRef& q) co
   return true;
 }
 
+namespace {
+
+// Every leg at a pose: the rotated platform joint a = R p, the leg vector v = t + a - b and
+// its length, in arrays leg by leg, so that the six square roots (and the divisions that
+// follow them), whose latency is most of a constraint evaluation, are independent and run
+// in pairs. The arithmetic is Eigen's for each leg, so the values are those of a per-leg loop.
+struct Legs {
+  double a[3][Hexapod::kLegs], v[3][Hexapod::kLegs], length[Hexapod::kLegs];
+
+  Legs(const ParamsRef& params, const Pose& pose) {
+    for (int leg = 0; leg < Hexapod::kLegs; ++leg) {
+      const Vector3d rotated = pose.rotation * params.segment<3>(Hexapod::platform_index(leg));
+      const Vector3d leg_vector =
+          pose.translation + rotated - params.segment<3>(Hexapod::base_index(leg));
+      for (int i = 0; i < 3; ++i) {
+        a[i][leg] = rotated[i];
+        v[i][leg] = leg_vector[i];
+      }
+    }
+    for (int leg = 0; leg < Hexapod::kLegs; ++leg)
+      length[leg] =
+          std::sqrt(v[0][leg] * v[0][leg] + v[1][leg] * v[1][leg] + v[2][leg] * v[2][leg]);
+  }
+
+  /// Unit vector along the leg: the direction in which its length grows.
+  Vector3d direction(int leg) const {
+    return Vector3d(v[0][leg] / length[leg], v[1][leg] / length[leg], v[2][leg] / length[leg]);
+  }
+  Vector3d arm(int leg) const { return Vector3d(a[0][leg], a[1][leg], a[2][leg]); }
+};
+
+}  // namespace
+
 void Hexapod::constraints(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                           Vector6d& g, Matrix6d* J_g_pose) const {
-  // Leg by leg in separate passes over arrays, so that the six square roots and divisions,
-  // whose latency is most of the time here, are independent and run in pairs.
-  double v[3][kLegs], a[3][kLegs], length[kLegs];
-  for (int leg = 0; leg < kLegs; ++leg) {
-    const Vector3d rotated = pose.rotation * params.segment<3>(platform_index(leg));
-    const Vector3d leg_vector = pose.translation + rotated - params.segment<3>(base_index(leg));
-    for (int i = 0; i < 3; ++i) {
-      a[i][leg] = rotated[i];
-      v[i][leg] = leg_vector[i];
-    }
-  }
+  const Legs legs(params, pose);
   for (int leg = 0; leg < kLegs; ++leg)
-    length[leg] = std::sqrt(v[0][leg] * v[0][leg] + v[1][leg] * v[1][leg] + v[2][leg] * v[2][leg]);
-  for (int leg = 0; leg < kLegs; ++leg) g[leg] = length[leg] - (q[leg] + params[offset_index(leg)]);
+    g[leg] = legs.length[leg] - (q[leg] + params[offset_index(leg)]);
   if (!J_g_pose) return;
   // d|v| = n . dv with dv = dt + dw x a  =>  row = [n^T, (a x n)^T].
   for (int leg = 0; leg < kLegs; ++leg) {
-    const Vector3d n(v[0][leg] / length[leg], v[1][leg] / length[leg], v[2][leg] / length[leg]);
-    const Vector3d arm(a[0][leg], a[1][leg], a[2][leg]);
+    const Vector3d n = legs.direction(leg);
     J_g_pose->row(leg).head<3>() = n.transpose();
-    J_g_pose->row(leg).tail<3>() = arm.cross(n).transpose();
+    J_g_pose->row(leg).tail<3>() = legs.arm(leg).cross(n).transpose();
   }
 }
-
-namespace {
-
-// Unit vector along leg `leg` at `pose`: the direction in which its length grows.
-Vector3d leg_direction(const ParamsRef& params, const Pose& pose, int leg) {
-  const Vector3d leg_vector = pose.translation +
-                              pose.rotation * params.segment<3>(Hexapod::platform_index(leg)) -
-                              params.segment<3>(Hexapod::base_index(leg));
-  return leg_vector.normalized();
-}
-
-}  // namespace
 
 void Hexapod::constraint_jacobian_params(const ParamsRef& params, const ActuatorsRef&,
                                          const Pose& pose, Eigen::Ref<Matrix6Xd> J_g_params) const {
   J_g_params.setZero();
+  const Legs legs(params, pose);
   for (int leg = 0; leg < kLegs; ++leg) {
-    const Vector3d n = leg_direction(params, pose, leg);
+    const Vector3d n = legs.direction(leg);
     J_g_params.block<1, 3>(leg, base_index(leg)) = -n.transpose();
     J_g_params.block<1, 3>(leg, platform_index(leg)) = n.transpose() * pose.rotation;
     J_g_params(leg, offset_index(leg)) = -1.0;
@@ -116,8 +126,9 @@ void Hexapod::constraint_jacobian_params_left(
     const ParamsRef& params, const ActuatorsRef&, const Pose& pose, const Vector6d& lambda,
     Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> out) const {
   // Every parameter belongs to exactly one leg, so every entry of `out` is written.
+  const Legs legs(params, pose);
   for (int leg = 0; leg < kLegs; ++leg) {
-    const Vector3d weighted = lambda[leg] * leg_direction(params, pose, leg);
+    const Vector3d weighted = lambda[leg] * legs.direction(leg);
     out.segment<3>(base_index(leg)) = -weighted.transpose();
     out.segment<3>(platform_index(leg)) = weighted.transpose() * pose.rotation;
     out[offset_index(leg)] = -lambda[leg];

@@ -1,6 +1,8 @@
 #include "kincal/framework/calibration/calibration_problem.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace kincal {
@@ -34,6 +36,8 @@ CalibrationProblem::CalibrationProblem(std::shared_ptr<const MeasurementModel> m
   for (int i : free_indices_)
     if (i < 0 || i >= base_.size()) throw std::invalid_argument("free index out of range");
   weighted_ = model_->weighted();
+  static std::atomic<std::uint64_t> next_scratch_key{1};
+  scratch_key_ = next_scratch_key++;
 }
 
 std::vector<std::string> CalibrationProblem::parameter_names() const {
@@ -58,7 +62,9 @@ namespace {
 
 // Per-thread scratch so that evaluate_block allocates nothing once warmed up.
 struct BlockScratch {
-  VectorXd full;
+  VectorXd full;  // the full parameter vector of `full_x` for problem `full_key`
+  VectorXd full_x;
+  std::uint64_t full_key = 0;
   VectorXd predicted;
   VectorXd measured;
   MatrixXd J_full;
@@ -112,8 +118,17 @@ bool CalibrationProblem::evaluate_block_from(int block, const VectorXd& x,
     if (jacobian) jacobian->setZero();
     return true;
   }
-  scratch.full = base_;  // same size every call: no reallocation
-  for (std::size_t i = 0; i < free_indices_.size(); ++i) scratch.full[free_indices_[i]] = x[i];
+  // The full vector depends on x alone: built once per thread and evaluation, not once per
+  // configuration (the copy and scatter were 3 % of a calibration).
+  // (Compared bit for bit: -0.0 == 0.0, and NaN != NaN.)
+  if (scratch.full_key != scratch_key_ || scratch.full_x.size() != x.size() ||
+      (x.size() > 0 &&
+       std::memcmp(scratch.full_x.data(), x.data(), sizeof(double) * x.size()) != 0)) {
+    scratch.full = base_;  // same sizes every call: no reallocation
+    for (std::size_t i = 0; i < free_indices_.size(); ++i) scratch.full[free_indices_[i]] = x[i];
+    scratch.full_x = x;
+    scratch.full_key = scratch_key_;
+  }
   scratch.predicted.resize(k);
   if (jacobian) scratch.J_full.resize(k, base_.size());
   Eigen::Ref<MatrixXd> J_ref(scratch.J_full);

@@ -4,6 +4,7 @@
 // with std the model's reading_std() (1 unless the model states the readings' noise), and
 // the difference taken by each sensor's reading_error (a rotation error for rotations).
 
+#include <cstdint>
 #include <memory>
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
@@ -72,6 +73,9 @@ class CalibrationProblem : public LeastSquaresProblem {
   VectorXd base_;
   std::vector<int> free_indices_;
   bool weighted_ = false;
+  /// Tells per-thread scratch built for this problem's base_ and free_indices_ (which never
+  /// change after construction) from scratch built for another problem.
+  std::uint64_t scratch_key_ = 0;
 };
 
 }  // namespace kincal
