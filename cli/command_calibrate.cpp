@@ -311,9 +311,8 @@ int run_calibrate(const Args& args) {
                                       "assumed ±5 mm and ±0.01 rad)"
                                     : "the tolerances (param_error, else prior_std)";
     starts_report.spread_assumed = multi.spread.assumed;
-    const StartOutcome& best = starts_report.result.starts[starts_report.result.best_start];
-    x = best.x;
-    summary = best.summary;
+    x = starts_report.result.starts[starts_report.result.best_start].x;
+    summary = starts_report.result.estimate_summary();
   } else {
     const VectorXd start = x;
     CalibrationSolve solution = solve_calibration(*choice.solver, problem, prior, x, choice.options,

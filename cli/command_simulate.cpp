@@ -372,8 +372,18 @@ int run_simulate(const Args& args) {
                                                  choice.options.num_threads);
     starts_report.seed = scenario.options.seed;
     starts_report.spread_from = "the simulated parameter errors";
-    const StartOutcome& best = starts_report.result.starts[starts_report.result.best_start];
-    run = run_calibration(scenario, *choice.solver, choice.options, true, formulation, best.start);
+    const MultiStartResult& result = starts_report.result;
+    const StartOutcome& best = result.starts[result.best_start];
+    if (result.stopped) {
+      // Stopped (the Python bindings' Ctrl-C): the estimate is where the best start got to.
+      // Its solve from there stops at once, the stop being still asked for; the summary is
+      // the starts' own.
+      run = run_calibration(scenario, *choice.solver, choice.options, true, formulation, best.x);
+      run.summary = result.estimate_summary();
+    } else {
+      run =
+          run_calibration(scenario, *choice.solver, choice.options, true, formulation, best.start);
+    }
   } else {
     run = run_calibration(scenario, *choice.solver, choice.options, true, formulation);
     const auto problem = scenario.make_problem();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 
@@ -102,7 +103,16 @@ MultiStartResult solve_multi_start(const LeastSquaresProblem& problem, const Sol
     result.starts[k].start = start;
   }
   SolverOptions one = options;
-  one.callback = nullptr;
+  // The caller's callback sees every start's iterations, one call at a time; a stop it asks
+  // for (the Python bindings' Ctrl-C) stops them all.
+  std::mutex callback_mutex;
+  bool stop = false;
+  if (options.callback)
+    one.callback = [&](const IterationRecord& record, const VectorXd& x) {
+      std::lock_guard<std::mutex> lock(callback_mutex);
+      if (!stop) stop = options.callback(record, x) == CallbackAction::kStop;
+      return stop ? CallbackAction::kStop : CallbackAction::kContinue;
+    };
   one.verbosity = 0;
   one.num_threads = 1;  // the starts are the parallel work
   // Debian's Ipopt solves with sequential MUMPS, whose Fortran globals are not thread-safe.
@@ -148,7 +158,26 @@ MultiStartResult solve_multi_start(const LeastSquaresProblem& problem, const Sol
   // The first start at the best minimum: start 0 when it is there, so that more starts change
   // the estimate only when they find a lower minimum.
   if (!result.minima.empty()) result.best_start = result.minima[0].starts.front();
+  result.stopped = stop;
+  if (stop && result.minima.empty()) {
+    // None reached a solution before the stop: the lowest cost reached, as one stopped solve
+    // returns its best point.
+    for (int k = 1; k < multi.starts; ++k)
+      if (result.starts[k].summary.final_cost < result.starts[result.best_start].summary.final_cost)
+        result.best_start = k;
+  }
   return result;
+}
+
+Summary MultiStartResult::estimate_summary() const {
+  Summary summary = starts[static_cast<std::size_t>(best_start)].summary;
+  if (stopped) {
+    summary.termination = TerminationType::kUserStopped;
+    summary.message = "stopped by the callback before every start had ended; the best of " +
+                      std::to_string(starts.size()) +
+                      " starts so far (this one: " + summary.message + ")";
+  }
+  return summary;
 }
 
 }  // namespace kincal

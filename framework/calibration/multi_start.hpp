@@ -71,6 +71,14 @@ struct MultiStartResult {
   /// solution (0 when none reached a solution).
   int best_start = 0;
   int unsolved = 0;  ///< starts that diverged or failed
+  /// The options' callback asked to stop: every start stopped at its next iteration (those
+  /// not begun, at their first), and the estimate is the best of what they had reached.
+  bool stopped = false;
+
+  /// The summary the estimate is reported with: the best start's, ending "user_stopped"
+  /// when the starts were stopped, even if that start had converged (the others were cut
+  /// short, so it is not the best of all the starts asked for).
+  Summary estimate_summary() const;
 };
 
 /// Whether a solve ended at a solution: converged, or stopped at its iteration limit.
@@ -80,10 +88,11 @@ bool reached_solution(const Summary& summary);
 /// the spread's sizes differ from x0's.
 VectorXd draw_start(const VectorXd& x0, const StartSpread& spread, std::uint64_t seed, int k);
 
-/// Solves `problem` from options.starts starting points in parallel (each solve single-threaded,
-/// without the options' callback), then groups the solutions into distinct minima. Backends that
-/// are not thread-safe (ipopt) run one start at a time. Throws std::invalid_argument when
-/// starts < 1 or the spread does not fit x0.
+/// Solves `problem` from options.starts starting points in parallel (each solve single-threaded),
+/// then groups the solutions into distinct minima. Backends that are not thread-safe (ipopt) run
+/// one start at a time. The options' callback is called for every start's iterations, one call
+/// at a time (records of different starts interleave); when it returns kStop, every start
+/// stops. Throws std::invalid_argument when starts < 1 or the spread does not fit x0.
 MultiStartResult solve_multi_start(const LeastSquaresProblem& problem, const Solver& solver,
                                    const VectorXd& x0, const SolverOptions& options,
                                    const MultiStartOptions& multi);

@@ -84,6 +84,38 @@ def test_sigint_during_a_command_stops_its_solve_with_the_report_of_the_best_poi
     assert out.split() == ["interrupted", "user_stopped", out.split()[2], "True"], out
 
 
+LONG_STARTS = textwrap.dedent(
+    """
+    import time
+    import kincal
+
+    print("solving", flush=True)
+    start = time.monotonic()
+    try:
+        # Four starts of the run above: tens of seconds on two cores.
+        kincal.simulate(preset="cube-hexapod", poses=600, noise_half_width=0.0125, seed=2,
+                        solver="nlopt:LN_NELDERMEAD", max_iterations=10**9, starts=4)
+    except KeyboardInterrupt as e:
+        r = e.result
+        print("interrupted", r.termination, r.final_cost < r.initial_cost,
+              time.monotonic() - start < 30, flush=True)
+        raise SystemExit(0)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_sigint_during_several_starts_stops_them_all():
+    p = subprocess.Popen([sys.executable, "-c", LONG_STARTS], stdout=subprocess.PIPE, text=True, env=os.environ)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "solving"
+    time.sleep(2.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    assert p.returncode == 0, out
+    assert out.split() == ["interrupted", "user_stopped", "True", "True"], out
+
+
 LONG_STUDY = textwrap.dedent(
     """
     import kincal.studies

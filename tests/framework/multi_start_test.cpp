@@ -132,6 +132,41 @@ TEST(MultiStart, OneStartIsTheSolveFromTheGivenPoint) {
   EXPECT_EQ(m.starts[0].summary.final_cost, alone.final_cost);
 }
 
+TEST(MultiStart, TheCallbackSeesEveryStartAndItsStopStopsThemAll) {
+  const TwoMinima problem;
+  const auto lm = SolverRegistry::global().create("lm");
+  const Eigen::Vector2d x0(-1.5, 0.5);
+  // Called one call at a time: a plain counter is safe.
+  int calls = 0;
+  SolverOptions watched;
+  watched.callback = [&](const IterationRecord&, const VectorXd&) {
+    ++calls;
+    return CallbackAction::kContinue;
+  };
+  const MultiStartResult all = solve_multi_start(problem, *lm, x0, watched, options(12, 2));
+  EXPECT_FALSE(all.stopped);
+  EXPECT_GE(calls, 24);  // every start reports iteration 0 and at least one iterate
+  EXPECT_EQ(all.estimate_summary().termination, TerminationType::kConverged);
+
+  calls = 0;
+  SolverOptions stopping;
+  stopping.callback = [&](const IterationRecord&, const VectorXd&) {
+    return ++calls >= 5 ? CallbackAction::kStop : CallbackAction::kContinue;
+  };
+  const MultiStartResult stopped = solve_multi_start(problem, *lm, x0, stopping, options(12, 2));
+  EXPECT_TRUE(stopped.stopped);
+  EXPECT_EQ(calls, 5);  // not asked again once it said stop
+  int user_stopped = 0;
+  for (const StartOutcome& o : stopped.starts)
+    user_stopped += o.summary.termination == TerminationType::kUserStopped;
+  // Four calls before the stop: at most two starts can have ended on their own.
+  EXPECT_GE(user_stopped, 10);
+  const Summary summary = stopped.estimate_summary();
+  EXPECT_EQ(summary.termination, TerminationType::kUserStopped);
+  EXPECT_NE(summary.message.find("before every start had ended"), std::string::npos);
+  EXPECT_LE(summary.final_cost, summary.initial_cost);
+}
+
 TEST(MultiStart, RefusesNoStartsAndASpreadOfAnotherSize) {
   const TwoMinima problem;
   const auto lm = SolverRegistry::global().create("lm");
