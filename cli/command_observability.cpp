@@ -15,6 +15,7 @@
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
+#include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/calibration/prior_problem.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 
@@ -105,6 +106,9 @@ int run_observability(const Args& args) {
   std::string why;
   if (!problem.evaluate(problem.initial_free_parameters(), &residuals, &J, &why))
     throw CliError("cannot evaluate the identification Jacobian: " + why);
+  // The model's parameter-only constraints (a known distance between fixtures) determine
+  // what the readings may not, as they do in calibrate.
+  append_constraint_rows(problem, problem.initial_free_parameters(), J, &residuals);
   Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
   if (with_prior) {
     // Before measuring, the noise is as the model states it (sigma = 1 in whitened units).

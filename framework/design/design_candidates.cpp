@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/base/random.hpp"
+#include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/design/design_stages.hpp"
 
 namespace kincal {
@@ -118,6 +119,23 @@ DesignSetup make_design_setup(const MeasurementModel& model, const DesignOptions
     s.base_information(c, c) += std::pow(s.scale[c] / p.prior_std, 2);
   }
   const VectorXd nominal = model.parameters().nominal_values();
+  if (num_constraint_residuals(model) > 0) {
+    // The model's parameter-only constraints (a known distance between fixtures) inform the
+    // parameters whatever is measured, as the prior does: their whitened rows at the nominal
+    // values join M0, normalised like the readings' rows. A problem without data gives them.
+    Measurements none;
+    none.actuators.resize(0, model.mechanism().num_actuators());
+    none.readings.resize(0, model.num_readings());
+    const CalibrationProblem at_nominal(
+        std::shared_ptr<const MeasurementModel>(&model, [](const MeasurementModel*) {}), none,
+        nominal, s.free_indices);
+    VectorXd r;
+    MatrixXd J;
+    constraint_residuals(at_nominal, at_nominal.initial_free_parameters(), r, &J);
+    const MatrixXd x = J * s.scale.asDiagonal();
+    s.base_information += x.transpose() * x;
+    s.constraint_rows = static_cast<int>(x.rows());
+  }
   if (existing && existing->size() > 0) {
     auto ws = model.make_workspace();
     VectorXd readings(model.num_readings());

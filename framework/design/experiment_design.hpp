@@ -6,9 +6,10 @@
 // Everything is linearised at the nominal parameters (the truth is unknown before
 // measuring). A measurement contributes its whitened rows x (readings / noise std, free
 // columns of the reading Jacobian) to the information matrix M = M0 + sum x x^T, where M0
-// holds the prior (diag 1 / prior_std^2) and data already measured (--existing). Parameters
-// are normalised by their nominal spread s (prior_std, or e / sqrt(3) of the simulated
-// error), so that mm and rad mix and criterion values are unit-free:
+// holds the prior (diag 1 / prior_std^2), the model's parameter-only constraints (a known
+// distance between fixtures) and data already measured (--existing). Parameters are normalised by
+// their nominal spread s (prior_std, or e / sqrt(3) of the simulated error), so that mm and rad mix
+// and criterion values are unit-free:
 //   D: maximise log det M         (the volume of the confidence ellipsoid; scale-free),
 //   A: minimise trace(M^-1) / n   (mean variance, relative to the nominal spread^2),
 //   E: maximise lambda_min(M)     (the worst-determined direction),
@@ -121,7 +122,8 @@ struct DesignSetup {
   std::vector<int> free_indices;
   VectorXd scale;             ///< nominal spread of each free parameter (normalisation)
   VectorXd noise_std;         ///< per reading, the reading's unit
-  MatrixXd base_information;  ///< M0: prior + existing data (normalised)
+  MatrixXd base_information;  ///< M0: prior + the model's constraints + existing data (normalised)
+  int constraint_rows = 0;    ///< rows of the model's parameter-only constraints in M0
   bool has_prior = false;
   int existing_readings = 0;   ///< readings of the existing data that enter M0
   WorkspaceSamples workspace;  ///< at the nominal parameters

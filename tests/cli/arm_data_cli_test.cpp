@@ -220,5 +220,31 @@ TEST_F(CliArmData, ValidateReportsThePositionErrorBeforeAndAfter) {
   EXPECT_NE(one.err.find("--folds"), std::string::npos) << one.err;
 }
 
+// A known distance between two sockets counts in observability as in calibrate: one more
+// row in the identification Jacobian (docs/fixtures.md).
+TEST(CliObservability, AFixtureDistanceIsARowOfTheIdentificationJacobian) {
+  TempDir dir("observability-constraint");
+  const std::string plain = dir / "plain.json", constrained = dir / "constrained.json";
+  ASSERT_EQ(run_cli("model --preset ur5-urdf-socket --out " + plain).exit_code, 0);
+  Json model = Json::parse(read_text(plain));
+  model["sensors"] =
+      Json::array({{{"type", "socket"}, {"name", "s0"}, {"point", {-400.0, -100.0, 300.0}}},
+                   {{"type", "socket"}, {"name", "s1"}, {"point", {-400.0, -50.0, 300.0}}}});
+  model["free"] = {"s0.point.x", "s0.point.y", "s0.point.z",          "s1.point.x",
+                   "s1.point.y", "s1.point.z", "elbow_joint.origin.x"};
+  std::ofstream(plain) << model.dump(2);
+  model["constraints"] = Json::array(
+      {{{"type", "fixture-distance"}, {"between", {"s0", "s1"}}, {"distance", 50}, {"std", 0.05}}});
+  std::ofstream(constrained) << model.dump(2);
+  const auto without = run_cli("observability --model " + plain + " --poses 20 --seed 3 --json -");
+  const auto with =
+      run_cli("observability --model " + constrained + " --poses 20 --seed 3 --json -");
+  ASSERT_EQ(without.exit_code, 0) << without.err;
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  const Json a = Json::parse(without.out), b = Json::parse(with.out);
+  EXPECT_EQ(b["residuals"].get<int>(), a["residuals"].get<int>() + 1);
+  EXPECT_EQ(b["parameters"], 7);
+}
+
 }  // namespace
 }  // namespace kincal

@@ -14,9 +14,12 @@
 
 #include "jacobian_check.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/models/fixture_distance.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/presets.hpp"
+#include "kincal/models/socket.hpp"
+#include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {
 namespace {
@@ -353,6 +356,37 @@ TEST(ExperimentDesign, PriorEntersTheBaseInformation) {
   MatrixXd M = setup.base_information;
   M.diagonal().tail(3).setOnes();
   EXPECT_NEAR(design_covariance(M, setup)(0, 0), 0.25, 1e-12);
+}
+
+// A known distance between two sockets informs their points whatever is measured: its
+// whitened row, normalised like the readings' rows, is part of M0 (computed here by hand:
+// d|p0 - p1| / dp0 = u^T, / dp1 = -u^T).
+TEST(ExperimentDesign, ParameterOnlyConstraintsEnterTheBaseInformation) {
+  const auto arm = make_ur5_urdf();
+  const Vector3d p0(-400, -100, 300), p1(-400, -50, 300);
+  auto model = std::make_shared<MeasurementModel>(
+      arm->mechanism_ptr(),
+      std::vector<std::shared_ptr<const Sensor>>{std::make_shared<Socket>("s0", p0),
+                                                 std::make_shared<Socket>("s1", p1)});
+  model->parameters().set_free("*", false);
+  model->parameters().set_free("s?.point.?", true);
+  DesignOptions options = small_options(DesignCriterion::kD);
+  options.noise_std = VectorXd::Constant(6, 0.1);
+  const DesignSetup without = make_design_setup(*model, options, nullptr);
+  EXPECT_EQ(without.constraint_rows, 0);
+  EXPECT_EQ(without.base_information.norm(), 0.0);
+
+  model->add_constraint(std::make_shared<FixtureDistance>("s0", "s1", 50, 0.05));
+  const DesignSetup with = make_design_setup(*model, options, nullptr);
+  EXPECT_EQ(with.constraint_rows, 1);
+  ASSERT_EQ(with.scale.size(), 6);
+  const Vector3d u = (p0 - p1).normalized();
+  VectorXd row(6);
+  row << u, -u;
+  row = row.cwiseProduct(with.scale) / 0.05;
+  const MatrixXd expected = row * row.transpose();
+  EXPECT_LT((with.base_information - expected).norm(), 1e-12 * expected.norm());
+  EXPECT_FALSE(with.has_prior);  // a constraint is not a prior on any one parameter
 }
 
 // Two gauges as candidate placements: each configuration is a candidate once per gauge, and
