@@ -7,6 +7,22 @@ import sys
 import textwrap
 import time
 
+
+def interrupted(script, first_line, wait, timeout=120, **popen):
+    """Runs `script` in a new Python, sends it SIGINT `wait` seconds after its first line (which
+    must be `first_line`), and returns what it printed after that line and the seconds from
+    the signal to its exit, which must be 0."""
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
+                         env=os.environ, **popen)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == first_line
+    time.sleep(wait)
+    start = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=timeout)
+    assert p.returncode == 0, out
+    return out, time.monotonic() - start
+
 LONG_SOLVE = textwrap.dedent(
     """
     import sys, time
@@ -37,20 +53,13 @@ LONG_SOLVE = textwrap.dedent(
 
 
 def test_sigint_during_a_long_solve_raises_keyboard_interrupt_with_the_best_point():
-    p = subprocess.Popen([sys.executable, "-c", LONG_SOLVE], stdout=subprocess.PIPE, text=True, env=os.environ)
-    assert p.stdout is not None
-    assert p.stdout.readline().strip() == "solving"
-    time.sleep(1.0)
-    start = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 0, out
+    out, seconds = interrupted(LONG_SOLVE, "solving", 1.0, timeout=60)
     words = out.split()
     assert words[0] == "interrupted", out
     assert words[1] == "user_stopped"
     x, iterations = float(words[2]), int(words[3])
     assert 0 < iterations < 700 and abs(x - iterations) < 1e-6  # x moved by 1 per step
-    assert time.monotonic() - start < 30  # stopped, did not run to the end
+    assert seconds < 30  # stopped, did not run to the end
 
 
 LONG_COMMAND = textwrap.dedent(
@@ -74,13 +83,7 @@ LONG_COMMAND = textwrap.dedent(
 
 
 def test_sigint_during_a_command_stops_its_solve_with_the_report_of_the_best_point():
-    p = subprocess.Popen([sys.executable, "-c", LONG_COMMAND], stdout=subprocess.PIPE, text=True, env=os.environ)
-    assert p.stdout is not None
-    assert p.stdout.readline().strip() == "solving"
-    time.sleep(2.0)
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 0, out
+    out, _ = interrupted(LONG_COMMAND, "solving", 2.0, timeout=60)
     assert out.split() == ["interrupted", "user_stopped", out.split()[2], "True"], out
 
 
@@ -106,13 +109,7 @@ LONG_STARTS = textwrap.dedent(
 
 
 def test_sigint_during_several_starts_stops_them_all():
-    p = subprocess.Popen([sys.executable, "-c", LONG_STARTS], stdout=subprocess.PIPE, text=True, env=os.environ)
-    assert p.stdout is not None
-    assert p.stdout.readline().strip() == "solving"
-    time.sleep(2.0)
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=120)
-    assert p.returncode == 0, out
+    out, _ = interrupted(LONG_STARTS, "solving", 2.0)
     assert out.split() == ["interrupted", "user_stopped", "True", "True"], out
 
 
@@ -133,13 +130,7 @@ LONG_STUDY = textwrap.dedent(
 
 
 def test_sigint_during_an_in_process_study_gives_the_partial_document():
-    p = subprocess.Popen([sys.executable, "-c", LONG_STUDY], stdout=subprocess.PIPE, text=True, env=os.environ)
-    assert p.stdout is not None
-    assert p.stdout.readline().strip() == "running"
-    time.sleep(1.5)
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=120)
-    assert p.returncode == 0, out
+    out, _ = interrupted(LONG_STUDY, "running", 1.5)
     words = out.split()
     assert words[:2] == ["interrupted", "True"], out
     assert 0 < int(words[2]) < 5000
@@ -196,13 +187,7 @@ LONG_DESIGN = textwrap.dedent(
 
 
 def test_sigint_during_a_design_gives_the_best_design_so_far_marked_partial():
-    p = subprocess.Popen([sys.executable, "-c", LONG_DESIGN], stdout=subprocess.PIPE, text=True, env=os.environ)
-    assert p.stdout is not None
-    assert p.stdout.readline().strip() == "designing"
-    time.sleep(2.0)
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=120)
-    assert p.returncode == 0, out
+    out, _ = interrupted(LONG_DESIGN, "designing", 2.0)
     assert out.split() == ["interrupted", "True"], out
 
 
@@ -236,16 +221,9 @@ DASK_STUDY = textwrap.dedent(
 
 
 def test_sigint_during_a_study_on_dask_cancels_it_and_gives_the_partial_document():
-    p = subprocess.Popen([sys.executable, "-c", DASK_STUDY], stdout=subprocess.PIPE, text=True,
-                         env=os.environ, start_new_session=True)
-    assert p.stdout is not None
     # "running" comes once the first task has finished on a worker: the interrupt lands
     # mid-study however slow the machine is to start the cluster and send the tasks.
-    assert p.stdout.readline().strip() == "running"
-    time.sleep(1.0)
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=120)
-    assert p.returncode == 0, out
+    out, _ = interrupted(DASK_STUDY, "running", 1.0, start_new_session=True)
     words = out.split()
     assert words[:2] == ["interrupted", "True"], out
     # Trials that finished on the workers are in the document; the study did not finish.
