@@ -158,14 +158,25 @@ class CheckedDomBuilder {
   // The open object, as a path: "the top-level object", "mechanism.legs[2]".
   std::string where() const {
     if (frames_.size() <= 1) return "the top-level object";
-    std::string path;
+    std::vector<std::string> steps;
     for (std::size_t f = 0; f + 1 < frames_.size(); ++f) {
       const Frame& frame = frames_[f];
       if (frame.value->is_array())
-        path += "[" + std::to_string(frame.index - 1) + "]";
+        steps.push_back("[" + std::to_string(frame.index - 1) + "]");
       else
-        path += (path.empty() ? "" : ".") + message_excerpt(frame.key);
+        steps.push_back((steps.empty() ? "" : ".") + message_excerpt(frame.key));
     }
+    // Each key is cut to 60 characters, but 64 levels of them would still make a long line:
+    // beyond kMaxPath characters, the first step, "..." and the innermost steps that fit.
+    constexpr std::size_t kMaxPath = 200;
+    std::string path;
+    for (const std::string& step : steps) path += step;
+    if (path.size() <= kMaxPath) return "object " + path;
+    std::string tail = steps.back();
+    for (std::size_t i = steps.size() - 1;
+         i-- > 1 && tail.size() + steps[i].size() <= kMaxPath - 80;)
+      tail.insert(0, steps[i]);
+    path = steps.front() + "..." + tail;
     return "object " + path;
   }
 

@@ -42,6 +42,16 @@ TEST(JsonInput, ARepeatedKeyIsAnErrorNamingKeyPlaceAndObject) {
       parse_error(nested_twice).find("key 'offset' appears twice in object mechanism.legs[2]"),
       std::string::npos)
       << parse_error(nested_twice);
+  // Deep in long keys (found by fuzz_model_file): the path keeps its first and innermost steps.
+  std::string deep;
+  for (int level = 0; level < 40; ++level)
+    deep += "{\"" + std::string(50, 'a' + level % 26) + "\": ";
+  deep += "{\"x\": 1, \"x\": 2}" + std::string(40, '}');
+  const std::string what = parse_error(deep);
+  EXPECT_LT(what.size(), 400u) << what;
+  EXPECT_EQ(what.find('\n'), std::string::npos);
+  EXPECT_NE(what.find("in object " + std::string(50, 'a') + "..."), std::string::npos) << what;
+  EXPECT_NE(what.find("." + std::string(50, 'n') + "; expected"), std::string::npos) << what;
   // The same key in two different objects is fine.
   EXPECT_NO_THROW((void)parse_json_text("[{\"a\": 1}, {\"a\": 2}, {\"b\": {\"a\": 3}}]", "F.json"));
 }
