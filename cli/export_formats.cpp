@@ -131,13 +131,14 @@ std::string comment_text(const std::string& text) {
   return out;
 }
 
-// The measurement frame and the measured point, from the model's one tracker; none when it
-// has no tracker (nothing the export could drop moves a tcp then).
+// The measurement frame and the measured point, from the model's one tracker or its sockets;
+// none when it has neither (nothing the export could drop moves a tcp then).
 bool tracker_frames(const MeasurementModel& model, MeasuredFrames& frames) {
-  int trackers = 0;
+  int measuring = 0;
   for (const auto& sensor : model.sensors())
-    trackers += sensor->type() == "point-tracker" || sensor->type() == "pose-tracker";
-  if (trackers == 0) return false;
+    measuring += sensor->type() == "point-tracker" || sensor->type() == "pose-tracker" ||
+                 sensor->type() == "socket";
+  if (measuring == 0) return false;
   try {
     frames = measured_frames(model, model.parameters().nominal_values());
   } catch (const UrdfError& e) {
@@ -181,11 +182,11 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
                     "q = 0 is kincal's q = 0. Limits are home +- the\n     actuator's "
                     "calibration range, not the machine's hard limits; effort and velocity are "
                     "not known to kincal (0).";
-  out += with_tracker ? "\n     world: the frame the measurements were taken in (the " +
+  out += with_tracker ? "\n     world: the frame the measurements were taken in (" +
                             comment_text(frames.sensor) +
-                            "'s frame); tcp: the\n     measured point or frame (tool frame and the "
+                            "); tcp: the\n     measured point or frame (tool frame, and a "
                             "tracker's target or marker). -->\n"
-                      : "\n     The model has no tracker: no world or tcp link. -->\n";
+                      : "\n     The model has no tracker or socket: no world or tcp link. -->\n";
   out += "<robot name=\"kincal_calibrated\">\n";
   if (with_tracker)
     out +=

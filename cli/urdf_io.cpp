@@ -183,7 +183,7 @@ UrdfArmGeometry import_urdf(const std::string& text, const std::string& file,
 
 MeasuredFrames measured_frames(const MeasurementModel& model, const VectorXd& values) {
   MeasuredFrames out;
-  int trackers = 0;
+  int trackers = 0, sockets = 0;
   for (std::size_t k = 0; k < model.sensors().size(); ++k) {
     const Sensor& sensor = *model.sensors()[k];
     const auto p =
@@ -198,17 +198,32 @@ MeasuredFrames measured_frames(const MeasurementModel& model, const VectorXd& va
           inverse(frame_from_parameters(p.segment<6>(PoseTracker::kFrameIndex)));
       out.tcp_in_tool = frame_from_parameters(p.segment<6>(PoseTracker::kMarkerIndex));
     } else {
+      sockets += sensor.type() == "socket";
       continue;
     }
     ++trackers;
     out.sensor = sensor.type() + " '" + sensor.name() + "'";
   }
+  if (trackers == 0 && sockets > 0) {
+    // A socket reads the tool point (the end frame's origin) in the mechanism's base
+    // coordinates, where the sockets' centres were estimated: that frame is the measurement
+    // frame, and the tool point the measured one.
+    out.world_from_mechanism = Pose{};
+    out.tcp_in_tool = Pose{};
+    out.sensor = "the arm's base frame, in which the sockets' centres were estimated";
+    return out;
+  }
+  if (trackers == 1 && sockets > 0)
+    throw UrdfError(
+        "the model has a tracker and sockets, which measure different points of the tool, so "
+        "the measured point (tcp) is not defined; export a model with one tracker or with "
+        "sockets");
   if (trackers != 1)
     throw UrdfError(
-        std::string(trackers == 0 ? "the model has no point or pose tracker"
+        std::string(trackers == 0 ? "the model has no point or pose tracker and no socket"
                                   : "the model has several point or pose trackers") +
         ", so the measured point (tcp) and the measurement frame (world) are not defined; "
-        "export a model with exactly one tracker");
+        "export a model with exactly one tracker, or with sockets");
   return out;
 }
 
@@ -350,7 +365,7 @@ std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& value
     robot->InsertEndChild(world_joint);
   }
   robot->InsertEndChild(
-      TiXmlComment(" kincal: the measured point or frame (tool frame and tracker target) "));
+      TiXmlComment(" kincal: the measured point or frame (tool frame, and a tracker's target) "));
   robot->InsertEndChild(tcp_link);
   robot->InsertEndChild(tcp_joint);
   // The header goes first in the document, after the XML declaration.

@@ -29,9 +29,10 @@ UrdfArmGeometry import_urdf(const std::string& text, const std::string& file,
 
 /// The measured point or frame on the tool and the measurement frame, as the model's sensor
 /// sees them: tcp = the tool frame composed with the sensor's target (point tracker) or
-/// marker (pose tracker); world = the sensor's frame. Throws UrdfError when the model's
-/// sensors do not define one tcp (none, several, or a type whose correction the export could
-/// not place).
+/// marker (pose tracker); world = the sensor's frame. Sockets (any number, and no tracker)
+/// read the tool frame's origin in the mechanism's base coordinates: tcp = the tool frame,
+/// world = those coordinates. Throws UrdfError when the model's sensors do not define one
+/// tcp (no tracker nor socket, several trackers, or a tracker and sockets).
 struct MeasuredFrames {
   Pose world_from_mechanism;  ///< the mechanism's base coordinates in the measurement frame
   Pose tcp_in_tool;           ///< the measured point or frame in the mechanism's end frame

@@ -25,6 +25,8 @@ where there is one:
 The authors' URDF was fitted on these sessions' data, held-out rows included: it is shown for
 reference, not as a held-out result.
 
+The calibrated robot is written as a URDF too (kincal export), into --out.
+
 Exit codes: 0 done and the calibration beats the nominal model on the held-out spread and
 distance; 1 a check failed; 2 bad arguments; 77 the dataset folder is missing (reported as
 skipped by ctest).
@@ -272,6 +274,10 @@ def main():
         f.write(calibration.stdout)
     with open(path("report.json")) as f:
         report = json.load(f)
+    # What a controller loads: the robot's own URDF with the calibrated joint origins, the
+    # ball as the link tcp, under a root link world, the frame the sockets were estimated in.
+    run([k, "export", "--model", file_of("calibrated"), "--format", "urdf",
+         "--out", path("%s-calibrated.urdf" % args.robot)])
 
     failures = []
     if report["fixed_by_identifiability"]:

@@ -294,6 +294,75 @@ TEST(Urdf, TheExampleUr5IsUniversalRobotsDhTable) {
   }
 }
 
+// An arm calibrated from sockets alone (docs/fixtures.md) exports too: world is the arm's base
+// frame, in which the sockets' centres were estimated, and tcp the tool point that went into
+// them, so world -> tcp of the URDF, read back by urdfdom, is a socket's reading plus its
+// centre. A model with a tracker and sockets has no one measured point: refused.
+TEST(Urdf, ASocketModelExportsTheToolPointInTheSocketsFrame) {
+  TempDir dir("urdf-sockets");
+  write_text(dir / "robot.urdf", kRobot);
+  ASSERT_EQ(run_cli("model --urdf " + (dir / "robot.urdf") +
+                    " --base base_link --tip tool_mount --out " + (dir / "tracked.json"))
+                .exit_code,
+            0);
+  auto json = nlohmann::json::parse(read_text(dir / "tracked.json"));
+  const auto tracker = json["sensors"][0];
+  json["sensors"] = nlohmann::json::array(
+      {{{"type", "socket"}, {"name", "s0"}, {"point", {400.0, -20.0, 250.0}}},
+       {{"type", "socket"}, {"name", "s1"}, {"point", {430.0, 20.0, 250.0}}}});
+  json["free"] = {"s*"};
+  write_text(dir / "sockets.json", json.dump(2));
+  const auto model = load_model(dir / "sockets.json");
+  // Every parameter moved, as a calibration would move them (base and tool included).
+  VectorXd values = model->parameters().nominal_values();
+  for (int i = 0; i < values.size(); ++i)
+    values[i] += (model->parameters()[i].unit == "rad" ? 0.01 : 3.0) * std::sin(1.7 * i + 0.3);
+  write_text(dir / "moved.json", model_to_json(*model, values).dump(2));
+  const auto exported = run_cli("export --model " + (dir / "moved.json") + " --format urdf --out " +
+                                (dir / "s.urdf"));
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  const std::string urdf_text = read_text(dir / "s.urdf");
+  EXPECT_NE(urdf_text.find("sockets' centres were estimated"), std::string::npos);
+  if (std::system("command -v check_urdf >/dev/null 2>&1") == 0) {
+    EXPECT_EQ(std::system(("check_urdf " + (dir / "s.urdf") + " >/dev/null").c_str()), 0);
+  } else {
+    ADD_FAILURE() << "check_urdf is not installed (apt-get install liburdfdom-tools)";
+  }
+  const urdf::ModelInterfaceSharedPtr robot = urdf::parseURDF(urdf_text);
+  ASSERT_TRUE(robot);
+  const auto moved = load_model(dir / "moved.json");
+  const VectorXd saved = moved->parameters().nominal_values();
+  const int centre = moved->parameters().index_of("s0.point.x");
+  auto ws = moved->make_workspace();
+  VectorXd readings(moved->num_readings());
+  for (int trial = 0; trial < 8; ++trial) {
+    VectorXd q(6);
+    for (int i = 0; i < 6; ++i) q[i] = 1.2 * std::sin(0.9 * trial + 2.1 * i);
+    q[3] = 40 * std::sin(0.7 * trial);  // the prismatic joint, mm within its limits
+    ASSERT_TRUE(moved->predict(saved, q, readings, nullptr, ws).ok());
+    std::map<std::string, double> by_name;
+    for (int i = 0; i < 6; ++i) by_name[moved->mechanism().actuator_names()[i]] = q[i];
+    const Eigen::Isometry3d T = urdf_world_to_tcp(*robot, by_name);
+    EXPECT_LT((T.translation() * 1e3 - (readings.head<3>() + saved.segment<3>(centre))).norm(),
+              1e-9)
+        << "trial " << trial;
+  }
+  // The tool point moved with the parameters: the nominal model's export puts tcp elsewhere.
+  ASSERT_EQ(run_cli("export --model " + (dir / "sockets.json") + " --format urdf --out " +
+                    (dir / "nominal.urdf"))
+                .exit_code,
+            0);
+  EXPECT_NE(read_text(dir / "nominal.urdf"), urdf_text);
+
+  json["sensors"].push_back(tracker);
+  write_text(dir / "mixed.json", json.dump(2));
+  const auto mixed = run_cli("export --model " + (dir / "mixed.json") + " --format urdf --out " +
+                             (dir / "m.urdf"));
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_NE(mixed.err.find("a tracker and sockets"), std::string::npos) << mixed.err;
+  EXPECT_FALSE(std::ifstream(dir / "m.urdf").good());
+}
+
 TEST(Urdf, BadImportsAreOneLineAndExitTwo) {
   TempDir dir("urdf-bad");
   write_text(dir / "robot.urdf", kRobot);
