@@ -210,7 +210,7 @@ MeasuredFrames measured_frames(const MeasurementModel& model, const VectorXd& va
     // frame, and the tool point the measured one.
     out.world_from_mechanism = Pose{};
     out.tcp_in_tool = Pose{};
-    out.sensor = "the arm's base frame, in which the sockets' centres were estimated";
+    out.sensor = "the base frame of the arm, in which the centres of the sockets were estimated";
     return out;
   }
   if (trackers == 1 && sockets > 0)

@@ -132,6 +132,36 @@ TEST(Export, UrdfOfEachPresetArmGivesTheTrackersReadings) {
   }
 }
 
+// A DH arm calibrated from sockets (no tracker): world is the arm's base frame, where the
+// sockets' centres are, and tcp the tool point, so world -> tcp is a reading plus its centre.
+TEST(Export, UrdfOfADhArmWithSocketsGivesTheToolPoint) {
+  VectorXd values;
+  const MeasurementModel tracked = perturbed("puma560", values);
+  auto j = model_to_json(tracked, values);
+  j["sensors"] = nlohmann::ordered_json::array(
+      {{{"type", "socket"}, {"name", "s0"}, {"point", {500.0, 100.0, 200.0}}}});
+  j["free"] = {"s*"};
+  const auto model = model_from_json(j, "sockets.json");
+  const VectorXd nominal = model->parameters().nominal_values();
+  const std::string urdf = cli::export_urdf(*model, {"sockets.json", "abc"});
+  EXPECT_NE(urdf.find("centres of the sockets were estimated"), std::string::npos);
+  const auto chain = read_urdf_chain(urdf);
+  const auto& arm = dynamic_cast<const SerialArm&>(model->mechanism());
+  ASSERT_EQ(chain.size(), static_cast<std::size_t>(arm.num_joints() + 3));  // world, tcp
+  const int centre = model->parameters().index_of("s0.point.x");
+  auto ws = model->make_workspace();
+  VectorXd readings(model->num_readings());
+  for (int trial = 0; trial < 5; ++trial) {
+    VectorXd q(arm.num_joints());
+    for (int i = 0; i < q.size(); ++i) q[i] = std::sin(0.9 * trial + 2.1 * i) * 1.2;
+    ASSERT_TRUE(model->predict(nominal, q, readings, nullptr, ws).ok());
+    EXPECT_LT(
+        (urdf_fk(chain, q).translation() * 1e3 - (readings + nominal.segment<3>(centre))).norm(),
+        1e-9)
+        << "trial " << trial;
+  }
+}
+
 // The CSV row of each leg holds the model's own values, full precision.
 TEST(Export, ParallelCsvHoldsTheModelsJointCoordinatesAndOffsets) {
   for (const std::string preset : {"cube-hexapod", "planar-3rpr"}) {
