@@ -6,8 +6,10 @@
 #   gcc    build-asan-gcc/: g++ with the same sanitizers; the whole ctest suite;
 #   fuzz   each fuzzer for FUZZ_SECONDS seconds (default 60) from its seed corpus, with the
 #          clang build (stage clang builds it if needed). New inputs go to a scratch corpus;
-#          a crash leaves its input under build-asan-clang/fuzz-findings/.
-# Usage: scripts/sanitize.sh [clang] [gcc] [fuzz]   (no argument: all three, in that order)
+#          a crash leaves its input under build-asan-clang/fuzz-findings/;
+#   thread build-tsan/: clang++-14 with KINCAL_SANITIZE=thread; the whole ctest suite (not
+#          in the default stages: another full build).
+# Usage: scripts/sanitize.sh [clang] [gcc] [fuzz] [thread]   (no argument: clang gcc fuzz)
 # Every stage prints its wall time. Extra CMake arguments: SANITIZE_CMAKE_ARGS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,6 +27,7 @@ jobs=$(nproc)
 export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer-14
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 
 # -O1 -g1 and no NDEBUG: fast enough to run the suite, line numbers in reports, and Eigen's
 # and our assertions on. Without the Python module: a sanitized extension module needs the
@@ -35,7 +38,7 @@ configure() {  # dir, compiler, extra args...
   if [ ! -f "$dir/CMakeCache.txt" ]; then
     cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER="$compiler" \
       -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-      -DKINCAL_SANITIZE=address,undefined -DKINCAL_BUILD_BENCHMARKS=OFF \
+      -DKINCAL_SANITIZE="${SANITIZERS:-address,undefined}" -DKINCAL_BUILD_BENCHMARKS=OFF \
       -DKINCAL_BUILD_EXAMPLES=OFF -DKINCAL_BUILD_PYTHON=OFF "$@" ${SANITIZE_CMAKE_ARGS:-} >/dev/null
   fi
 }
@@ -56,6 +59,11 @@ build_clang() {
 build_gcc() {
   configure build-asan-gcc g++
   cmake --build build-asan-gcc --parallel "$jobs"
+}
+
+build_thread() {
+  SANITIZERS=thread configure build-tsan clang++-14
+  cmake --build build-tsan --parallel "$jobs"
 }
 
 # Fuzzes fuzz_<target> for `seconds` from its seed corpus; new inputs go to a scratch
@@ -97,8 +105,12 @@ for stage in "${stages[@]}"; do
         timed "fuzz $target (${FUZZ_SECONDS:-60} s)" fuzz "$target" "${FUZZ_SECONDS:-60}"
       done
       ;;
+    thread)
+      timed "thread sanitizer build" build_thread
+      timed "thread sanitizer tests" ctest --test-dir build-tsan --output-on-failure -j"$jobs"
+      ;;
     *)
-      echo "sanitize: unknown stage '$stage' (expected clang, gcc or fuzz)" >&2
+      echo "sanitize: unknown stage '$stage' (expected clang, gcc, fuzz or thread)" >&2
       exit 2
       ;;
   esac
