@@ -123,11 +123,13 @@ const char* kLegConvention =
     "actuator value L - offset; an encoder that reads 0 at a reference mark has as offset the "
     "leg length at that mark";
 
-// Text for an XML comment, which may not contain "--".
+// Text for an XML comment: shown as written (a comment expands no entities, so escaping
+// would show "&amp;"), except that it may not contain "--" nor end with "-".
 std::string comment_text(const std::string& text) {
-  std::string out = xml_escape(text);
+  std::string out = text;
   for (std::size_t at = out.find("--"); at != std::string::npos; at = out.find("--", at))
-    out.replace(at, 2, "-&#45;");
+    out.insert(at + 1, " ");
+  if (!out.empty() && out.back() == '-') out += ' ';
   return out;
 }
 

@@ -13,9 +13,15 @@ for preset in puma560 ur5; do
   model="$dir/${preset}--a&b<c.json"
   "$kincal" model --preset "$preset" --out "$model"
   "$kincal" export --model "$model" --format urdf --out "$dir/$preset.urdf"
-  python3 - "$dir/$preset.urdf" <<'PY'
+  python3 - "$dir/$preset.urdf" "$model" <<'PY'
 import sys, xml.etree.ElementTree as ET
 robot = ET.parse(sys.argv[1]).getroot()
+# The header comment (before the root) names the model file as written: a comment expands no
+# entities, so only its "--" is split.
+name = sys.argv[2].rsplit("/", 1)[-1].replace("--", "- -")
+with open(sys.argv[1]) as f:
+    head = f.read().split("<robot", 1)[0]
+assert name in head, (name, head)
 assert robot.tag == "robot", robot.tag
 links = {l.get("name") for l in robot.findall("link")}
 parent = "world"
