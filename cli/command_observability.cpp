@@ -106,6 +106,11 @@ int run_observability(const Args& args) {
   std::string why;
   if (!problem.evaluate(problem.initial_free_parameters(), &residuals, &J, &why))
     throw CliError("cannot evaluate the identification Jacobian: " + why);
+  // Only the readings present count, as in calibrate's report: a missing one is a zero row
+  // that would count as a residual (and lower O1) without having been observed.
+  const std::vector<int> present = problem.data().present_rows();
+  J = J(present, Eigen::all).eval();
+  residuals = residuals(present).eval();
   // The model's parameter-only constraints (a known distance between fixtures) determine
   // what the readings may not, as they do in calibrate.
   append_constraint_rows(problem, problem.initial_free_parameters(), J, &residuals);

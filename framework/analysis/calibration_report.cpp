@@ -76,16 +76,9 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   const int k = problem.residuals_per_block();
   const MatrixXd whitened =
       Eigen::Map<const MatrixXd>(residuals.data(), k, r.num_configurations).transpose();
-  std::vector<int> rows;
-  for (int c = 0; c < r.num_configurations; ++c)
-    for (int i = 0; i < k; ++i)
-      if (!std::isnan(data.readings(c, i))) rows.push_back(c * k + i);
-  VectorXd measured_r(rows.size());
-  MatrixXd measured_J(rows.size(), J.cols());
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    measured_r[static_cast<int>(i)] = residuals[rows[i]];
-    measured_J.row(static_cast<int>(i)) = J.row(rows[i]);
-  }
+  const std::vector<int> rows = data.present_rows();
+  VectorXd measured_r = residuals(rows);
+  MatrixXd measured_J = J(rows, Eigen::all);
 
   r.residuals.resize(r.num_configurations, k);
   std::map<std::string, int> count;

@@ -11,6 +11,16 @@ int Measurements::num_present() const {
   return static_cast<int>((readings.array() == readings.array()).count());
 }
 
+std::vector<int> Measurements::present_rows() const {
+  std::vector<int> rows;
+  rows.reserve(static_cast<std::size_t>(num_present()));
+  const Eigen::Index k = readings.cols();
+  for (Eigen::Index c = 0; c < readings.rows(); ++c)
+    for (Eigen::Index i = 0; i < k; ++i)
+      if (!std::isnan(readings(c, i))) rows.push_back(static_cast<int>(c * k + i));
+  return rows;
+}
+
 Eigen::VectorXi Measurements::present_per_column() const {
   Eigen::VectorXi counts(readings.cols());
   for (Eigen::Index c = 0; c < readings.cols(); ++c)

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/framework/least_squares/least_squares_problem.hpp"
@@ -21,6 +22,10 @@ struct Measurements {
   int size() const { return static_cast<int>(actuators.rows()); }
   /// Readings present (not NaN), in all and per column.
   int num_present() const;
+  /// The residual rows (configuration c, reading i: c * num_readings + i) of the readings
+  /// present, in order: what an analysis of the Jacobian should see (a missing reading is a
+  /// fixed zero row).
+  std::vector<int> present_rows() const;
   Eigen::VectorXi present_per_column() const;
 };
 
