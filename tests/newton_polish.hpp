@@ -5,10 +5,10 @@
 //
 // Why not the solvers' end points: their stopping tests compare costs, and in the flat valley
 // of a noisy one-gauge case (cond(J) ~ 1e5) the cost stops changing by more than its rounding
-// up to ~3e-4 mm from the minimum. Why not Gauss-Newton steps: the Hessian's curvature term
+// up to ~4e-4 mm from the minimum. Why not Gauss-Newton steps: the Hessian's curvature term
 // sum_i r_i d2r_i/dx2, which Gauss-Newton drops, is as large as J^T J in those flat directions,
 // and its steps then need not converge (case 4: they raise the cost). Newton's steps converge,
-// to the point where the gradient's rounding is all that is left: ~1e-9 mm on the paper's cases.
+// to the point where the gradient's rounding is all that is left: ~1e-8 mm on the paper's cases.
 
 #include <Eigen/Cholesky>
 #include <limits>
