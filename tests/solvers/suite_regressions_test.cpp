@@ -60,6 +60,18 @@ TEST(LmOnTheSuite, ResetsStaleScalesAndReachesTheMinimum) {
   EXPECT_LE(r.summary.iterations, 200);
 }
 
+// lm's last step after its predicted-decrease test fired was taken with residuals only, and
+// the verdict stayed the one judged before it. With these trust-region settings that step
+// leaves Biggs EXP6 (from 100 x0) for a point that passes none of the three tests, and the
+// claim "converged" outlived it. The verdict is now judged where the step ends.
+TEST(LmOnTheSuite, TheLastStepIsJudgedWhereItEnds) {
+  SolverOptions options;
+  options.backend_options["initial_trust_radius"] = "1e5";
+  options.backend_options["max_radius_growth"] = "30";
+  const CheckedSolve r = run("lm", "mgh18_biggs_exp6", "100x0", options);
+  EXPECT_TRUE(r.contract.ok()) << r.contract.report() << "\n" << r.summary.brief_report();
+}
+
 // Gulf from 100 x0: every exponential underflows, the Jacobian is zero, the gradient test
 // fires at once. That is no minimum.
 TEST(LmOnTheSuite, AZeroJacobianIsAPlateauNotConvergence) {
