@@ -301,7 +301,8 @@ TEST_P(Conformance, CallbackCanStopTheSolve) {
 // (f) The honesty contract (docs/solvers.md), checked from the outside as on the MGH suite,
 // on this project's own problems: the paper's noisy cases 2-5 from +-20 mm parameter errors
 // (where lm ends in other local minima on some seeds), two seeds each. The small family gets
-// the two-parameter version of the same data.
+// the two-parameter version of the same data. The general minimisers' budgets are small (the
+// contract holds at any stop, and under the sanitizers 2000 evaluations took a minute per case).
 TEST_P(Conformance, KeepsTheContractOnNoisyCasesFromFarStarts) {
   for (int case_id = 2; case_id <= 5; ++case_id)
     for (std::uint64_t seed : {1u, 2u}) {
@@ -311,10 +312,10 @@ TEST_P(Conformance, KeepsTheContractOnNoisyCasesFromFarStarts) {
         model->parameters().set_free("*", false);
         for (const char* name : {"leg4.base.x", "leg5.platform.y"})
           model->parameters().set_free(name, true);
-        options.max_iterations = 4000;
+        options.max_iterations = 300;
         if (is_derivative_free(GetParam())) options.backend_options["initial_step"] = "1";
       } else if (family() == Family::kGradient) {
-        options.max_iterations = 2000;
+        options.max_iterations = 200;
       }
       ScenarioOptions o;
       o.num_configurations = paper_case(case_id).num_configurations;
