@@ -48,6 +48,7 @@ namespace {
 using kincal::testing::backend_test_name;
 using kincal::testing::every_backend;
 using kincal::testing::FencedFit;
+using kincal::testing::paper_scenario;
 using kincal::testing::stalled;
 using kincal::testing::why_not_built;
 
@@ -82,13 +83,19 @@ const Scenario& full_case1() {
   return scenario;
 }
 
+// The cube hexapod with only two free parameters, for the small family.
+std::shared_ptr<MeasurementModel> two_free_hexapod() {
+  auto model = make_cube_hexapod();
+  model->parameters().set_free("*", false);
+  for (const char* name : {"leg4.base.x", "leg5.platform.y"})
+    model->parameters().set_free(name, true);
+  return model;
+}
+
 // The same kind of data with only two free parameters.
 const Scenario& small_case1() {
   static const Scenario scenario = [] {
-    auto model = make_cube_hexapod();
-    model->parameters().set_free("*", false);
-    for (const char* name : {"leg4.base.x", "leg5.platform.y"})
-      model->parameters().set_free(name, true);
+    auto model = two_free_hexapod();
     ScenarioOptions options;
     options.num_configurations = paper_case(1).num_configurations;
     options.num_validation = 0;
@@ -306,24 +313,16 @@ TEST_P(Conformance, CallbackCanStopTheSolve) {
 TEST_P(Conformance, KeepsTheContractOnNoisyCasesFromFarStarts) {
   for (int case_id = 2; case_id <= 5; ++case_id)
     for (std::uint64_t seed : {1u, 2u}) {
-      auto model = make_cube_hexapod();
       SolverOptions options;
       if (family() == Family::kSmall) {
-        model->parameters().set_free("*", false);
-        for (const char* name : {"leg4.base.x", "leg5.platform.y"})
-          model->parameters().set_free(name, true);
         options.max_iterations = 300;
         if (is_derivative_free(GetParam())) options.backend_options["initial_step"] = "1";
       } else if (family() == Family::kGradient) {
         options.max_iterations = 200;
       }
-      ScenarioOptions o;
-      o.num_configurations = paper_case(case_id).num_configurations;
-      o.noise_half_width = paper_case(case_id).noise_half_width;
-      o.param_error_half_width = 20;
-      o.num_validation = 0;
-      o.seed = seed;
-      const Scenario scenario = make_scenario(model, o);
+      const Scenario scenario =
+          paper_scenario(family() == Family::kSmall ? two_free_hexapod() : make_cube_hexapod(),
+                         case_id, seed, 20, 0);
       const auto problem = scenario.make_problem();
       const problems::CheckedSolve r = problems::solve_and_check(
           *solver(), *problem, problem->initial_free_parameters(), options);

@@ -6,7 +6,9 @@
 #include <cstdint>
 
 #include <cctype>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kincal/framework/calibration/simulation.hpp"
@@ -15,16 +17,23 @@
 
 namespace kincal::testing {
 
-/// The paper's Table 2 case `case_id` on the cube hexapod, drawn from `seed`.
-inline Scenario paper_scenario(int case_id, std::uint64_t seed, double param_error = 5,
-                               int validation = 20) {
+/// The paper's Table 2 case `case_id` on `model` (the cube hexapod, or a variant of it with
+/// other free parameters), drawn from `seed`.
+inline Scenario paper_scenario(std::shared_ptr<MeasurementModel> model, int case_id,
+                               std::uint64_t seed, double param_error = 5, int validation = 20) {
   ScenarioOptions options;
   options.num_configurations = paper_case(case_id).num_configurations;
   options.noise_half_width = paper_case(case_id).noise_half_width;
   options.param_error_half_width = param_error;
   options.num_validation = validation;
   options.seed = seed;
-  return make_scenario(make_cube_hexapod(), options);
+  return make_scenario(std::move(model), options);
+}
+
+/// The paper's Table 2 case `case_id` on the cube hexapod, drawn from `seed`.
+inline Scenario paper_scenario(int case_id, std::uint64_t seed, double param_error = 5,
+                               int validation = 20) {
+  return paper_scenario(make_cube_hexapod(), case_id, seed, param_error, validation);
 }
 
 /// y = a exp(-b t) + c at 20 points, noise-free: 3 parameters, minimum (2, 0.7, 0.3), cost 0.
