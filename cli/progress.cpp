@@ -86,11 +86,14 @@ Progress::~Progress() { finish(); }
 void Progress::advance(long n) { advance(n, std::numeric_limits<double>::quiet_NaN()); }
 
 void Progress::advance(long n, double seconds_left) {
-  const long done = done_ += n;
+  done_ += n;
   if (!enabled_) return;
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (t < delay_s_) return;
   std::lock_guard<std::mutex> lock(mutex_);
+  // The count read under the lock, not the one this call made: a thread that lost the race
+  // for the lock would otherwise print an older count after a newer one.
+  const long done = done_.load();
   const double interval = terminal_ ? 0.25 : 2.0;
   if (last_shown_ >= 0 && t - last_shown_ < interval && done != total_) return;
   last_shown_ = t;

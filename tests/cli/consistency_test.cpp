@@ -355,7 +355,9 @@ int wait_status(Child& child) {
 
 TEST(CliLongRuns, ProgressShowsTheTimeRemainingOnlyWhenAsked) {
   TempDir dir("progress");
-  const std::string run = "reproduce --trials 2 --solver gn --validation 2 --max-iterations 2 ";
+  // One thread: with two, the second trial can finish before the first one's line is shown.
+  const std::string run =
+      "reproduce --trials 2 --solver gn --validation 2 --max-iterations 2 --threads 1 ";
   const auto quiet = run_cli(run + "--out " + dir / "a");
   ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
   EXPECT_EQ(quiet.err, "");  // stderr is not a terminal: no progress
