@@ -38,10 +38,22 @@ WhenRankDeficient when_rank_deficient(const MeasurementModel& model, bool allow_
 }
 
 IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
-                                           const CalibrationProblem& problem, const MatrixXd& J,
+                                           const CalibrationProblem& problem, const MatrixXd& J_all,
                                            WhenRankDeficient when,
                                            const IdentifiabilityOptions& options,
                                            const std::string& remedy) {
+  // The rows of the readings present and the constraint rows after the data's; no copy when
+  // nothing is missing (J can have millions of rows).
+  const Measurements& data = problem.data();
+  MatrixXd present;
+  const bool missing = data.num_present() < data.readings.size();
+  if (missing) {
+    std::vector<int> rows = data.present_rows();
+    for (Eigen::Index i = data.readings.size(); i < J_all.rows(); ++i)
+      rows.push_back(static_cast<int>(i));
+    present = J_all(rows, Eigen::all);
+  }
+  const MatrixXd& J = missing ? present : J_all;
   IdentifiabilityCheck check;
   check.free = problem.free_indices();
   Identifiability& a = check.analysis;

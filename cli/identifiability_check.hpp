@@ -34,8 +34,10 @@ enum class WhenRankDeficient {
                   ///< redundant on purpose: docs/theory.md)
 };
 
-/// Checks `problem` (its free parameters at their initial values; J its Jacobian there),
-/// with the prior the model states on them (model_prior), if any.
+/// Checks `problem` (its free parameters at their initial values; J its Jacobian there: the
+/// data's rows, then any constraint rows), with the prior the model states on them
+/// (model_prior), if any. Only the readings present are analysed, as in the report: a missing
+/// one is a zero row of J that would count as a residual.
 /// When data and prior do not determine every free parameter: with kStop, throws CliError
 /// "<where>: <describe_deficiency>; null directions: ...; <remedy>"; with kFixDependent,
 /// keeps the identifiable subset (choose_identifiable), says on stderr which parameters it
