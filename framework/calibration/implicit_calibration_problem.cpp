@@ -99,21 +99,44 @@ bool ImplicitCalibrationProblem::evaluate_block(int block, const VectorXd& x,
                                                 Eigen::Ref<VectorXd> residuals,
                                                 Eigen::Ref<MatrixXd>* jacobian,
                                                 std::string* why) const {
-  return dof_ == 6 ? evaluate_block_of<6>(block, x, residuals, jacobian, why)
-                   : evaluate_block_of<3>(block, x, residuals, jacobian, why);
+  const int p = nested_->num_parameters();
+  thread_local VectorXd theta;
+  theta = x.head(p);
+  const auto local = x.segment(p + dof_ * block, dof_);
+  if (!jacobian)
+    return evaluate_configuration(block, theta, local, residuals, nullptr, nullptr, why);
+  // The block's row: its own pose's columns and the parameters'; every other pose's are zero.
+  jacobian->setZero();
+  Eigen::Ref<MatrixXd> J_theta = jacobian->leftCols(p);
+  Eigen::Ref<MatrixXd> J_local = jacobian->middleCols(p + dof_ * block, dof_);
+  return evaluate_configuration(block, theta, local, residuals, &J_theta, &J_local, why);
+}
+
+bool ImplicitCalibrationProblem::evaluate_configuration(int block, const VectorXd& theta,
+                                                        const Eigen::Ref<const VectorXd>& local,
+                                                        Eigen::Ref<VectorXd> residuals,
+                                                        Eigen::Ref<MatrixXd>* J_theta,
+                                                        Eigen::Ref<MatrixXd>* J_local,
+                                                        std::string* why) const {
+  return dof_ == 6
+             ? evaluate_configuration_of<6>(block, theta, local, residuals, J_theta, J_local, why)
+             : evaluate_configuration_of<3>(block, theta, local, residuals, J_theta, J_local, why);
 }
 
 template <int Dof>
-bool ImplicitCalibrationProblem::evaluate_block_of(int block, const VectorXd& x,
-                                                   Eigen::Ref<VectorXd> residuals,
-                                                   Eigen::Ref<MatrixXd>* jacobian,
-                                                   std::string* why) const {
+bool ImplicitCalibrationProblem::evaluate_configuration_of(int block, const VectorXd& theta,
+                                                           const Eigen::Ref<const VectorXd>& local,
+                                                           Eigen::Ref<VectorXd> residuals,
+                                                           Eigen::Ref<MatrixXd>* J_theta,
+                                                           Eigen::Ref<MatrixXd>* J_local,
+                                                           std::string* why) const {
   if (block == failed_block_) {
     if (why) *why = start_failure_;
     return false;
   }
-  const int p = nested_->num_parameters();
-  if (jacobian) jacobian->setZero();
+  const bool jacobians = J_theta || J_local;
+  if (J_theta) J_theta->setZero();
+  if (J_local) J_local->setZero();
   if (!measured_[block]) {
     residuals.setZero();
     return true;
@@ -121,47 +144,48 @@ bool ImplicitCalibrationProblem::evaluate_block_of(int block, const VectorXd& x,
   const ClosedChainMechanism<Dof>& mechanism = *chain<Dof>();
   const MeasurementModel& model = nested_->model();
   const Measurements& data = nested_->data();
-  const Eigen::Matrix<double, Dof, 1> local = x.segment<Dof>(p + Dof * block);
-  const Pose pose = moved_pose(mechanism, reference_[block], local);
+  const Eigen::Matrix<double, Dof, 1> chart = local;
+  const Pose pose = moved_pose(mechanism, reference_[block], chart);
   thread_local ImplicitConfiguration<Dof> c;
   thread_local VectorXd full, measured_row;
-  full = nested_->full_parameters(x.head(p));
+  full = nested_->full_parameters(theta);
   measured_row = data.readings.row(block).transpose();
   std::string reason;
   if (!evaluate_implicit_configuration(model, mechanism, full,
                                        data.actuators.row(block).transpose(), measured_row, pose,
-                                       jacobian != nullptr, c, why ? &reason : nullptr)) {
+                                       jacobians, c, why ? &reason : nullptr)) {
     if (why) *why = "configuration " + std::to_string(block + 1) + ": " + reason;
     return false;
   }
   residuals.head<Dof>() = weight_ * c.g;
   residuals.tail(c.errors.size()) = c.errors;
-  if (!jacobian) return true;
-  // Parameters: the constraints through the mechanism's, the readings through the sensors'.
-  thread_local typename ClosedChainMechanism<Dof>::ParamsJacobian G_params;
-  G_params.resize(Dof, mechanism.num_parameters());
-  mechanism.constraint_jacobian_params(full.head(mechanism.num_parameters()),
-                                       data.actuators.row(block).transpose(), pose, G_params);
-  const auto& free = nested_->free_indices();
-  for (int i = 0; i < p; ++i) {
-    const int f = free[static_cast<std::size_t>(i)];
-    if (f < mechanism.num_parameters()) jacobian->col(i).head<Dof>() = weight_ * G_params.col(f);
-    jacobian->col(i).tail(c.errors.size()) = c.H_params.col(f);
+  if (J_theta) {
+    // The constraints through the mechanism's parameters, the readings through the sensors'.
+    thread_local typename ClosedChainMechanism<Dof>::ParamsJacobian G_params;
+    G_params.resize(Dof, mechanism.num_parameters());
+    mechanism.constraint_jacobian_params(full.head(mechanism.num_parameters()),
+                                         data.actuators.row(block).transpose(), pose, G_params);
+    const auto& free = nested_->free_indices();
+    for (Eigen::Index i = 0; i < theta.size(); ++i) {
+      const int f = free[static_cast<std::size_t>(i)];
+      if (f < mechanism.num_parameters()) J_theta->col(i).head<Dof>() = weight_ * G_params.col(f);
+      J_theta->col(i).tail(c.errors.size()) = c.H_params.col(f);
+    }
   }
-  // This configuration's pose, through the chart.
-  const Eigen::Matrix<double, Dof, Dof> T = chart_jacobian(mechanism, local);
-  jacobian->block(0, p + Dof * block, Dof, Dof) = weight_ * c.G_pose * T;
-  jacobian->block(Dof, p + Dof * block, c.errors.size(), Dof) = c.H_pose * T;
+  if (J_local) {
+    // The configuration's own pose, through the chart.
+    const Eigen::Matrix<double, Dof, Dof> T = chart_jacobian(mechanism, chart);
+    J_local->topRows(Dof) = weight_ * c.G_pose * T;
+    J_local->bottomRows(c.errors.size()) = c.H_pose * T;
+  }
   return true;
 }
 
-template bool ImplicitCalibrationProblem::evaluate_block_of<3>(int, const VectorXd&,
-                                                               Eigen::Ref<VectorXd>,
-                                                               Eigen::Ref<MatrixXd>*,
-                                                               std::string*) const;
-template bool ImplicitCalibrationProblem::evaluate_block_of<6>(int, const VectorXd&,
-                                                               Eigen::Ref<VectorXd>,
-                                                               Eigen::Ref<MatrixXd>*,
-                                                               std::string*) const;
+template bool ImplicitCalibrationProblem::evaluate_configuration_of<3>(
+    int, const VectorXd&, const Eigen::Ref<const VectorXd>&, Eigen::Ref<VectorXd>,
+    Eigen::Ref<MatrixXd>*, Eigen::Ref<MatrixXd>*, std::string*) const;
+template bool ImplicitCalibrationProblem::evaluate_configuration_of<6>(
+    int, const VectorXd&, const Eigen::Ref<const VectorXd>&, Eigen::Ref<VectorXd>,
+    Eigen::Ref<MatrixXd>*, Eigen::Ref<MatrixXd>*, std::string*) const;
 
 }  // namespace kincal

@@ -45,6 +45,15 @@ class ImplicitCalibrationProblem : public LeastSquaresProblem {
   std::vector<std::string> parameter_names() const override;
   bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override;
+  /// Configuration `block`'s residuals at the free parameters `theta` and its own local pose
+  /// coordinates `local` (dof() of them), with, where non-null, their Jacobians by theta
+  /// (residuals_per_block() x num_free_parameters()) and by local (residuals_per_block() x
+  /// dof()): evaluate_block's rows without the other poses' zero columns, for a backend that
+  /// sees the block structure (Ceres' Schur solvers).
+  bool evaluate_configuration(int block, const VectorXd& theta,
+                              const Eigen::Ref<const VectorXd>& local,
+                              Eigen::Ref<VectorXd> residuals, Eigen::Ref<MatrixXd>* J_theta,
+                              Eigen::Ref<MatrixXd>* J_local, std::string* why) const;
 
   const CalibrationProblem& nested() const { return *nested_; }
   std::shared_ptr<const CalibrationProblem> nested_ptr() const { return nested_; }
@@ -70,8 +79,10 @@ class ImplicitCalibrationProblem : public LeastSquaresProblem {
 
  private:
   template <int Dof>
-  bool evaluate_block_of(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
-                         Eigen::Ref<MatrixXd>* jacobian, std::string* why) const;
+  bool evaluate_configuration_of(int block, const VectorXd& theta,
+                                 const Eigen::Ref<const VectorXd>& local,
+                                 Eigen::Ref<VectorXd> residuals, Eigen::Ref<MatrixXd>* J_theta,
+                                 Eigen::Ref<MatrixXd>* J_local, std::string* why) const;
 
   std::shared_ptr<const CalibrationProblem> nested_;
   int dof_ = 0;

@@ -66,6 +66,40 @@ TEST_P(ImplicitJacobian, MatchesCentralDifferences) {
   EXPECT_GT(J.block(dof, p, problem.residuals_per_block() - dof, dof).norm(), 0);  // readings
 }
 
+// One configuration's blocks (what a block-structured backend asks for, one Jacobian at a
+// time) are its rows of the whole problem's, whose derivatives the test above checks.
+TEST_P(ImplicitJacobian, OneConfigurationsBlocksAreItsRowsOfTheWholeJacobian) {
+  const Scenario scenario = preset_scenario(GetParam(), 6, 3);
+  const ImplicitCalibrationProblem problem(scenario.make_problem(), 10.0);
+  const VectorXd x = perturbed_x(problem, 12);
+  VectorXd r;
+  MatrixXd J;
+  ASSERT_TRUE(problem.evaluate(x, &r, &J));
+  const int dof = problem.dof(), p = problem.num_free_parameters();
+  const int k = problem.residuals_per_block();
+  const VectorXd theta = x.head(p);
+  for (int j = 0; j < problem.num_residual_blocks(); ++j) {
+    const VectorXd local = x.segment(p + dof * j, dof);
+    VectorXd residuals(k);
+    MatrixXd J_theta(k, p), J_local(k, dof);
+    Eigen::Ref<MatrixXd> theta_ref(J_theta), local_ref(J_local);
+    std::string why;
+    ASSERT_TRUE(
+        problem.evaluate_configuration(j, theta, local, residuals, nullptr, &local_ref, &why))
+        << why;
+    EXPECT_EQ(J_local, J.block(k * j, p + dof * j, k, dof)) << "configuration " << j;
+    ASSERT_TRUE(
+        problem.evaluate_configuration(j, theta, local, residuals, &theta_ref, nullptr, &why))
+        << why;
+    EXPECT_EQ(J_theta, J.block(k * j, 0, k, p)) << "configuration " << j;
+    EXPECT_EQ(residuals, r.segment(k * j, k)) << "configuration " << j;
+    // Every other pose's columns are zero in the whole Jacobian.
+    MatrixXd other_poses = J.middleRows(k * j, k).rightCols(dof * problem.num_residual_blocks());
+    other_poses.middleCols(dof * j, dof).setZero();
+    EXPECT_EQ(other_poses.norm(), 0.0) << "configuration " << j;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(ClosedChains, ImplicitJacobian,
                          ::testing::Values("cube-hexapod", "stewart-6-6", "planar-3rpr"));
 
