@@ -3,7 +3,8 @@
 // run: whether both converged, the distance between their end points, the distance between the
 // minima reached from each by Newton steps on the nested cost (tests/newton_polish.hpp: the
 // minimum resolved to rounding, which the solvers' cost-based stopping tests do not do in the
-// flat valley), the size of the last of those steps, and the costs. Figures: docs/benchmarks.md.
+// flat valley), the size of the last of those steps, the costs, and the mean CPU time and
+// iterations of each formulation's solve. Figures: docs/benchmarks.md.
 //
 //   kincal-implicit-agreement [SEEDS=200] [THREADS=2]
 // With KINCAL_AGREEMENT_VERBOSE set, the runs whose minima differ by more than 1e-6 mm are
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <limits>
 #include <mutex>
 #include <vector>
@@ -28,13 +30,21 @@ namespace {
 
 struct Outcome {
   bool both_converged = false;
-  double end_points_mm = 0;    // max |x_implicit - x_nested|
-  double minima_mm = 0;        // the same after Newton steps from each
-  double last_step_mm = 0;     // the larger of the two polishings' last steps
-  double nested_off_mm = 0;    // the nested end point from its polished minimum
-  double implicit_off_mm = 0;  // the implicit end point from its polished minimum
-  double cost_ratio = 0;       // implicit final cost / nested final cost
+  double end_points_mm = 0;               // max |x_implicit - x_nested|
+  double minima_mm = 0;                   // the same after Newton steps from each
+  double last_step_mm = 0;                // the larger of the two polishings' last steps
+  double nested_off_mm = 0;               // the nested end point from its polished minimum
+  double implicit_off_mm = 0;             // the implicit end point from its polished minimum
+  double cost_ratio = 0;                  // implicit final cost / nested final cost
+  double nested_ms = 0, implicit_ms = 0;  // CPU time of each solve (its own thread's)
+  int nested_iterations = 0, implicit_iterations = 0;
 };
+
+double thread_cpu_ms() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
 
 Outcome run(int case_id, std::uint64_t seed) {
   ScenarioOptions o;
@@ -51,11 +61,18 @@ Outcome run(int case_id, std::uint64_t seed) {
   options.parameter_tolerance = 1e-14;
   options.gradient_tolerance = 1e-13;
   VectorXd nested_x = problem->initial_free_parameters(), implicit_x = nested_x;
+  const double t0 = thread_cpu_ms();
   const CalibrationSolve nested =
       solve_calibration(*lm, *problem, Prior{}, nested_x, options, Formulation::kNested);
+  const double t1 = thread_cpu_ms();
   const CalibrationSolve implicit =
       solve_calibration(*lm, *problem, Prior{}, implicit_x, options, Formulation::kImplicit);
+  const double t2 = thread_cpu_ms();
   Outcome out;
+  out.nested_ms = t1 - t0;
+  out.implicit_ms = t2 - t1;
+  out.nested_iterations = nested.summary.iterations;
+  out.implicit_iterations = implicit.summary.iterations;
   out.both_converged = nested.summary.converged() && implicit.summary.converged() &&
                        implicit.formulation == Formulation::kImplicit;
   out.end_points_mm = (implicit_x - nested_x).lpNorm<Eigen::Infinity>();
@@ -86,7 +103,8 @@ int main(int argc, char** argv) {
   const int threads = argc > 2 ? std::atoi(argv[2]) : 2;
   std::printf(
       "case seeds both_converged end_points_max_mm end_points_median_mm minima_max_mm "
-      "last_newton_step_max_mm nested_off_max_mm implicit_off_max_mm cost_ratio_max\n");
+      "last_newton_step_max_mm nested_off_max_mm implicit_off_max_mm cost_ratio_max "
+      "nested_ms_mean implicit_ms_mean nested_iterations_mean implicit_iterations_mean\n");
   for (int case_id = 1; case_id <= 5; ++case_id) {
     std::vector<Outcome> outcomes(static_cast<std::size_t>(seeds));
     parallel_for(seeds, threads, [&](int i) {
@@ -94,6 +112,7 @@ int main(int argc, char** argv) {
     });
     int converged = 0;
     double minima = 0, last_step = 0, nested_off = 0, implicit_off = 0, ratio = 0;
+    double nested_ms = 0, implicit_ms = 0, nested_iterations = 0, implicit_iterations = 0;
     std::vector<double> ends;
     for (const Outcome& o : outcomes) {
       converged += o.both_converged;
@@ -103,11 +122,16 @@ int main(int argc, char** argv) {
       nested_off = std::max(nested_off, o.nested_off_mm);
       implicit_off = std::max(implicit_off, o.implicit_off_mm);
       ratio = std::max(ratio, o.cost_ratio);
+      nested_ms += o.nested_ms / seeds;
+      implicit_ms += o.implicit_ms / seeds;
+      nested_iterations += static_cast<double>(o.nested_iterations) / seeds;
+      implicit_iterations += static_cast<double>(o.implicit_iterations) / seeds;
     }
     std::sort(ends.begin(), ends.end());
-    std::printf("%d %d %d %.3g %.3g %.3g %.3g %.3g %.3g %.12g\n", case_id, seeds, converged,
-                ends.back(), ends[ends.size() / 2], minima, last_step, nested_off, implicit_off,
-                ratio);
+    std::printf("%d %d %d %.3g %.3g %.3g %.3g %.3g %.3g %.12g %.3f %.3f %.2f %.2f\n", case_id,
+                seeds, converged, ends.back(), ends[ends.size() / 2], minima, last_step, nested_off,
+                implicit_off, ratio, nested_ms, implicit_ms, nested_iterations,
+                implicit_iterations);
   }
   return 0;
 }

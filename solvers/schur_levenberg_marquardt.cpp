@@ -23,6 +23,11 @@ constexpr double kMinTrustRadius = 1e-32;
 constexpr double kMinRelativeDecrease = 1e-3;
 constexpr double kMaxRadiusGrowth = 10;
 constexpr int kMaxInvalidSteps = 10;
+// How closely a trial point's poses are closed, as a multiple of the forward kinematics'
+// tolerance (1e-10 in the constraints' unit by default). What is left over enters the reduced
+// residuals through e - M g (first order), so the cost sees only its square: 1e-8 leaves
+// ~1e-16, below the rounding of the readings.
+constexpr double kClosureToleranceFactor = 100;
 
 // The linearisation of every configuration at one point (parameters, poses), reduced onto
 // the parameters. Per configuration j (k readings, rows j k .. j k + k - 1; Dof constraints,
@@ -114,7 +119,6 @@ class SchurKernel {
     thread_local ImplicitConfiguration<Dof> c;
     thread_local typename ClosedChainMechanism<Dof>::ParamsJacobian G_params;
     thread_local MatrixXd C;
-    Mat G_scratch;
     std::optional<SmallLu<Dof>> lu;
     thread_local Eigen::LLT<MatrixXd> llt;
     const auto q = nested_.data().actuators.row(j).transpose();
@@ -129,52 +133,45 @@ class SchurKernel {
     };
     bool constraints_known = false;
     if (restore) {
-      // Newton until the closure holds to the forward kinematics' tolerance, then one more
-      // step to the rounding level with the last factorisation, as forward kinematics does: a
-      // closure error of the tolerance (1e-10) left in the poses is noise of ~1e-10 in the
-      // reduced costs, which the flat end game of a noisy case cannot see through. The rows
-      // are then formed with that factorisation (a pose 1e-10 away) and g = 0 (the step leaves
-      // ~|g|^2, below the rounding of the constraints): one evaluation of the constraints and
-      // one factorisation per configuration when the linear step already closed it.
-      // The first step is a chord step with rows_from's G_pose^-1 (factored at the pose the
-      // linear step started from): a matrix-vector product instead of a factorisation. It is
-      // kept only if it lowers the residual, as it does unless the step was long. On case 5
-      // it saves one factorisation in three (docs/benchmarks.md).
+      // Newton on the closure until it holds to kClosureTolerance, starting with a chord step
+      // that uses rows_from's G_pose^-1 (factored at the pose the linear step started from): a
+      // matrix-vector product instead of a factorisation, kept only if it lowers the residual,
+      // as it does unless the step was long. The closure left over (after a chord step from a
+      // linear step of size d, about d^3) is not rounded away: the constraints are evaluated
+      // where the pose ends, and the reduced residual e - M g below corrects the readings for
+      // it to first order, so what remains of it in the cost is of order g^2. That costs one
+      // evaluation of the constraints without their Jacobian, one with it and one
+      // factorisation per configuration when the chord step closes it (docs/benchmarks.md).
       const ForwardKinematicsOptions& fk = model_.forward_kinematics_options();
-      bool chord_pending = true, judging_chord = false;
-      Pose before_chord;
-      double residual_before_chord = 0;
-      for (int it = 0;; ++it) {
-        mechanism_.constraints(mech, q, pose, c.g, rows ? &c.G_pose : &G_scratch);
-        const Mat& G = rows ? c.G_pose : G_scratch;
-        double residual = c.g.cwiseAbs().maxCoeff();
-        if (judging_chord) {
-          judging_chord = false;
-          if (!(residual < residual_before_chord)) {
-            pose = before_chord;
-            mechanism_.constraints(mech, q, pose, c.g, rows ? &c.G_pose : &G_scratch);
-            residual = residual_before_chord;
-          }
+      const double tolerance = kClosureToleranceFactor * fk.tolerance;
+      mechanism_.constraints(mech, q, pose, c.g, nullptr);
+      double residual = c.g.cwiseAbs().maxCoeff();
+      if (!std::isfinite(residual)) return fail("closure constraints not finite");
+      bool have_jacobian = false;
+      if (residual > tolerance) {
+        const Mat inverse = rows_from.G_inv.middleRows<Dof>(crow);
+        const Pose chord = moved_pose<Dof>(mechanism_, pose, -(inverse * c.g));
+        Vec g_chord;
+        mechanism_.constraints(mech, q, chord, g_chord, &c.G_pose);
+        const double residual_chord = g_chord.cwiseAbs().maxCoeff();
+        if (residual_chord < residual) {
+          pose = chord;
+          c.g = g_chord;
+          residual = residual_chord;
+          have_jacobian = true;
         }
-        if (!std::isfinite(residual)) return fail("closure constraints not finite");
-        if (it > fk.max_iterations)
-          return fail("closure not restored (residual " + std::to_string(residual) + ")");
-        if (chord_pending && residual > fk.tolerance) {
-          chord_pending = false;
-          judging_chord = true;
-          before_chord = pose;
-          residual_before_chord = residual;
-          const Mat inverse = rows_from.G_inv.middleRows<Dof>(crow);
-          pose = moved_pose<Dof>(mechanism_, pose, -(inverse * c.g));
-          continue;
-        }
-        chord_pending = false;
-        lu.emplace(G);
-        if (lu->near_singular(G)) return fail("closure Jacobian singular");
-        pose = moved_pose<Dof>(mechanism_, pose, -lu->solve(c.g));
-        if (residual <= fk.tolerance) break;  // that was the step to the rounding level
       }
-      c.g.setZero();
+      if (!have_jacobian) mechanism_.constraints(mech, q, pose, c.g, &c.G_pose);
+      for (int it = 0; residual > tolerance; ++it) {
+        if (it >= fk.max_iterations)
+          return fail("closure not restored (residual " + std::to_string(residual) + ")");
+        lu.emplace(c.G_pose);
+        if (lu->near_singular(c.G_pose)) return fail("closure Jacobian singular");
+        pose = moved_pose<Dof>(mechanism_, pose, -lu->solve(c.g));
+        mechanism_.constraints(mech, q, pose, c.g, &c.G_pose);
+        residual = c.g.cwiseAbs().maxCoeff();
+        if (!std::isfinite(residual)) return fail("closure constraints not finite");
+      }
       lin.poses[static_cast<std::size_t>(j)] = pose;
       constraints_known = true;
     }
@@ -193,10 +190,8 @@ class SchurKernel {
       *cost = 0.5 * lin.rhat.segment(row, k_).squaredNorm();
       return std::isfinite(*cost);
     }
-    if (!constraints_known) {
-      lu.emplace(c.G_pose);
-      if (lu->near_singular(c.G_pose)) return fail("closure Jacobian singular");
-    }
+    lu.emplace(c.G_pose);
+    if (lu->near_singular(c.G_pose)) return fail("closure Jacobian singular");
     lin.G_inv.middleRows<Dof>(crow) = lu->inverse();
     G_params.resize(Dof, n_mech_);
     mechanism_.constraint_jacobian_params(mech, q, pose, G_params);
