@@ -145,14 +145,19 @@ class LevenbergMarquardtSolver final : public Solver {
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override;
 
-  // The Schur-complement solver has lm's defaults and none of its backend options or bounds.
+  // The Schur-complement solver takes lm's trust-region schedule and none of its other backend
+  // options, nor bounds.
   bool solves_implicit(const SolverOptions& options) const override {
-    return options.backend_options.empty() && !options.lower_bounds;
+    for (const auto& entry : options.backend_options)
+      if (entry.first != "initial_trust_radius" && entry.first != "max_radius_growth") return false;
+    return !options.lower_bounds;
   }
   Summary solve_implicit(const ImplicitCalibrationProblem& problem, VectorXd& x,
                          const SolverOptions& options) const override {
     Solver::check_options(options);
-    return solve_implicit_lm(problem, x, options);
+    const LmSettings settings = parse_settings(options);
+    return solve_implicit_lm(problem, x, options,
+                             {settings.initial_trust_radius, settings.max_radius_growth});
   }
 };
 

@@ -16,12 +16,11 @@ namespace {
 
 // Below this many configurations per thread a thread costs more than it saves.
 constexpr int kMinConfigurationsPerThread = 256;
-// As lm's (levenberg_marquardt.cpp): Ceres' trust-region defaults and Nielsen's updates.
-constexpr double kInitialTrustRadius = 1e4;
+// As lm's (levenberg_marquardt.cpp): Ceres' trust-region defaults and Nielsen's updates; the
+// initial radius and the growth cap come with the call (ImplicitTrustRegion).
 constexpr double kMaxTrustRadius = 1e16;
 constexpr double kMinTrustRadius = 1e-32;
 constexpr double kMinRelativeDecrease = 1e-3;
-constexpr double kMaxRadiusGrowth = 10;
 constexpr int kMaxInvalidSteps = 10;
 // How closely a trial point's poses are closed, as a multiple of the forward kinematics'
 // tolerance (1e-10 in the constraints' unit by default). What is left over enters the reduced
@@ -328,7 +327,7 @@ class SchurKernel {
 
 template <int Dof>
 Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
-                   const SolverOptions& options) {
+                   const SolverOptions& options, const ImplicitTrustRegion& trust_region) {
   const SchurKernel<Dof> kernel(problem);
   const CalibrationProblem& nested = problem.nested();
   const int m = kernel.m(), k = kernel.k(), n = kernel.p();
@@ -445,7 +444,7 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
     return gn_step.allFinite() &&
            decrease <= options.function_tolerance * cost + cost_rounding(x, lin.rhat, lin.R);
   };
-  double radius = kInitialTrustRadius, decrease_factor = 2;
+  double radius = trust_region.initial_radius, decrease_factor = 2;
   if (!monitor.record({0, cost, gradient_norm, 0, 1.0 / radius, 0}, x))
     return done(TerminationType::kUserStopped, "stopped by the callback");
   auto reject = [&] {
@@ -552,7 +551,7 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
       x.swap(x_trial);
       lin.swap(trial);
       cost = lin.cost;
-      radius = std::min(kMaxTrustRadius, radius / std::max(1.0 / kMaxRadiusGrowth,
+      radius = std::min(kMaxTrustRadius, radius / std::max(1.0 / trust_region.max_growth,
                                                            1.0 - std::pow(2.0 * rho - 1.0, 3)));
       decrease_factor = 2;
       gradient_norm = prepare();
@@ -594,12 +593,12 @@ VectorXd schur_step_with(const ImplicitCalibrationProblem& problem, const Vector
 }  // namespace
 
 Summary solve_implicit_lm(const ImplicitCalibrationProblem& problem, VectorXd& x,
-                          const SolverOptions& options) {
+                          const SolverOptions& options, const ImplicitTrustRegion& trust_region) {
   if (x.size() != problem.num_free_parameters())
     throw InvalidSolverOptions("lm: x has " + std::to_string(x.size()) + " entries, the problem " +
                                std::to_string(problem.num_free_parameters()) + " free parameters");
-  return problem.dof() == 6 ? solve_with<6>(problem, x, options)
-                            : solve_with<3>(problem, x, options);
+  return problem.dof() == 6 ? solve_with<6>(problem, x, options, trust_region)
+                            : solve_with<3>(problem, x, options, trust_region);
 }
 
 VectorXd implicit_schur_step(const ImplicitCalibrationProblem& problem, const VectorXd& x_joint,
