@@ -132,35 +132,35 @@ class SchurKernel {
     };
     bool constraints_known = false;
     if (restore) {
-      // Newton on the closure until it holds to kClosureTolerance, starting with a chord step
-      // that uses rows_from's G_pose^-1 (factored at the pose the linear step started from): a
-      // matrix-vector product instead of a factorisation, kept only if it lowers the residual,
-      // as it does unless the step was long. The closure left over (after a chord step from a
-      // linear step of size d, about d^3) is not rounded away: the constraints are evaluated
-      // where the pose ends, and the reduced residual e - M g below corrects the readings for
-      // it to first order, so what remains of it in the cost is of order g^2. That costs one
-      // evaluation of the constraints without their Jacobian, one with it and one
-      // factorisation per configuration when the chord step closes it (docs/benchmarks.md).
+      // Newton on the closure until it holds to kClosureToleranceFactor times the forward
+      // kinematics' tolerance, starting with a chord step that uses rows_from's G_pose^-1
+      // (factored at the pose the linear step started from): a matrix-vector product instead
+      // of a factorisation, kept only if it lowers the residual, as it does unless the step
+      // was long. The closure left over (after a chord step from a linear step of size d,
+      // about d^3) is not rounded away: the constraints are evaluated where the pose ends, and
+      // the reduced residual e - M g below corrects the readings for it to first order, so
+      // what remains of it in the cost is of order g^2. That costs two evaluations of the
+      // constraints and one factorisation per configuration when the chord step closes it,
+      // one and one when the linear step did (docs/benchmarks.md).
       const ForwardKinematicsOptions& fk = model_.forward_kinematics_options();
       const double tolerance = kClosureToleranceFactor * fk.tolerance;
-      mechanism_.constraints(mech, q, pose, c.g, nullptr);
+      mechanism_.constraints(mech, q, pose, c.g, &c.G_pose);
       double residual = c.g.cwiseAbs().maxCoeff();
       if (!std::isfinite(residual)) return fail("closure constraints not finite");
-      bool have_jacobian = false;
       if (residual > tolerance) {
         const Mat inverse = rows_from.G_inv.middleRows<Dof>(crow);
         const Pose chord = moved_pose<Dof>(mechanism_, pose, -(inverse * c.g));
         Vec g_chord;
-        mechanism_.constraints(mech, q, chord, g_chord, &c.G_pose);
+        Mat G_chord;
+        mechanism_.constraints(mech, q, chord, g_chord, &G_chord);
         const double residual_chord = g_chord.cwiseAbs().maxCoeff();
         if (residual_chord < residual) {
           pose = chord;
           c.g = g_chord;
+          c.G_pose = G_chord;
           residual = residual_chord;
-          have_jacobian = true;
         }
       }
-      if (!have_jacobian) mechanism_.constraints(mech, q, pose, c.g, &c.G_pose);
       for (int it = 0; residual > tolerance; ++it) {
         if (it >= fk.max_iterations)
           return fail("closure not restored (residual " + std::to_string(residual) + ")");
