@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <limits>
 #include <mutex>
 #include <vector>
@@ -24,6 +23,7 @@
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 #include "tests/newton_polish.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace kincal {
 namespace {
@@ -39,12 +39,6 @@ struct Outcome {
   double nested_ms = 0, implicit_ms = 0;  // CPU time of each solve (its own thread's)
   int nested_iterations = 0, implicit_iterations = 0;
 };
-
-double thread_cpu_ms() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
 
 Outcome run(int case_id, std::uint64_t seed) {
   ScenarioOptions o;

@@ -10,23 +10,13 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <string>
 
 #include "kincal/framework/calibration/calibration_solve.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
-
-namespace {
-
-double thread_cpu_ms() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
-
-}  // namespace
+#include "thread_cpu_time.hpp"
 
 int main(int argc, char** argv) {
   using namespace kincal;

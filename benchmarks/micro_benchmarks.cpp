@@ -221,7 +221,7 @@ void register_dynamic_benchmarks() {
       calibrate(st, "lm", 60, 1, Formulation::kImplicit);
     })->Unit(benchmark::kMillisecond);
     // Both with a trust region that opens at once: faster from nominal, but from far starts the
-    // implicit solve then ends in another minimum on about a tenth of the seeds
+    // implicit solve then ends in another minimum on an eighth of the seeds
     // (docs/benchmarks.md, "Implicit formulation"): an option, not the default.
     for (const Formulation formulation : {Formulation::kNested, Formulation::kImplicit})
       benchmark::RegisterBenchmark(
