@@ -143,6 +143,24 @@ TEST(LevenbergMarquardt, TakesNoUphillStepInTheRoundingNoiseOfAZeroResidualMinim
     }
 }
 
+// Geodesic acceleration costs a residual evaluation per trial (its probe). In the end game
+// of a noisy case, where the model promises less than 1e-6 of the cost, the correction is
+// negligible and the probe is skipped: before, every trial but the closing one had a probe
+// (probes = iterations - 1 on these seeds); on the way down they still do.
+TEST(LevenbergMarquardt, TakesNoGeodesicProbeInTheEndGame) {
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    const CalibrationRun run =
+        run_calibration(paper_scenario(5, seed), *lm(), SolverOptions{}, false);
+    const Summary& s = run.summary;
+    ASSERT_TRUE(s.converged()) << s.brief_report();
+    // The residual-only evaluations are the probes (every trial is evaluated with its
+    // Jacobian, as are the start and the closing step).
+    const int probes = s.residual_evaluations - s.jacobian_evaluations;
+    EXPECT_LE(probes, s.iterations - 3) << "seed " << seed;
+    EXPECT_GE(2 * probes, s.iterations) << "seed " << seed;
+  }
+}
+
 // ---- robust losses -------------------------------------------------------------------------
 
 TEST(LevenbergMarquardt, RobustLossesDownWeightOutliers) {
