@@ -100,6 +100,19 @@ std::unique_ptr<WarmStart> CalibrationProblem::make_warm_start() const {
   return last;
 }
 
+std::unique_ptr<WarmStart> CalibrationProblem::make_warm_start(
+    const std::vector<Pose>& poses) const {
+  if (poses.size() != static_cast<std::size_t>(data_.size()))
+    throw std::invalid_argument(
+        "CalibrationProblem::make_warm_start: " + std::to_string(poses.size()) + " poses for " +
+        std::to_string(data_.size()) + " configurations");
+  if (!model_->mechanism().forward_kinematics_has_assemblies()) return nullptr;
+  auto last = std::make_unique<LastPoses>();
+  last->poses = poses;
+  last->known.assign(poses.size(), 1);
+  return last;
+}
+
 bool CalibrationProblem::evaluate_block(int block, const VectorXd& x,
                                         Eigen::Ref<VectorXd> residuals,
                                         Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {

@@ -47,6 +47,9 @@ class CalibrationProblem : public LeastSquaresProblem {
   /// configuration's pose at the last evaluation where forward kinematics converged, from
   /// which the next starts instead of from the home pose. Null for the others.
   std::unique_ptr<WarmStart> make_warm_start() const override;
+  /// The same, with configuration j starting from poses[j] (one per configuration): poses
+  /// already closed, as the implicit formulation's, leave its forward kinematics one step.
+  std::unique_ptr<WarmStart> make_warm_start(const std::vector<Pose>& poses) const;
   /// evaluate_block with forward kinematics from the configuration's last pose in `warm`;
   /// where that fails, from the home pose again, so a warm start never fails an evaluation
   /// the home pose would not.

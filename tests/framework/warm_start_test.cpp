@@ -69,6 +69,30 @@ TEST(WarmStart, GivesTheColdEvaluationAfterANearbyOneAFarOneAndAFailedOne) {
   expect_same_as_cold(*problem, x0, *warm);
 }
 
+// The implicit formulation's verdict starts forward kinematics from its closed poses.
+TEST(WarmStart, FromGivenPosesGivesTheColdEvaluation) {
+  const Scenario s = paper_scenario(5, 1);
+  const auto problem = s.make_problem();
+  const VectorXd x0 = problem->initial_free_parameters();
+  const MeasurementModel& model = problem->model();
+  const VectorXd full = problem->full_parameters(x0);
+  std::vector<Pose> closed,
+      home(static_cast<std::size_t>(problem->num_residual_blocks()), model.mechanism().home_pose());
+  for (int j = 0; j < problem->num_residual_blocks(); ++j) {
+    const ForwardKinematicsResult fk = model.mechanism().forward_kinematics(
+        full, problem->data().actuators.row(j).transpose(), model.mechanism().home_pose(),
+        model.forward_kinematics_options());
+    ASSERT_TRUE(fk.ok());
+    closed.push_back(fk.pose);
+  }
+  for (const auto& poses : {closed, home}) {
+    const std::unique_ptr<WarmStart> warm = problem->make_warm_start(poses);
+    ASSERT_NE(warm, nullptr);
+    expect_same_as_cold(*problem, x0, *warm);
+  }
+  EXPECT_THROW(problem->make_warm_start(std::vector<Pose>(3)), std::invalid_argument);
+}
+
 TEST(WarmStart, AWrappedProblemPassesItsDataProblemsOn) {
   const Scenario s = paper_scenario(5, 1);
   const auto problem = s.make_problem();

@@ -13,6 +13,7 @@
 #include "kincal/framework/calibration/implicit_calibration_problem.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/least_squares/stationarity.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/solvers/schur_levenberg_marquardt.hpp"
 #include "newton_polish.hpp"
@@ -170,8 +171,16 @@ TEST(ImplicitFormulation, ReachesTheNestedMinimumOnThePaperCases) {
       ASSERT_EQ(implicit.formulation, Formulation::kImplicit) << implicit.note;
       EXPECT_TRUE(nested.summary.converged()) << where << ": " << nested.summary.message;
       EXPECT_TRUE(implicit.summary.converged()) << where << ": " << implicit.summary.message;
-      // The cost reported is the nested problem's at the x returned.
-      EXPECT_EQ(implicit.summary.final_cost, problem->cost(implicit_x)) << where;
+      // The cost reported is the nested problem's at the x returned, to the cost's rounding:
+      // its forward kinematics starts from the solve's closed poses (as nested lm's from its
+      // last ones), so the readings' last bits differ from a cold evaluation's (by ~1e-10 of
+      // the cost where the residuals are 1e-4 of the 600 mm lengths they are differences of).
+      VectorXd r;
+      MatrixXd J;
+      ASSERT_TRUE(problem->evaluate(implicit_x, &r, &J));
+      const double cold = 0.5 * r.squaredNorm();
+      EXPECT_NEAR(implicit.summary.final_cost, cold, 1e-12 * cold + cost_rounding(implicit_x, r, J))
+          << where;
       // As low as nested's, to the cost's rounding (case 1's noise-free minimum: ~1e-25).
       EXPECT_LE(implicit.summary.final_cost, nested.summary.final_cost * (1 + 1e-9) + 1e-20)
           << where;
