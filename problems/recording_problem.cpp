@@ -6,7 +6,19 @@ namespace kincal::problems {
 
 bool RecordingProblem::evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {
-  const bool ok = inner_.evaluate_block(block, x, residuals, jacobian, why);
+  return record(block, x, inner_.evaluate_block(block, x, residuals, jacobian, why), residuals);
+}
+
+bool RecordingProblem::evaluate_block_warm(int block, const VectorXd& x,
+                                           Eigen::Ref<VectorXd> residuals,
+                                           Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                                           WarmStart& warm) const {
+  return record(block, x, inner_.evaluate_block_warm(block, x, residuals, jacobian, why, warm),
+                residuals);
+}
+
+bool RecordingProblem::record(int block, const VectorXd& x, bool ok,
+                              const Eigen::Ref<VectorXd>& residuals) const {
   std::lock_guard<std::mutex> lock(mutex_);
   ++block_evaluations_;
   Point& point = points_[std::vector<double>(x.data(), x.data() + x.size())];

@@ -21,6 +21,13 @@ class RecordingProblem final : public LeastSquaresProblem {
   std::vector<std::string> parameter_names() const override { return inner_.parameter_names(); }
   bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override;
+  /// The inner problem's warm starts, passed on: the backend under check solves as it would
+  /// solve the inner problem itself (lm's forward kinematics from the last poses), rounding
+  /// included.
+  std::unique_ptr<WarmStart> make_warm_start() const override { return inner_.make_warm_start(); }
+  bool evaluate_block_warm(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                           Eigen::Ref<MatrixXd>* jacobian, std::string* why,
+                           WarmStart& warm) const override;
 
   /// Distinct points with every block computed, and the lowest cost among them (the sum is
   /// ours, block by block, so it may differ from a backend's by rounding).
@@ -31,6 +38,8 @@ class RecordingProblem final : public LeastSquaresProblem {
   long block_evaluations() const;
 
  private:
+  bool record(int block, const VectorXd& x, bool ok, const Eigen::Ref<VectorXd>& residuals) const;
+
   struct Point {
     std::vector<char> done;  // per block
     int blocks_done = 0;

@@ -7,7 +7,9 @@
 //  2. x costs no more than the start, and no more than any point the backend evaluated, to
 //     within the cost's rounding error at x (framework/least_squares/stationarity.hpp,
 //     cost_rounding) and kCostSlack relative (the same sums in another order);
-//  3. final_cost is the cost at x (to kCostSlack), initial_cost the cost at the start;
+//  3. final_cost is the cost at x (to kCostSlack, or to the cost's rounding error at x: a
+//     backend's evaluation may start forward kinematics elsewhere, lm's from its last poses,
+//     and end a few ulp of the lengths away), initial_cost the cost at the start;
 //  4. `converged` only where the test the message names holds at x: a message starting with
 //     "gradient" needs max|P(J^T r)| <= gradient_tolerance (+ its rounding bound) at x; any
 //     other claim (relative step, relative cost change, ...) is about the last step, which the
