@@ -23,9 +23,10 @@ const char* to_string(Formulation formulation);
 /// Throws std::invalid_argument naming the value unless it is "nested" or "implicit".
 Formulation parse_formulation(const std::string& text);
 /// Nested for every mechanism today: for a serial arm forward kinematics is explicit, and
-/// for a closed chain the implicit formulation measured only 1.4 times faster on the paper's
-/// case 5 (docs/benchmarks.md), short of the factor that would justify moving every
-/// documented result by the ~1e-5 mm by which the two end points differ.
+/// for a closed chain the implicit formulation measured 1.2-1.3 times faster on the paper's
+/// cases but slower from m = 6000 configurations and over 1 GB at 10^6 (docs/benchmarks.md),
+/// short of what would justify moving every documented result by the up to 3e-4 mm by which
+/// the two end points differ.
 Formulation default_formulation(const MeasurementModel& model);
 
 struct CalibrationSolve {
