@@ -34,13 +34,15 @@ PlanarPose planar_pose(const Json& value, const JsonPath& where) {
   PlanarPose pose;
   pose.x = position.x();
   pose.y = position.y();
-  pose.theta = number(member(value, "rotation_deg", where), where / "rotation_deg") * (kPi / 180);
+  pose.theta =
+      radians_from_degrees(number(member(value, "rotation_deg", where), where / "rotation_deg"));
   return pose;
 }
 
 Json planar_pose_json(const PlanarPose& pose) {
   return {{"position", array2(Eigen::Vector2d(pose.x, pose.y))},
-          {"rotation_deg", pose.theta * (180 / kPi) + 0.0}};
+          {"rotation_deg",
+           degrees_reading_back(pose.theta, pose.theta * (180 / kPi), radians_from_degrees) + 0.0}};
 }
 
 std::shared_ptr<const Mechanism> read_planar_3rpr(const Json& j, const JsonPath& where) {

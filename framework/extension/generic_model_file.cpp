@@ -9,6 +9,8 @@ namespace {
 using namespace json_field;
 
 constexpr double kDegreesPerRadian = 180 / 3.14159265358979323846;
+// How a "_deg" key is read; its writer picks the degrees that read back exactly.
+double radians_of_degrees_key(double degrees) { return degrees / kDegreesPerRadian; }
 
 /// One key of the object and the parameters it holds.
 struct Key {
@@ -92,7 +94,7 @@ VectorXd read_values(const Json& object, const JsonPath& where, const std::vecto
         values[k.index] = number(*value, at);
         break;
       case Key::kDegrees:
-        values[k.index] = number(*value, at) / kDegreesPerRadian;
+        values[k.index] = radians_of_degrees_key(number(*value, at));
         break;
       case Key::kVector3:
         values.segment<3>(k.index) = vector3(*value, at);
@@ -115,7 +117,9 @@ void write_values(Json& out, const std::vector<Key>& keys,
         out[k.key] = values[k.index];
         break;
       case Key::kDegrees:
-        out[k.key] = values[k.index] * kDegreesPerRadian + 0.0;
+        out[k.key] = degrees_reading_back(values[k.index], values[k.index] * kDegreesPerRadian,
+                                          radians_of_degrees_key) +
+                     0.0;
         break;
       case Key::kVector3:
         out[k.key] = array3(values.segment<3>(k.index));

@@ -1,6 +1,7 @@
 #include "kincal/framework/io/json_fields.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "kincal/framework/base/message_excerpt.hpp"
@@ -99,7 +100,8 @@ Pose pose(const Json& value, const JsonPath& where) {
   pose.translation = vector3(member(value, "position", where), where / "position");
   const Vector3d deg =
       vector3(member(value, "rotation_zyx_deg", where), where / "rotation_zyx_deg");
-  pose.rotation = rotation_from_euler_zyx(Vector3d(deg[2], deg[1], deg[0]) * (kPi / 180));
+  pose.rotation = rotation_from_euler_zyx(Vector3d(
+      radians_from_degrees(deg[2]), radians_from_degrees(deg[1]), radians_from_degrees(deg[0])));
   return pose;
 }
 
@@ -108,16 +110,34 @@ Vector6d frame(const Json& value, const JsonPath& where) {
   check_keys(value, where, {"position", "rotation_zyx_deg"});
   Vector6d frame;
   frame.head<3>() = vector3(member(value, "position", where), where / "position");
-  frame.tail<3>() =
-      vector3(member(value, "rotation_zyx_deg", where), where / "rotation_zyx_deg") * (kPi / 180);
+  const Vector3d deg =
+      vector3(member(value, "rotation_zyx_deg", where), where / "rotation_zyx_deg");
+  for (int a = 0; a < 3; ++a) frame[3 + a] = radians_from_degrees(deg[a]);
   return frame;
+}
+
+double radians_from_degrees(double degrees) { return degrees * (kPi / 180); }
+
+double degrees_reading_back(double radians, double degrees, double (*to_radians)(double)) {
+  if (to_radians(degrees) == radians) return degrees;
+  double up = degrees, down = degrees;
+  for (int step = 0; step < 4; ++step) {
+    up = std::nextafter(up, std::numeric_limits<double>::infinity());
+    if (to_radians(up) == radians) return up;
+    down = std::nextafter(down, -std::numeric_limits<double>::infinity());
+    if (to_radians(down) == radians) return down;
+  }
+  return degrees;
 }
 
 // "+ 0.0" turns -0 into 0 so that files do not show "-0.0".
 Json array3(const Vector3d& v) { return Json::array({v[0] + 0.0, v[1] + 0.0, v[2] + 0.0}); }
 
 Json pose_json(const Vector3d& position, const Vector3d& rx_ry_rz) {
-  return {{"position", array3(position)}, {"rotation_zyx_deg", array3(rx_ry_rz * (180 / kPi))}};
+  Vector3d deg;
+  for (int a = 0; a < 3; ++a)
+    deg[a] = degrees_reading_back(rx_ry_rz[a], rx_ry_rz[a] * (180 / kPi), radians_from_degrees);
+  return {{"position", array3(position)}, {"rotation_zyx_deg", array3(deg)}};
 }
 
 Json pose_json(const Pose& pose) {

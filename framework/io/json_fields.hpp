@@ -57,6 +57,17 @@ Pose pose(const Json& value, const JsonPath& where);
 /// parameter block read and written back (pose_json(position, rx_ry_rz)) keeps its digits.
 Vector6d frame(const Json& value, const JsonPath& where);
 
+/// The conversion pose() and frame() read "rotation_zyx_deg" with: degrees * (pi / 180).
+double radians_from_degrees(double degrees);
+/// The number of degrees to write for an angle of `radians` so that `to_radians`, the
+/// reader's conversion, gives `radians` back bit for bit: `degrees` (the writer's product)
+/// when it does, else the nearest of its neighbours within 4 ulps that does. An angle that
+/// was read from a file always has one (the number read), so a model read and written reads
+/// back unchanged (degrees -> radians -> degrees -> radians need not: fuzz_model_file found
+/// 191.99999999999999 deg, whose product with 180/pi reads back 1 ulp away); an angle that
+/// no number of degrees converts to exactly (a computed one) is written as `degrees`.
+double degrees_reading_back(double radians, double degrees, double (*to_radians)(double));
+
 /// [x, y, z], with -0 written as 0.
 Json array3(const Vector3d& v);
 /// The form pose() reads.
