@@ -42,9 +42,6 @@ namespace {
 using namespace json_field;
 
 constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180;
-// How a link angle ("alpha_deg", "beta_deg", "theta_deg") is read; its writer picks the
-// degrees that read back exactly (json_field::degrees_reading_back).
-double radians_of_link_angle(double degrees) { return degrees * kRadiansPerDegree; }
 
 SerialJoint read_joint(const Json& j, const JsonPath& at, int index) {
   if (!j.is_object())
@@ -95,12 +92,12 @@ SerialJoint read_joint(const Json& j, const JsonPath& at, int index) {
   check_keys(j, at, allowed);
 
   joint.a = number(member(j, "a", at), at / "a");
-  joint.alpha = radians_of_link_angle(number(member(j, "alpha_deg", at), at / "alpha_deg"));
+  joint.alpha = radians_from_degrees(number(member(j, "alpha_deg", at), at / "alpha_deg"));
   if (dh)
     joint.d = number(member(j, "d", at), at / "d");
   else
-    joint.beta = radians_of_link_angle(number(member(j, "beta_deg", at), at / "beta_deg"));
-  joint.theta = radians_of_link_angle(number(member(j, "theta_deg", at), at / "theta_deg"));
+    joint.beta = radians_from_degrees(number(member(j, "beta_deg", at), at / "beta_deg"));
+  joint.theta = radians_from_degrees(number(member(j, "theta_deg", at), at / "theta_deg"));
   const double unit = revolute ? kRadiansPerDegree : 1.0;
   const std::string home_key = revolute ? "home_deg" : "home";
   const std::string range_key = revolute ? "range_deg" : "range";
@@ -146,7 +143,7 @@ std::shared_ptr<const Mechanism> read_serial_arm(const Json& j, const JsonPath& 
 // "+ 0.0" turns -0 into 0 so that files do not show "-0.0".
 double clean(double v) { return v + 0.0; }
 double link_degrees(double radians) {
-  return clean(degrees_reading_back(radians, radians / kRadiansPerDegree, radians_of_link_angle));
+  return clean(degrees_reading_back(radians, radians / kRadiansPerDegree, radians_from_degrees));
 }
 
 Json write_serial_arm(const Mechanism& mechanism, const Eigen::Ref<const VectorXd>& values) {
