@@ -6,8 +6,11 @@
 // the same quantities. A combination the implicit formulation does not handle (an open chain, a
 // prior, parameter-only constraints, a backend without it, backend options) is solved nested, and
 // `note` says so. The nested problem includes the model's parameter-only constraints
-// (constrained_problem.hpp) and the prior.
+// (constrained_problem.hpp) and the prior. An implicit solve that fails or diverges is followed
+// by the nested solve from the same start, whose result is returned: `note` says so and
+// `failed_implicit` keeps the implicit solve's summary.
 
+#include <optional>
 #include <string>
 
 #include "kincal/framework/calibration/calibration_problem.hpp"
@@ -33,6 +36,9 @@ struct CalibrationSolve {
   Summary summary;
   Formulation formulation = Formulation::kNested;  ///< the one that was solved
   std::string note;                                ///< why the requested one was not, or empty
+  /// The implicit solve's summary when it ended failed or diverged and the nested solve from
+  /// the same start replaced it (summary is then the nested solve's alone).
+  std::optional<Summary> failed_implicit;
 };
 
 /// Solves `problem` (the MAP problem when `prior` has any entry) from x, in `requested` when

@@ -320,6 +320,18 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   // The prior stays centred on nominal whatever the start.
   const Prior prior = model_prior(*problem);
   CalibrationSolve solved = solve_calibration(solver, *problem, prior, x, options, formulation);
+  if (track_iterations && solved.failed_implicit) {
+    // The trace is the nested solve's: drop the failed implicit solve's records (one per
+    // callback) and the tracking time spent on them.
+    const std::size_t dropped =
+        std::min(solved.failed_implicit->trace.size(), tracking_before.size());
+    const double spent =
+        dropped < tracking_before.size() ? tracking_before[dropped] : tracking_seconds;
+    run.trace_errors.erase(run.trace_errors.begin(), run.trace_errors.begin() + dropped);
+    tracking_before.erase(tracking_before.begin(), tracking_before.begin() + dropped);
+    for (double& before : tracking_before) before -= spent;
+    tracking_seconds -= spent;
+  }
   run.summary = std::move(solved.summary);
   run.formulation = solved.formulation;
   run.formulation_note = std::move(solved.note);
