@@ -291,9 +291,10 @@ int run_calibrate(const Args& args) {
   Summary summary;
   StartsReport starts_report;
   Formulation solved_formulation = Formulation::kNested;
+  std::string formulation_note;
   if (starts > 1) {
     if (vm.count("formulation") && formulation_choice(vm, *model) == Formulation::kImplicit)
-      note("calibrate", "implicit formulation not used (--starts solves the nested one)");
+      formulation_note = "implicit formulation not used (--starts solves the nested one)";
     // Tolerances as the nominal-accuracy prediction assumes them (pose_accuracy.hpp). The
     // starts solve the nested problem, with the model's constraints and the prior.
     MultiStartOptions multi;
@@ -317,7 +318,7 @@ int run_calibrate(const Args& args) {
     const VectorXd start = x;
     CalibrationSolve solution = solve_calibration(*choice.solver, problem, prior, x, choice.options,
                                                   formulation_choice(vm, *model));
-    if (!solution.note.empty()) note("calibrate", solution.note);
+    formulation_note = std::move(solution.note);
     summary = std::move(solution.summary);
     solved_formulation = solution.formulation;
     starts_report = single_start_report(start, x, summary, vm["seed"].as<Seed>().value);
@@ -326,7 +327,9 @@ int run_calibrate(const Args& args) {
   CalibrationReport report =
       make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
                               prior.any() ? prior.precision() : VectorXd());
+  if (!formulation_note.empty()) note("calibrate", formulation_note);
   report.formulation = to_string(solved_formulation);
+  report.formulation_note = formulation_note;
   report.model_file = model_file;
   report.data_file = data_file;
   report.fixed_by_identifiability = fixed_by_identifiability;

@@ -118,6 +118,7 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
   nlohmann::json out;
   out["solver"] = summary.solver;
   out["formulation"] = to_string(run.formulation);
+  out["formulation_note"] = run.formulation_note;
   out["termination"] = to_string(summary.termination);
   out["message"] = summary.message;
   out["backend_code"] = summary.backend_code;

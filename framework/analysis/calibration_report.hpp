@@ -29,6 +29,8 @@ double normal_two_sided_quantile(double p);
 struct CalibrationReport {
   std::string model_file, data_file;
   std::string formulation = "nested";  ///< nested or implicit (calibration_solve.hpp)
+  /// Why the formulation asked for is not the one solved (CalibrationSolve::note), or empty.
+  std::string formulation_note;
   std::string loss = "none";  ///< the robust loss the fit used and the uncertainty accounts for
   Summary summary;
   std::vector<std::string> names;  ///< free parameters, problem order

@@ -69,6 +69,7 @@ Json to_json(const CalibrationReport& r) {
   out["data"] = r.data_file;
   out["solver"] = r.summary.solver;
   out["formulation"] = r.formulation;
+  out["formulation_note"] = r.formulation_note;
   out["loss"] = r.loss;
   out["termination"] = to_string(r.summary.termination);
   out["message"] = r.summary.message;

@@ -184,6 +184,33 @@ TEST_F(CliCalibrate, RobustLossNeedsABackendThatTakesIt) {
   }
 }
 
+// The JSON report says which formulation was solved and, when it is not the one asked for,
+// why, as stderr does (the implicit one needs lm without backend options).
+TEST_F(CliCalibrate, TheReportSaysWhichFormulationWasSolvedAndWhy) {
+  if (run_cli("list solvers").out.find("lm ") == std::string::npos)
+    GTEST_SKIP() << "lm backend not built";
+  const std::string base = "calibrate --model " + m_ + " --data " + d_ + " --json - ";
+  const auto implicit = run_cli(base + "--formulation implicit");
+  ASSERT_EQ(implicit.exit_code, 0) << implicit.err;
+  const Json solved = Json::parse(implicit.out);
+  EXPECT_EQ(solved["formulation"], "implicit");
+  EXPECT_EQ(solved["formulation_note"], "");
+  EXPECT_EQ(solved["termination"], "converged");
+  const auto by_gn = run_cli(base + "--formulation implicit --solver gn");
+  ASSERT_EQ(by_gn.exit_code, 0) << by_gn.err;
+  const Json nested = Json::parse(by_gn.out);
+  EXPECT_EQ(nested["formulation"], "nested");
+  const std::string note = nested["formulation_note"];
+  EXPECT_NE(note.find("implicit formulation not used (solver gn does not solve it"),
+            std::string::npos)
+      << note;
+  EXPECT_NE(by_gn.err.find(note), std::string::npos) << by_gn.err;
+  const auto by_default = run_cli(base);
+  ASSERT_EQ(by_default.exit_code, 0) << by_default.err;
+  EXPECT_EQ(Json::parse(by_default.out)["formulation"], "nested");
+  EXPECT_EQ(Json::parse(by_default.out)["formulation_note"], "");
+}
+
 // Copy of `csv` with `shift` (mm) added to the gauge reading of the given data rows
 // (0-based, comments and header not counted).
 std::string with_outliers(const std::string& csv, const std::map<int, double>& shift) {

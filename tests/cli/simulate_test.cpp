@@ -52,6 +52,35 @@ TEST(CliSimulate, JsonHasTheDocumentedFields) {
   EXPECT_TRUE(j["trace"][0]["cost"].is_number());
 }
 
+// Case 4 from +-20 mm, seed 95: the implicit solve stalls and the nested one from the same
+// start replaces it (calibration_solve.hpp). The JSON is the nested solve's, its trace
+// included, and says why.
+TEST(CliSimulate, AFailedImplicitSolveIsReportedAsTheNestedOneWithTheReason) {
+  if (run_cli("list solvers").out.find("lm ") == std::string::npos)
+    GTEST_SKIP() << "lm backend not built";
+  const std::string args = "simulate --case 4 --param-error 20mm --seed 95 --validation 10 ";
+  const auto implicit = run_cli(args + "--formulation implicit --json -");
+  ASSERT_EQ(implicit.exit_code, 0) << implicit.err;
+  const auto nested = run_cli(args + "--json -");
+  ASSERT_EQ(nested.exit_code, 0) << nested.err;
+  const auto j = nlohmann::json::parse(implicit.out), n = nlohmann::json::parse(nested.out);
+  EXPECT_EQ(j["formulation"], "nested");
+  const std::string note = j["formulation_note"];
+  EXPECT_NE(note.find("implicit formulation failed after"), std::string::npos) << note;
+  EXPECT_NE(note.find("solved nested from the same start"), std::string::npos) << note;
+  EXPECT_NE(implicit.err.find(note), std::string::npos) << implicit.err;
+  EXPECT_EQ(j["termination"], "converged");
+  EXPECT_EQ(j["iterations"], n["iterations"]);
+  EXPECT_EQ(j["final_cost"], n["final_cost"]);
+  EXPECT_EQ(j["parameters"], n["parameters"]);
+  // The validation errors along the trace are those of the nested solve's iterates.
+  ASSERT_EQ(j["trace"].size(), n["trace"].size());
+  for (std::size_t i = 0; i < n["trace"].size(); ++i)
+    for (const char* field : {"cost", "position_mean_mm", "orientation_mean_rad"})
+      EXPECT_EQ(j["trace"][i][field], n["trace"][i][field]) << i << " " << field;
+  EXPECT_EQ(n["formulation_note"], "");
+}
+
 TEST(CliSimulate, SameSeedSameOutputAndFilesWritten) {
   TempDir dir("simulate");
   const std::string args = "simulate --case 4 --solver gn --seed 17 --validation 10 --json " +
