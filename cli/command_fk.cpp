@@ -7,6 +7,7 @@
 #include "kincal/cli/command_kinematics.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::cli {
@@ -61,7 +62,7 @@ std::vector<double> parse_actuators(const std::string& text, const std::string& 
       }
       continue;
     }
-    const double factor = own == kRadian ? (unit == "deg"   ? M_PI / 180
+    const double factor = own == kRadian ? (unit == "deg"   ? kRadiansPerDegree
                                             : unit == "rad" ? 1
                                                             : 0)
                                          : (unit == "m"    ? 1000

@@ -7,6 +7,7 @@
 
 #include "kincal/cli/svg_plot.hpp"
 #include "kincal/cli/urdf_io.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/model_io.hpp"
@@ -18,7 +19,6 @@ namespace kincal::cli {
 namespace {
 
 using Json = nlohmann::ordered_json;
-constexpr double kDegreesPerRadian = 180 / 3.14159265358979323846;
 
 std::string full(double v) {
   if (v == 0) v = 0;  // no "-0" in a table a person reads

@@ -9,11 +9,11 @@
 
 #include "kincal/cli/html_report.hpp"
 #include "kincal/cli/svg_plot.hpp"
+#include "kincal/framework/base/angles.hpp"
 
 namespace kincal::cli::html_values {
 
 using Json = nlohmann::ordered_json;
-inline constexpr double kPi = 3.14159265358979323846;
 
 inline double num(const Json& j) { return j.is_number() ? j.get<double>() : NAN; }
 inline std::string text_of(const Json& j) {

@@ -4,13 +4,12 @@
 #include <limits>
 #include <sstream>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 
 namespace kincal::cli {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The model's parameter values split as the mechanism takes them.
 VectorXd model_values(const MeasurementModel& model) { return model.parameters().nominal_values(); }
@@ -67,7 +66,7 @@ KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double
   Pose pose;
   pose.translation = Vector3d(pose_deg[0], pose_deg[1], pose_deg[2]);
   pose.rotation =
-      rotation_from_euler_zyx(Vector3d(pose_deg[5], pose_deg[4], pose_deg[3]) * (kPi / 180.0));
+      rotation_from_euler_zyx(Vector3d(pose_deg[5], pose_deg[4], pose_deg[3]) * kRadiansPerDegree);
   const VectorXd params = model_values(model);
   const Mechanism& mechanism = model.mechanism();
   row.actuators.resize(mechanism.num_actuators());

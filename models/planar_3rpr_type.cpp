@@ -4,6 +4,7 @@
 //                  "legs": [ { "name": "leg1", "base": [x, y], "platform": [x, y],
 //                              "offset": 0 }, ... three ] }
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/models/length_gauge.hpp"
@@ -14,8 +15,6 @@ namespace kincal {
 namespace {
 
 using namespace json_field;
-
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector2d vector2(const Json& value, const JsonPath& where) {
   if (!value.is_array() || value.size() != 2)
@@ -42,7 +41,8 @@ PlanarPose planar_pose(const Json& value, const JsonPath& where) {
 Json planar_pose_json(const PlanarPose& pose) {
   return {{"position", array2(Eigen::Vector2d(pose.x, pose.y))},
           {"rotation_deg",
-           degrees_reading_back(pose.theta, pose.theta * (180 / kPi), radians_from_degrees) + 0.0}};
+           degrees_reading_back(pose.theta, pose.theta * kDegreesPerRadian, radians_from_degrees) +
+               0.0}};
 }
 
 std::shared_ptr<const Mechanism> read_planar_3rpr(const Json& j, const JsonPath& where) {

@@ -30,6 +30,7 @@
 #include <cmath>
 #include <set>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/serial_arm.hpp"
@@ -40,8 +41,6 @@ namespace kincal {
 namespace {
 
 using namespace json_field;
-
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180;
 
 SerialJoint read_joint(const Json& j, const JsonPath& at, int index) {
   if (!j.is_object())

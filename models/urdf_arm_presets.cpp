@@ -6,14 +6,13 @@
 
 #include <cmath>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 const char* kUr5Urdf = R"urdf(<?xml version="1.0"?>
 <!-- Universal Robots UR5 (CB3), written for kincal's example from the kinematic and dynamic

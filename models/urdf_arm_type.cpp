@@ -29,6 +29,7 @@
 #include <cmath>
 #include <set>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/urdf_arm.hpp"
@@ -38,8 +39,6 @@ namespace kincal {
 namespace {
 
 using namespace json_field;
-
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180;
 
 double clean(double v) { return v + 0.0; }
 

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/parallel.hpp"
 
@@ -369,7 +370,7 @@ void convert_column_units(MeasurementTable& table, const std::vector<std::string
     const bool actuator = static_cast<int>(w) < na;
     const std::string& unit = actuator ? actuator_units[w] : reading_units[w - na];
     double factor = 0;
-    if (unit == "rad") factor = suffix == "deg" ? M_PI / 180 : suffix == "rad" ? 1 : 0;
+    if (unit == "rad") factor = suffix == "deg" ? kRadiansPerDegree : suffix == "rad" ? 1 : 0;
     if (unit == "mm") factor = suffix == "m" ? 1000 : suffix == "mm" ? 1 : 0;
     if (factor == 0)
       throw std::invalid_argument(

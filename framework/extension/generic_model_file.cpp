@@ -2,13 +2,14 @@
 
 #include <stdexcept>
 
+#include "kincal/framework/base/angles.hpp"
+
 namespace kincal {
 
 namespace {
 
 using namespace json_field;
 
-constexpr double kDegreesPerRadian = 180 / 3.14159265358979323846;
 // How a "_deg" key is read; its writer picks the degrees that read back exactly.
 double radians_of_degrees_key(double degrees) { return degrees / kDegreesPerRadian; }
 

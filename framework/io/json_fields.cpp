@@ -4,17 +4,12 @@
 #include <limits>
 #include <stdexcept>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
-
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
 
 JsonPath JsonPath::operator/(const std::string& key) const {
   // Keys come from files: a 60 KB key must not become a 60 KB message.
@@ -116,7 +111,7 @@ Vector6d frame(const Json& value, const JsonPath& where) {
   return frame;
 }
 
-double radians_from_degrees(double degrees) { return degrees * (kPi / 180); }
+double radians_from_degrees(double degrees) { return degrees * kRadiansPerDegree; }
 
 double degrees_reading_back(double radians, double degrees, double (*to_radians)(double)) {
   if (to_radians(degrees) == radians) return degrees;
@@ -136,7 +131,8 @@ Json array3(const Vector3d& v) { return Json::array({v[0] + 0.0, v[1] + 0.0, v[2
 Json pose_json(const Vector3d& position, const Vector3d& rx_ry_rz) {
   Vector3d deg;
   for (int a = 0; a < 3; ++a)
-    deg[a] = degrees_reading_back(rx_ry_rz[a], rx_ry_rz[a] * (180 / kPi), radians_from_degrees);
+    deg[a] =
+        degrees_reading_back(rx_ry_rz[a], rx_ry_rz[a] * kDegreesPerRadian, radians_from_degrees);
   return {{"position", array3(position)}, {"rotation_zyx_deg", array3(deg)}};
 }
 

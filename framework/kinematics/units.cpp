@@ -5,13 +5,9 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "kincal/framework/base/angles.hpp"
+
 namespace kincal {
-
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
 
 bool is_known_unit(const std::string& unit) { return unit == kMillimetre || unit == kRadian; }
 
@@ -38,7 +34,7 @@ UnitValues UnitValues::parse(const std::string& text) {
     double scale = 1;
     if (unit == "deg") {
       unit = kRadian;
-      scale = kPi / 180;
+      scale = kRadiansPerDegree;
     }
     if (!is_known_unit(unit))
       throw std::invalid_argument("'" + part + "': unknown unit '" + unit +
