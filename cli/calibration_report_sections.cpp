@@ -449,7 +449,11 @@ std::string calibration_summary_html(const Json& r) {
   };
   row("model", text_of(r, "model"));
   row("data", text_of(r, "data"));
-  row("solver", text_of(r, "solver") + ", loss " + text_of(r, "loss"));
+  const std::string formulation = text_of(r, "formulation");
+  row("solver", text_of(r, "solver") + ", loss " + text_of(r, "loss") +
+                    (formulation.empty() ? "" : ", " + formulation + " formulation"));
+  // Why the formulation asked for is not the one solved (an implicit solve that failed).
+  if (!text_of(r, "formulation_note").empty()) row("formulation", text_of(r, "formulation_note"));
   row("outcome", text_of(r, "termination") + " after " + text_of(r, "iterations") +
                      " iterations: " + text_of(r, "message"));
   row("configurations",

@@ -196,6 +196,28 @@ TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   EXPECT_EQ(plain.find("expected to beat"), std::string::npos);
 }
 
+// The summary names the formulation solved and, when it is not the one asked for, why
+// (escaped: the note quotes the solver's message).
+TEST(HtmlReport, TheSummaryNamesTheFormulationAndWhyItWasNotTheOneAskedFor) {
+  Json r = hostile_report();
+  r["formulation"] = "nested";
+  r["formulation_note"] =
+      "implicit formulation failed after 59 iterations (stalled <&>): solved nested from the "
+      "same start";
+  const std::string html = render_calibration_html(r);
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find(", nested formulation</td>"), std::string::npos) << html;
+  EXPECT_NE(html.find("<th class=\"name\">formulation</th><td class=\"name\">implicit "
+                      "formulation failed after 59 iterations (stalled &lt;&amp;&gt;)"),
+            std::string::npos)
+      << html;
+  r["formulation"] = "implicit";
+  r["formulation_note"] = "";
+  const std::string solved = render_calibration_html(r);
+  EXPECT_NE(solved.find(", implicit formulation</td>"), std::string::npos);
+  EXPECT_EQ(solved.find("<th class=\"name\">formulation</th>"), std::string::npos);
+}
+
 // Parameter-only constraints (a known distance between two sockets) get a table of their
 // residuals against their stds, with hostile labels escaped.
 TEST(HtmlReport, ConstraintsAreListedWithTheirResiduals) {
