@@ -20,8 +20,9 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
   // "Converged" says the solver stopped, not where: residuals far above the stated noise
   // are a local minimum or a model error, never a plain success.
   const Json& fit = member(r, "fit_check");
-  if (text_of(fit, "verdict") == "too_large" &&
-      (termination == "converged" || termination == "max_iterations"))
+  const bool fit_flagged = text_of(fit, "verdict") == "too_large" &&
+                           (termination == "converged" || termination == "max_iterations");
+  if (fit_flagged)
     out.push_back({L::kProblem,
                    "The solver stopped where the residuals are far above the stated noise "
                    "(chi-square " +
@@ -82,15 +83,17 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
   const std::string sigma_unit = text_of(r, "sigma_hat_unit");
   if (std::isfinite(sigma)) {
     if (sigma_unit == "reading_std") {
-      if (sigma > 2)
-        out.push_back({L::kWarning,
-                       "The residuals are " + fmt(sigma, 3) +
-                           " times the noise the model states (reading_std): the model does "
-                           "not explain the data to the accuracy of the sensor.",
-                       "Look for a fixed parameter at a wrong value (kincal observability "
-                       "--sensitivity shows what each one would cost), outliers, or a "
-                       "reading_std that is too optimistic."});
-      else if (sigma < 0.5)
+      if (sigma > 2) {
+        // Said once: the fit check's verdict above already says it when it flagged the fit.
+        if (!fit_flagged)
+          out.push_back({L::kWarning,
+                         "The residuals are " + fmt(sigma, 3) +
+                             " times the noise the model states (reading_std): the model does "
+                             "not explain the data to the accuracy of the sensor.",
+                         "Look for a fixed parameter at a wrong value (kincal observability "
+                         "--sensitivity shows what each one would cost), outliers, or a "
+                         "reading_std that is too optimistic."});
+      } else if (sigma < 0.5)
         out.push_back({L::kNote,
                        "The residuals are only " + fmt(sigma, 3) +
                            " times the stated reading_std: the sensor is better than the "

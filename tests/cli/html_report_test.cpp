@@ -172,6 +172,32 @@ TEST(HtmlReport, VerdictsNameWhatToDo) {
   EXPECT_NE(all.find("home <pose> & far"), std::string::npos) << all;  // the report's warning
 }
 
+// Residuals above the stated noise get one verdict: the fit check's problem when it flagged
+// the fit, else sigma_hat's warning (a fit it could not test: a prior, a robust loss).
+TEST(HtmlReport, ResidualsAboveTheStatedNoiseAreSaidOnce) {
+  auto findings = [](const Json& r) {
+    std::string all;
+    for (const auto& v : cli::calibration_verdicts(r)) all += v.finding + "\n";
+    return all;
+  };
+  Json r = hostile_report();
+  r["sigma_hat"] = 3.5;
+  r["sigma_hat_unit"] = "reading_std";
+  r["fit_check"] = {{"verdict", "not_tested"}, {"note", "a prior"}};
+  const std::string untested = findings(r);
+  EXPECT_NE(untested.find("The residuals are 3.5 times the noise the model states"),
+            std::string::npos)
+      << untested;
+  EXPECT_EQ(untested.find("probably a local minimum"), std::string::npos);
+  r["fit_check"] = {{"verdict", "too_large"},
+                    {"chi_square", 192.3},
+                    {"degrees_of_freedom", 16},
+                    {"p_larger", 2.8e-32}};
+  const std::string flagged = findings(r);
+  EXPECT_NE(flagged.find("probably a local minimum or a model error"), std::string::npos);
+  EXPECT_EQ(flagged.find("times the noise the model states"), std::string::npos) << flagged;
+}
+
 TEST(HtmlReport, OptionalSectionsRenderWhenTheirFieldsExist) {
   Json r = hostile_report();
   r["predicted_pose_error"] = {

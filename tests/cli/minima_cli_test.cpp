@@ -54,6 +54,9 @@ TEST_F(FitCheckCli, CalibrateFlagsAWrongModelInTextJsonAndHtmlAndPassesTheRightO
   const std::string html = read_text(dir_ / "r.html");
   EXPECT_NE(html.find(kFlag), std::string::npos);
   EXPECT_EQ(html.find("The solver converged"), std::string::npos);  // never a plain success
+  // Said once: sigma_hat (3.5 x reading_std here) gets no verdict of its own beside it.
+  EXPECT_GT(report["sigma_hat"].get<double>(), 2);
+  EXPECT_EQ(html.find("times the noise the model states"), std::string::npos);
 
   const CliResult right =
       run_cli("calibrate --model " + dir_ / "t.json" + " --data " + dir_ / "d.csv" +
