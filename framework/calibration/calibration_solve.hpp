@@ -37,7 +37,8 @@ struct CalibrationSolve {
   Formulation formulation = Formulation::kNested;  ///< the one that was solved
   std::string note;                                ///< why the requested one was not, or empty
   /// The implicit solve's summary when it ended failed or diverged and the nested solve from
-  /// the same start replaced it (summary is then the nested solve's alone).
+  /// the same start replaced it (summary is then the nested solve's alone, its times and
+  /// counts included; each solve had the options' iteration limit).
   std::optional<Summary> failed_implicit;
 };
 
