@@ -149,8 +149,8 @@ void add_solver_options(po::options_description& options) {
 void add_formulation_option(po::options_description& options) {
   options.add_options()("formulation", po::value<std::string>(),
                         "nested (forward kinematics inside every residual) or implicit (the "
-                        "poses as unknowns, closed chains only; docs/theory.md); default: "
-                        "nested");
+                        "poses as unknowns, closed chains only; a failed implicit solve is "
+                        "followed by the nested one; docs/theory.md); default: nested");
 }
 
 Formulation formulation_choice(const po::variables_map& vm, const MeasurementModel& model) {
