@@ -43,6 +43,14 @@ bool implicit_solve_failed(const Summary& summary) {
          summary.termination == TerminationType::kDiverged;
 }
 
+// `text` without a trailing `suffix`: the implicit solver ends its messages with
+// " (implicit formulation)", which the note already says.
+std::string without_suffix(const std::string& text, const std::string& suffix) {
+  const bool ends = text.size() >= suffix.size() &&
+                    text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return ends ? text.substr(0, text.size() - suffix.size()) : text;
+}
+
 }  // namespace
 
 CalibrationSolve solve_calibration(const Solver& solver, const CalibrationProblem& problem,
@@ -64,7 +72,8 @@ CalibrationSolve solve_calibration(const Solver& solver, const CalibrationProble
       // more solve rather than a calibration.
       out.note = "implicit formulation " + std::string(to_string(out.summary.termination)) +
                  " after " + std::to_string(out.summary.iterations) + " iterations (" +
-                 out.summary.message + "): solved nested from the same start";
+                 without_suffix(out.summary.message, " (implicit formulation)") +
+                 "): solved nested from the same start";
       out.failed_implicit = std::move(out.summary);
       x = start;
     } else {

@@ -320,6 +320,9 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   // The prior stays centred on nominal whatever the start.
   const Prior prior = model_prior(*problem);
   CalibrationSolve solved = solve_calibration(solver, *problem, prior, x, options, formulation);
+  // A failed implicit solve's own time, without its tracking: the user waited for it too.
+  double failed_implicit_seconds = 0;
+  if (solved.failed_implicit) failed_implicit_seconds = solved.failed_implicit->wall_seconds;
   if (track_iterations && solved.failed_implicit) {
     // The trace is the nested solve's: drop the failed implicit solve's records (one per
     // callback) and the tracking time spent on them.
@@ -327,6 +330,7 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
         std::min(solved.failed_implicit->trace.size(), tracking_before.size());
     const double spent =
         dropped < tracking_before.size() ? tracking_before[dropped] : tracking_seconds;
+    failed_implicit_seconds = std::max(0.0, failed_implicit_seconds - spent);
     run.trace_errors.erase(run.trace_errors.begin(), run.trace_errors.begin() + dropped);
     tracking_before.erase(tracking_before.begin(), tracking_before.begin() + dropped);
     for (double& before : tracking_before) before -= spent;
@@ -335,7 +339,8 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
   run.summary = std::move(solved.summary);
   run.formulation = solved.formulation;
   run.formulation_note = std::move(solved.note);
-  run.solve_seconds = std::max(0.0, run.summary.wall_seconds - tracking_seconds);
+  run.solve_seconds =
+      std::max(0.0, run.summary.wall_seconds - tracking_seconds) + failed_implicit_seconds;
   // The trace's times, too, are those of the solve alone.
   for (std::size_t i = 0; i < run.summary.trace.size() && i < tracking_before.size(); ++i)
     run.summary.trace[i].seconds -= tracking_before[i];

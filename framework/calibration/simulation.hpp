@@ -124,7 +124,9 @@ struct CalibrationRun {
   double parameter_rms_error_rad = 0;
   /// Wall time of the solve alone: summary.wall_seconds minus the time spent computing the
   /// per-iteration validation errors inside the callback (summary.trace[k].seconds are
-  /// corrected the same way; summary.wall_seconds is left as measured).
+  /// corrected the same way; summary.wall_seconds is left as measured). When a failed implicit
+  /// solve was replaced by the nested one (formulation_note), its time is included: both
+  /// solves are what the calibration took, while summary and trace are the nested solve's.
   double solve_seconds = 0;
   /// The formulation solved, and why the requested one was not (empty when it was).
   Formulation formulation = Formulation::kNested;

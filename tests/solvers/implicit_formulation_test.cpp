@@ -287,6 +287,8 @@ TEST(ImplicitFormulation, AFailedImplicitSolveIsReplacedByTheNestedOneFromTheSta
       std::string::npos)
       << solved.note;
   EXPECT_NE(solved.note.find("solved nested from the same start"), std::string::npos);
+  // The implicit solver's own "(implicit formulation)" suffix is not repeated inside it.
+  EXPECT_EQ(solved.note.find("(implicit formulation)"), std::string::npos) << solved.note;
   ASSERT_TRUE(nested.summary.converged()) << nested.summary.message;
   EXPECT_TRUE(solved.summary.converged()) << solved.summary.message;
   EXPECT_EQ(x, nested_x);
@@ -301,6 +303,11 @@ TEST(ImplicitFormulation, AFailedImplicitSolveIsReplacedByTheNestedOneFromTheSta
   EXPECT_EQ(run.formulation, Formulation::kNested);
   EXPECT_EQ(run.trace_errors.size(), run.summary.trace.size());
   EXPECT_NE(run.formulation_note.find("solved nested from the same start"), std::string::npos);
+  // Its solve time is what the calibration took: both solves, not the nested one alone.
+  const CalibrationRun untracked =
+      run_calibration(scenario, *lm, {}, /*track_iterations=*/false, Formulation::kImplicit);
+  ASSERT_EQ(untracked.formulation, Formulation::kNested);
+  EXPECT_GT(untracked.solve_seconds, untracked.summary.wall_seconds);
 }
 
 TEST(ImplicitFormulation, WhatItDoesNotHandleIsSolvedNestedWithANote) {
