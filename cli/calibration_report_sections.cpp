@@ -453,7 +453,8 @@ std::string calibration_summary_html(const Json& r) {
   row("solver", text_of(r, "solver") + ", loss " + text_of(r, "loss") +
                     (formulation.empty() ? "" : ", " + formulation + " formulation"));
   // Why the formulation asked for is not the one solved (an implicit solve that failed).
-  if (!text_of(r, "formulation_note").empty()) row("formulation", text_of(r, "formulation_note"));
+  const std::string formulation_note = text_of(r, "formulation_note");
+  if (!formulation_note.empty()) row("formulation", formulation_note);
   row("outcome", text_of(r, "termination") + " after " + text_of(r, "iterations") +
                      " iterations: " + text_of(r, "message"));
   row("configurations",

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "kincal/framework/base/angles.hpp"
 
 namespace kincal {
 namespace {
@@ -24,8 +25,6 @@ using kincal::testing::read_text;
 using kincal::testing::run_cli;
 using kincal::testing::TempDir;
 using Json = nlohmann::json;
-
-constexpr double kPi = 3.14159265358979323846;
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 

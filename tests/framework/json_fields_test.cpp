@@ -8,12 +8,11 @@
 
 #include <random>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/io/json_input.hpp"
 
 namespace kincal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(JsonFields, AnglesReadFromTextReadBackBitForBit) {
   std::mt19937_64 random(7);

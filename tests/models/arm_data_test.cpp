@@ -12,6 +12,7 @@
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/analysis/cross_validation.hpp"
 #include "kincal/framework/analysis/position_error.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
@@ -21,8 +22,6 @@
 
 namespace kincal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<std::string> serial_arm_presets() {
   std::vector<std::string> names;

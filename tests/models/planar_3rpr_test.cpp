@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "jacobian_check.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
@@ -19,8 +20,6 @@ namespace {
 
 using kincal::testing::jacobians_match;
 using kincal::testing::numerical_jacobian;
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Fixture {
   std::shared_ptr<MeasurementModel> model = ModelRegistry::global().make_preset("planar-3rpr");

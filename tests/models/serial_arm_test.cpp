@@ -12,6 +12,7 @@
 
 #include "jacobian_check.hpp"
 #include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
@@ -24,8 +25,6 @@ namespace {
 
 using kincal::testing::jacobians_match;
 using kincal::testing::numerical_jacobian;
-
-constexpr double kPi = 3.14159265358979323846;
 
 Vector6d pose_difference(const Pose& from, const Pose& to) {
   Vector6d d;

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "jacobian_check.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/point_tracker.hpp"
@@ -16,8 +17,6 @@ namespace {
 
 using kincal::testing::jacobians_match;
 using kincal::testing::numerical_jacobian;
-
-constexpr double kPi = 3.14159265358979323846;
 
 Pose random_pose(Random& rng, double position, double angle) {
   Vector6d delta;
