@@ -1,0 +1,1 @@
+# Section "answers" of the third audit (issue 35).

@@ -1,0 +1,1 @@
+# Section "numerics" of the third audit (issue 35).

@@ -1,0 +1,1 @@
+# Section "plugins" of the third audit (issue 35).

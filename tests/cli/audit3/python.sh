@@ -1,0 +1,1 @@
+# Section "python" of the third audit (issue 35).

@@ -1,0 +1,1 @@
+# Section "urdf" of the third audit (issue 35).
