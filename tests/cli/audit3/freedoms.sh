@@ -1,0 +1,1 @@
+# Section "freedoms" of the third audit (issue 35).
