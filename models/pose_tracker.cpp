@@ -1,5 +1,7 @@
 #include "kincal/models/pose_tracker.hpp"
 
+#include "kincal/framework/kinematics/orientation_columns.hpp"
+
 namespace kincal {
 
 PoseTracker::PoseTracker(std::string name, const Vector6d& frame, const Vector6d& marker)
@@ -13,7 +15,17 @@ PoseTracker::PoseTracker(std::string name, const Vector6d& frame, const Vector6d
 }
 
 std::vector<std::string> PoseTracker::reading_names() const {
-  return {name_ + ".x", name_ + ".y", name_ + ".z", name_ + ".rx", name_ + ".ry", name_ + ".rz"};
+  std::vector<std::string> names = {name_ + ".x", name_ + ".y", name_ + ".z"};
+  for (auto& n : rotation_vector_names(name_)) names.push_back(std::move(n));
+  return names;
+}
+
+std::vector<ReadingColumns> PoseTracker::alternative_columns() const {
+  return orientation_alternatives(name_, 3);
+}
+
+std::vector<RefusedColumns> PoseTracker::refused_columns() const {
+  return {ambiguous_orientation_columns(name_)};
 }
 
 void PoseTracker::predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,

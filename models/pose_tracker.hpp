@@ -3,8 +3,10 @@
 // (tool/platform frame), seen in the tracker's frame F = (R_f, t_f) (base coordinates). For the
 // mechanism's pose (R, t) the marker in tracker coordinates is
 //   R_y = R_f^T R R_m,   t_y = R_f^T (R t_m + t - t_f)
-// and the six readings are <name>.x, .y, .z = t_y (mm) and <name>.rx, .ry, .rz = log(R_y), its
-// rotation vector (axis times angle, rad).
+// and the six readings are <name>.x, .y, .z = t_y (mm) and <name>.rotvec_x, _y, _z = log(R_y),
+// its rotation vector (axis times angle, rad). A measurement file may give the orientation
+// as roll-pitch-yaw or a quaternion instead (orientation_columns.hpp); <name>.rx, .ry, .rz
+// are refused: they do not say which convention they hold.
 //
 // The rotation readings live on SO(3): the residual of a predicted against a measured
 // reading is [t_pred - t_meas; log(R_pred R_meas^T)] (the rotation error in tracker axes,
@@ -29,6 +31,8 @@ class PoseTracker final : public Sensor {
   const std::string& name() const override { return name_; }
   int num_readings() const override { return 6; }
   std::vector<std::string> reading_names() const override;
+  std::vector<ReadingColumns> alternative_columns() const override;
+  std::vector<RefusedColumns> refused_columns() const override;
   std::vector<std::string> reading_units() const override {
     return {"mm", "mm", "mm", "rad", "rad", "rad"};
   }

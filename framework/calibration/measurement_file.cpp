@@ -170,6 +170,30 @@ MeasurementTable read_measurements(const std::string& path,
   }
 }
 
+CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::invalid_argument(path + ": is a directory, expected a measurement file (CSV)");
+  std::ifstream in(path);
+  if (!in)
+    throw std::invalid_argument(path + ": cannot open measurement file (missing or unreadable)");
+  CsvHeader header;
+  try {
+    LineReader reader(in, path, limits);
+    std::string line;
+    while (reader.next(line)) {
+      if (is_skipped(line)) continue;
+      header.line = reader.line_number();
+      header.fields =
+          split_fields(line, detect_separator(line, path + ":" + std::to_string(header.line)));
+      break;
+    }
+  } catch (const std::ios_base::failure& e) {
+    throw std::invalid_argument(path + ": cannot read measurement file (" + e.what() + ")");
+  }
+  return header;
+}
+
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                     const std::vector<std::string>& actuator_names,
                                     const std::vector<std::string>& reading_names,
@@ -334,16 +358,6 @@ std::string measurements_to_csv(const Measurements& data,
   return out.str();
 }
 
-MeasurementTable read_model_columns(const std::string& path, const MeasurementModel& model,
-                                    const CsvLimits& limits) {
-  MeasurementTable table =
-      read_measurements(path, model.mechanism().actuator_names(), model.reading_names(), limits);
-  std::vector<std::string> actuator_units;
-  for (const auto& a : model.mechanism().actuators()) actuator_units.push_back(a.unit);
-  convert_column_units(table, actuator_units, model.reading_units(), path);
-  return table;
-}
-
 MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
                                    const CsvLimits& limits) {
   MeasurementTable table = read_model_columns(path, model, limits);
@@ -372,6 +386,12 @@ void convert_column_units(MeasurementTable& table, const std::vector<std::string
     double factor = 0;
     if (unit == "rad") factor = suffix == "deg" ? kRadiansPerDegree : suffix == "rad" ? 1 : 0;
     if (unit == "mm") factor = suffix == "m" ? 1000 : suffix == "mm" ? 1 : 0;
+    if (unit.empty())
+      throw std::invalid_argument(source + ":" + std::to_string(table.header_line) + ": column '" +
+                                  table.column_headers[w] +
+                                  "': a plain number (no unit), but the name carries the unit "
+                                  "suffix _" +
+                                  suffix + "; expected the name without a suffix");
     if (factor == 0)
       throw std::invalid_argument(
           source + ":" + std::to_string(table.header_line) + ": column '" +

@@ -56,7 +56,8 @@ struct MeasurementTable {
 const std::vector<std::string>& column_unit_suffixes();
 
 /// Converts every column read with a unit suffix into the unit of its actuator or reading
-/// (`actuator_units` then `reading_units`, "mm" or "rad"): deg -> rad, m -> mm. Throws
+/// (`actuator_units` then `reading_units`, "mm" or "rad"; "" for a plain number, which takes
+/// no suffix): deg -> rad, m -> mm. Throws
 /// std::invalid_argument "<source>:<line>: ..." when a suffix is not a unit of that quantity
 /// (an angle in mm). Values are replaced in place; NaN (missing) stays NaN.
 void convert_column_units(MeasurementTable& table, const std::vector<std::string>& actuator_units,
@@ -72,8 +73,19 @@ MeasurementTable read_measurements(const std::string& path,
                                    const std::vector<std::string>& reading_names,
                                    const CsvLimits& limits = {});
 
+/// The header row of a measurement file (the first line that is not blank or a comment), split
+/// into its trimmed fields; `line` 0 and no fields when the file has none.
+struct CsvHeader {
+  std::vector<std::string> fields;
+  int line = 0;
+};
+CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits = {});
+
 /// read_measurements for `model`'s actuators and readings, then convert_column_units: the
-/// configurations of a file whose readings may all be empty (a design template).
+/// configurations of a file whose readings may all be empty (a design template). A sensor's
+/// readings may come from the columns of one of its alternative_columns (an orientation as
+/// roll-pitch-yaw or a quaternion), converted here; its refused_columns are an error
+/// (framework/calibration/model_columns.cpp).
 MeasurementTable read_model_columns(const std::string& path, const MeasurementModel& model,
                                     const CsvLimits& limits = {});
 

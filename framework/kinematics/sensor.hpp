@@ -1,6 +1,7 @@
 #pragma once
 // The Sensor interface: what an external sensor reads when the mechanism is at a pose.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -8,6 +9,31 @@
 #include "kincal/framework/kinematics/pose.hpp"
 
 namespace kincal {
+
+/// Another way a measurement file may give some of a sensor's readings: an orientation as
+/// roll-pitch-yaw angles or a quaternion where the readings are a rotation vector. Its columns
+/// are read instead of those readings and converted row by row on reading, so that the
+/// convention is stated by the columns' names and never guessed from their values.
+struct ReadingColumns {
+  std::string convention;  ///< in words, for messages: "roll-pitch-yaw"
+  int first_reading = 0;   ///< the sensor's readings it gives: first_reading, ... + readings - 1
+  int readings = 0;
+  std::vector<std::string> columns;  ///< full column names, e.g. "tracker.roll"
+  /// Per column: "rad" (an angle: a _deg or _rad suffix converts it) or "" (a plain number,
+  /// which takes no unit suffix).
+  std::vector<std::string> units;
+  /// The readings from one row's column values (in `units`); false with a reason when the
+  /// values are not a valid instance of the convention (a quaternion far from unit length).
+  std::function<bool(const double* columns, double* readings, std::string* why)> convert;
+};
+
+/// Column names a measurement file may not use for a sensor because they do not say what
+/// they hold, with why and what to name them instead (e.g. "tracker.rx" could be a rotation
+/// vector or Euler angles). A unit suffix does not lift the refusal.
+struct RefusedColumns {
+  std::vector<std::string> columns;
+  std::string why;
+};
 
 class Sensor {
  public:
@@ -21,6 +47,10 @@ class Sensor {
   virtual int num_readings() const = 0;
   /// Column names of the readings in measurement files (num_readings() of them).
   virtual std::vector<std::string> reading_names() const { return {name()}; }
+  /// Other columns a measurement file may give some readings in (converted on reading), and
+  /// names it may not use. Default: none; the readings' own names only.
+  virtual std::vector<ReadingColumns> alternative_columns() const { return {}; }
+  virtual std::vector<RefusedColumns> refused_columns() const { return {}; }
   /// Unit of each reading ("mm" or "rad"), in reading_names() order.
   virtual std::vector<std::string> reading_units() const = 0;
   /// Index of the first of three readings that are the measured point's position (x, y, z in
