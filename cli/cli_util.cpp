@@ -85,8 +85,15 @@ bool parse_command_line(const std::string& command, const Args& args,
     // An empty positional description makes boost reject stray words ("too many
     // positional options") instead of ignoring them.
     const po::positional_options_description no_positional;
-    po::store(po::command_line_parser(args).options(options).positional(no_positional).run(), vm);
+    const po::parsed_options parsed =
+        po::command_line_parser(args).options(options).positional(no_positional).run();
+    po::store(parsed, vm);
     po::notify(vm);
+    // The options in the order given, for those whose order matters (--free and --fix).
+    std::vector<std::pair<std::string, std::string>> order;
+    for (const auto& option : parsed.options)
+      for (const auto& value : option.value) order.emplace_back(option.string_key, value);
+    vm.insert({kOptionOrder, po::variable_value(boost::any(order), false)});
   } catch (const po::error& e) {
     throw CliError(option_error_message(e, args));
   }

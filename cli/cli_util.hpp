@@ -19,6 +19,12 @@ namespace kincal::cli {
 
 namespace po = boost::program_options;
 
+/// The entry of a variables_map that parse_command_line fills with every (option, value) in
+/// the order given on the command line, a std::vector<std::pair<std::string, std::string>>:
+/// boost's map keeps each option's values but not how different options interleave, which
+/// decides the outcome of --fix '*' --free 'base.*'.
+inline constexpr const char* kOptionOrder = " option order";
+
 /// Parses `args` against `options`; throws CliError with boost's message on bad input and
 /// rejects stray positional arguments. Returns false (after printing help or the version) for
 /// --help and --version.

@@ -340,6 +340,12 @@ int run_validate(const Args& args) {
     std::cout << "held-out validation of " << printable(model_file) << " on "
               << printable(data_file) << ": " << v.configurations << " configurations, "
               << v.readings << " readings\n";
+    // Repeats test the noise at their configurations, not the calibration elsewhere.
+    if (loaded.repeated_configurations > 0)
+      std::cout << "repeats: " << loaded.repeat_rows << " rows measure only "
+                << loaded.repeated_configurations
+                << " configuration(s) again: they test the noise and the prediction there, and "
+                   "the parameters' error is common to all of them (counted once by the test)\n";
     if (tested)
       std::cout << "predicted: noise = " << noise_source
                 << (v.parameter_uncertainty
@@ -425,6 +431,9 @@ int run_validate(const Args& args) {
       errors["after_model"] = model_file;
       out["position_error_mm"] = errors;
     }
+    out["duplicate_rows"] = loaded.duplicate_rows;
+    out["repeated_configurations"] = loaded.repeated_configurations;
+    out["repeat_rows"] = loaded.repeat_rows;
     out["chi_square"] = tested ? number(v.chi_square) : Json();
     out["degrees_of_freedom"] = v.readings;
     out["standardized_rms"] = tested ? number(v.standardized_rms) : Json();

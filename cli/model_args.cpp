@@ -21,23 +21,32 @@ void add_free_fix_options(po::options_description& options) {
                         "(repeatable)")(
       "fix", po::value<std::vector<std::string>>()->composing(),
       "hold the parameters matching this glob at their model values, e.g. gauge.offset "
-      "(repeatable; applied after --free)");
+      "(repeatable; --free and --fix apply in the order given: --fix '*' --free 'base.*')");
 }
 
 void apply_free_fix(const po::variables_map& vm, MeasurementModel& model) {
-  for (const char* option : {"free", "fix"}) {
-    if (!vm.count(option)) continue;
-    for (const auto& pattern : vm[option].as<std::vector<std::string>>()) {
-      try {
-        model.parameters().set_free(pattern, std::string(option) == "free");
-      } catch (const std::invalid_argument& e) {
-        const auto& all = model.parameters().all();
-        std::string examples;
-        for (std::size_t i = 0; i < all.size(); i += std::max<std::size_t>(1, all.size() / 3))
-          examples += (examples.empty() ? "" : ", ") + all[i].name;
-        throw CliError("--" + std::string(option) + " '" + pattern +
-                       "': matches no parameter of the model (names look like " + examples + ")");
-      }
+  // In the order given, so that --fix '*' --free 'base.*' frees the base and nothing else.
+  std::vector<std::pair<std::string, std::string>> steps;
+  if (vm.count(kOptionOrder)) {
+    for (const auto& [option, value] :
+         vm[kOptionOrder].as<std::vector<std::pair<std::string, std::string>>>())
+      if (option == "free" || option == "fix") steps.emplace_back(option, value);
+  } else {  // a map filled without parse_command_line: --free, then --fix
+    for (const char* option : {"free", "fix"})
+      if (vm.count(option))
+        for (const auto& pattern : vm[option].as<std::vector<std::string>>())
+          steps.emplace_back(option, pattern);
+  }
+  for (const auto& [option, pattern] : steps) {
+    try {
+      model.parameters().set_free(pattern, option == "free");
+    } catch (const std::invalid_argument& e) {
+      const auto& all = model.parameters().all();
+      std::string examples;
+      for (std::size_t i = 0; i < all.size(); i += std::max<std::size_t>(1, all.size() / 3))
+        examples += (examples.empty() ? "" : ", ") + all[i].name;
+      throw CliError("--" + option + " '" + pattern +
+                     "': matches no parameter of the model (names look like " + examples + ")");
     }
   }
 }
@@ -198,6 +207,27 @@ LoadedData load_measurements(const std::string& command, const std::string& path
          path + ":" + line + ": reading of " + sensor + " dropped, no reading: " + m.reason);
   }
   drop_readings(model, missed, table.data);
+  // A copied row is not a second measurement: once only, or the uncertainty shrinks by the
+  // square root of the copies and a repeated configuration looks like many.
+  const Repeats repeats = find_repeats(table.data);
+  if (!repeats.duplicates.empty()) {
+    std::string list;
+    for (std::size_t i = 0; i < repeats.duplicates.size() && i < 5; ++i)
+      list += (i ? ", " : "") + std::to_string(table.line_numbers[repeats.duplicates[i]]) +
+              " (= line " + std::to_string(table.line_numbers[repeats.duplicate_of[i]]) + ")";
+    if (repeats.duplicates.size() > 5)
+      list += " and " + std::to_string(repeats.duplicates.size() - 5) + " more";
+    note(command, path + ": " + std::to_string(repeats.duplicates.size()) +
+                      " row(s) copy an earlier row exactly, readings included, and count once: "
+                      "line(s) " +
+                      list);
+    rows.insert(rows.end(), repeats.duplicates.begin(), repeats.duplicates.end());
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  }
+  loaded.duplicate_rows = static_cast<int>(repeats.duplicates.size());
+  loaded.repeated_configurations = repeats.repeated_configurations;
+  loaded.repeat_rows = repeats.repeat_rows;
   loaded.data = drop_rows(table.data, rows);
   std::size_t next = 0;
   for (int r = 0; r < table.data.size(); ++r) {

@@ -54,6 +54,11 @@ struct LoadedData {
   /// Readings a sensor cannot take at the model's values (Sensor::reads_at), dropped from
   /// rows that other readings keep: "line 12: laser: beam misses the plane".
   std::vector<std::string> dropped_readings;
+  /// Rows that copied an earlier row exactly, dropped (find_repeats), and configurations
+  /// measured more than once with different readings (kept).
+  int duplicate_rows = 0;
+  int repeated_configurations = 0;
+  int repeat_rows = 0;
 };
 /// Reads `path` for `model` (unit suffixes converted), refuses data that look like the wrong
 /// unit (check_data_units), then checks that forward kinematics works at `params` for
@@ -61,7 +66,8 @@ struct LoadedData {
 /// dropped with a note. A reading that its sensor cannot take there (a beam that misses) is
 /// dropped with a note (set to NaN, not measured) whatever `skip_bad_rows`, as long as the
 /// row keeps another reading. When no row at all is reachable the message names the model file
-/// `model_file` too: then its values are as likely to be wrong as the data.
+/// `model_file` too: then its values are as likely to be wrong as the data. A row that copies
+/// an earlier one exactly, actuators and readings, counts once (a note names it).
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
                              bool skip_bad_rows, const std::string& model_file,

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 #include "kincal/framework/base/parallel.hpp"
@@ -154,6 +157,97 @@ std::string angle_hint(const std::vector<std::string>& names, double lo, double 
          name_list(with_suffix(names, "deg")) + " (or convert them to radians)";
 }
 
+// The spread of each sensor's length readings against the spread the model predicts at the
+// same configurations: the sensor's frame, where it is mounted and where the measured point
+// is do not change it (a point's spread about its centre is the same in every frame), so a
+// unit mistake shows whatever the starting values, even where the residuals at the start are
+// dominated by an unknown frame. A point sensor's three readings are one point; other length
+// readings are compared one by one. Rows as in check_data_units (every stride-th).
+std::string spread_mismatch(const MeasurementModel& model, const VectorXd& params,
+                            const Measurements& data, int stride) {
+  const auto units = model.reading_units();
+  const auto names = model.reading_names();
+  const int k = model.num_readings();
+  // Groups of readings: a point (three) or a single length reading.
+  std::vector<std::vector<int>> groups;
+  for (std::size_t s = 0; s < model.sensors().size(); ++s) {
+    const Sensor& sensor = *model.sensors()[s];
+    const int o = model.sensor_reading_offset(static_cast<int>(s));
+    const int point = sensor.position_reading_index();
+    for (int i = 0; i < sensor.num_readings(); ++i) {
+      if (units[o + i] != kMillimetre) continue;
+      if (point >= 0 && i >= point && i < point + 3) {
+        if (i == point) groups.push_back({o + i, o + i + 1, o + i + 2});
+        continue;
+      }
+      groups.push_back({o + i});
+    }
+  }
+  if (groups.empty()) return "";
+  std::vector<VectorXd> measured, predicted;
+  auto ws = model.make_workspace();
+  VectorXd p(k);
+  for (int r = 0; r < data.size(); r += stride) {
+    if (!model.predict(params, data.actuators.row(r).transpose(), p, nullptr, ws).ok() ||
+        !p.allFinite())
+      continue;
+    measured.push_back(data.readings.row(r).transpose());
+    predicted.push_back(p);
+  }
+  for (const auto& group : groups) {
+    // Spread about the centre, over the rows where the group was measured.
+    const auto spread = [&](const std::vector<VectorXd>& rows) {
+      VectorXd centre = VectorXd::Zero(static_cast<int>(group.size()));
+      int n = 0;
+      for (std::size_t r = 0; r < rows.size(); ++r) {
+        if (std::isnan(measured[r][group[0]])) continue;
+        for (std::size_t g = 0; g < group.size(); ++g) centre[g] += rows[r][group[g]];
+        ++n;
+      }
+      if (n < 3) return std::numeric_limits<double>::quiet_NaN();
+      centre /= n;
+      double sum = 0;
+      for (std::size_t r = 0; r < rows.size(); ++r) {
+        if (std::isnan(measured[r][group[0]])) continue;
+        for (std::size_t g = 0; g < group.size(); ++g)
+          sum += std::pow(rows[r][group[g]] - centre[g], 2);
+      }
+      return std::sqrt(sum / n);
+    };
+    const double seen = spread(measured), expected = spread(predicted);
+    // Readings that do not move, or configurations that hardly move the point (a thousandth
+    // of its distance from the sensor: repeats of one configuration, whose readings spread
+    // by their noise alone): nothing to compare.
+    double magnitude = 0;
+    int counted = 0;
+    for (const VectorXd& p : predicted)
+      for (int g : group) {
+        magnitude += p[g] * p[g];
+        ++counted;
+      }
+    magnitude = counted ? std::sqrt(magnitude * static_cast<double>(group.size()) / counted) : 0;
+    if (!(seen > 0) || !(expected > 1e-3 * magnitude)) continue;
+    const double ratio = seen / expected;
+    if (ratio > 1.0 / kSpreadMismatch && ratio < kSpreadMismatch) continue;
+    std::string columns;
+    for (std::size_t g = 0; g < group.size(); ++g) columns += (g ? ", " : "") + names[group[g]];
+    const bool metres = ratio > 1.0 / 3000 && ratio < 1.0 / 300;
+    return "the readings " + columns + " spread over " + format("%.4g", seen) +
+           " mm (RMS about their centre), while the model predicts " + format("%.4g", expected) +
+           " mm at the same configurations: " + format("%.3g", ratio) + " times" +
+           (metres ? ", which looks like metres where the model takes millimetres; name the "
+                     "columns " +
+                         name_list(
+                             with_suffix(std::vector<std::string>(names.begin() + group.front(),
+                                                                  names.begin() + group.back() + 1),
+                                         "m")) +
+                         " (or convert them to millimetres)"
+                   : "; expected readings of this machine in millimetres (check the columns' "
+                     "units, that the data belong to this model, and the model's lengths)");
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string check_data_units(const MeasurementModel& model, const VectorXd& params,
@@ -234,10 +328,10 @@ std::string check_data_units(const MeasurementModel& model, const VectorXd& para
   std::vector<int> mm_readings;
   for (int i = 0; i < k; ++i)
     if (units[i] == kMillimetre && !suffixed(na + i)) mm_readings.push_back(i);
-  if (mm_readings.empty()) return "";
   // A ratio of RMS errors is decided by any ten thousand rows as well as by all: on larger
   // data every stride-th row is predicted (10^6 rows: 1.4 s of forward kinematics saved).
   const int stride = std::max(1, data.size() / kUnitSampleRows);
+  if (mm_readings.empty()) return spread_mismatch(model, params, data, stride);
   const int sampled = (data.size() + stride - 1) / stride;
   // Sums per chunk of rows, added in chunk order.
   struct Sums {
@@ -270,10 +364,10 @@ std::string check_data_units(const MeasurementModel& model, const VectorXd& para
     scaled += sum.scaled;
     count += sum.count;
   }
-  if (count == 0) return "";
+  if (count == 0) return spread_mismatch(model, params, data, stride);
   as_given = std::sqrt(as_given / count);
   scaled = std::sqrt(scaled / count);
-  if (!(scaled < 0.1 * as_given)) return "";
+  if (!(scaled < 0.1 * as_given)) return spread_mismatch(model, params, data, stride);
   std::vector<std::string> columns;
   for (int i : mm_readings) columns.push_back(names[i]);
   return "the length reading columns " + name_list(columns) +
@@ -281,6 +375,58 @@ std::string check_data_units(const MeasurementModel& model, const VectorXd& para
          format("%.4g", scaled) + " mm RMS from the model's predictions, as given " +
          format("%.4g", as_given) + " mm; name the columns " +
          name_list(with_suffix(columns, "m")) + " (or convert them to millimetres)";
+}
+
+namespace {
+
+// Bit patterns of a row's values, so that equal means identical (NaN, a missing reading,
+// equals itself; -0 and 0 differ, as two instruments' outputs would).
+std::vector<std::uint64_t> bits_of(const Eigen::Ref<const Eigen::RowVectorXd>& row) {
+  std::vector<std::uint64_t> bits(static_cast<std::size_t>(row.size()));
+  for (Eigen::Index i = 0; i < row.size(); ++i) {
+    const double value = row[i];
+    std::memcpy(&bits[static_cast<std::size_t>(i)], &value, sizeof(double));
+  }
+  return bits;
+}
+
+struct BitsHash {
+  std::size_t operator()(const std::vector<std::uint64_t>& bits) const {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::uint64_t b : bits) h = (h ^ b) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+}  // namespace
+
+Repeats find_repeats(const Measurements& data) {
+  Repeats out;
+  // Configuration -> its distinct rows (by their readings), first occurrence each.
+  std::unordered_map<std::vector<std::uint64_t>, std::vector<int>, BitsHash> at;
+  at.reserve(static_cast<std::size_t>(data.size()));
+  for (int r = 0; r < data.size(); ++r) {
+    std::vector<int>& rows = at[bits_of(data.actuators.row(r))];
+    const std::vector<std::uint64_t> readings = bits_of(data.readings.row(r));
+    int copy_of = -1;
+    for (int earlier : rows)
+      if (bits_of(data.readings.row(earlier)) == readings) {
+        copy_of = earlier;
+        break;
+      }
+    if (copy_of >= 0) {
+      out.duplicates.push_back(r);
+      out.duplicate_of.push_back(copy_of);
+    } else {
+      rows.push_back(r);
+    }
+  }
+  for (const auto& [configuration, rows] : at)
+    if (rows.size() > 1) {
+      ++out.repeated_configurations;
+      out.repeat_rows += static_cast<int>(rows.size());
+    }
+  return out;
 }
 
 }  // namespace kincal

@@ -32,6 +32,8 @@ struct HomePoseCheck {
   std::string warning;  ///< the sentence for the user when far, else empty
 };
 constexpr double kHomeFarMm = 10.0;
+/// Readings whose spread differs from the predicted spread by more than this factor.
+constexpr double kSpreadMismatch = 20;
 constexpr double kHomeFarRad = 0.2;
 
 /// Only for mechanisms whose forward kinematics has several assemblies
@@ -54,8 +56,24 @@ std::string encoder_stroke_hint(const MeasurementModel& model, const VectorXd& p
 /// kinematics reaches the rows; from 20000 rows on, on evenly spaced rows, 10000 to 20000
 /// of them). Returns one sentence saying what was seen and how to fix it
 /// (name the columns <name>_deg / <name>_m, or convert), or "" when nothing looks wrong.
-/// Columns read with a unit suffix are not checked: the suffix states the unit.
+/// Columns read with a unit suffix are not checked: the suffix states the unit. Then, for every
+/// sensor's length readings whatever their columns, the spread of the readings against the
+/// spread the model predicts at the same configurations (a point's RMS distance from its
+/// centre, which no frame changes): beyond kSpreadMismatch times apart, one way or the
+/// other, the units are wrong (metres named) or the data are not this machine's.
 std::string check_data_units(const MeasurementModel& model, const VectorXd& params,
                              const MeasurementTable& table);
+
+/// Rows measured at the same configuration. A row whose actuators and readings equal an
+/// earlier row's bit for bit is a copy, not a second measurement (no two real readings agree
+/// to the last digit), and counts once; rows at the same actuator values with different
+/// readings are repeats, whose scatter is the noise.
+struct Repeats {
+  std::vector<int> duplicates;      ///< 0-based rows that copy an earlier row, ascending
+  std::vector<int> duplicate_of;    ///< the earlier row each copies
+  int repeated_configurations = 0;  ///< configurations with two or more distinct rows
+  int repeat_rows = 0;              ///< the distinct rows at those configurations
+};
+Repeats find_repeats(const Measurements& data);
 
 }  // namespace kincal
