@@ -16,34 +16,18 @@ using namespace html_values;
 std::vector<Verdict> calibration_verdicts(const Json& r) {
   using L = Verdict::Level;
   std::vector<Verdict> out;
-  const std::string termination = text_of(r, "termination");
-  // "Converged" says the solver stopped, not where: residuals far above the stated noise
-  // are a local minimum or a model error, never a plain success.
-  const Json& fit = member(r, "fit_check");
-  const bool fit_flagged = text_of(fit, "verdict") == "too_large" &&
-                           (termination == "converged" || termination == "max_iterations");
-  if (fit_flagged)
-    out.push_back({L::kProblem,
-                   "The solver stopped where the residuals are far above the stated noise "
-                   "(chi-square " +
-                       fmt(num(member(fit, "chi_square")), 4) + " on " +
-                       fmt(num(member(fit, "degrees_of_freedom")), 4) +
-                       " degrees of freedom, P(larger) " + fmt(num(member(fit, "p_larger")), 2) +
-                       "): probably a local minimum or a model error.",
-                   "Calibrate again from other starting values (e.g. nearer values in the model "
-                   "file), and check the fixed parameters (kincal observability --sensitivity), "
-                   "outliers and reading_std."});
-  else if (termination == "converged")
-    out.push_back({L::kGood, "The solver converged (" + text_of(r, "message") + ").", ""});
-  else if (termination == "max_iterations")
-    out.push_back({L::kWarning, "The solver stopped at its iteration limit before converging.",
-                   "Re-run with a larger --max-iterations, or start from this result."});
-  else
-    out.push_back({L::kProblem,
-                   "The solver did not reach a solution (" + termination + ": " +
-                       text_of(r, "message") + "): the estimates below are not a calibration.",
-                   "Check the data (outliers, wrong actuator columns) and the model's nominal "
-                   "values; try --solver lm."});
+  // The library's verdict first (framework/analysis/calibration_verdict.hpp): the same
+  // findings the text and JSON reports carry, with the same thresholds.
+  const Json& verdict = member(r, "verdict");
+  if (member(verdict, "findings").is_array())
+    for (const auto& f : verdict["findings"]) {
+      const std::string level = text_of(f, "level");
+      out.push_back({level == "good"          ? L::kGood
+                     : level == "warning"     ? L::kWarning
+                     : level == "do_not_load" ? L::kProblem
+                                              : L::kNote,
+                     text_of(f, "text"), text_of(f, "advice")});
+    }
 
   // Several starts (--starts): whether they agree on one minimum.
   const Json& starts = member(r, "starts");
@@ -78,43 +62,9 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
     }
   }
 
-  // Noise: sigma_hat against what the model states.
+  // The noise is the verdict's "fit" finding; sigma_hat is still needed below.
   const double sigma = num(member(r, "sigma_hat"));
   const std::string sigma_unit = text_of(r, "sigma_hat_unit");
-  if (std::isfinite(sigma)) {
-    if (sigma_unit == "reading_std") {
-      if (sigma > 2) {
-        // Said once: the fit check's verdict above already says it when it flagged the fit.
-        if (!fit_flagged)
-          out.push_back({L::kWarning,
-                         "The residuals are " + fmt(sigma, 3) +
-                             " times the noise the model states (reading_std): the model does "
-                             "not explain the data to the accuracy of the sensor.",
-                         "Look for a fixed parameter at a wrong value (kincal observability "
-                         "--sensitivity shows what each one would cost), outliers, or a "
-                         "reading_std that is too optimistic."});
-      } else if (sigma < 0.5)
-        out.push_back({L::kNote,
-                       "The residuals are only " + fmt(sigma, 3) +
-                           " times the stated reading_std: the sensor is better than the "
-                           "model file says, or the fit has too few degrees of freedom.",
-                       "State a smaller reading_std if the sensor's specification allows."});
-      else
-        out.push_back({L::kGood,
-                       "The residuals match the stated sensor noise (sigma_hat = " + fmt(sigma, 3) +
-                           " x reading_std).",
-                       ""});
-    } else {
-      out.push_back({L::kNote,
-                     "The noise estimated from the residuals is sigma_hat = " + fmt(sigma, 3) +
-                         " " +
-                         (sigma_unit == "mixed" ? "(mm and rad pooled, unweighted)" : sigma_unit) +
-                         ". The model states no sensor noise, so kincal cannot tell whether "
-                         "that is the sensor or a model error.",
-                     "State your sensor's accuracy as reading_std in the model file: the report "
-                     "then compares the residuals with it."});
-    }
-  }
 
   // Conditioning.
   const Json& id = member(r, "identifiability");
@@ -262,9 +212,13 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
     const double held_out = num(member(member(cv, "position_error_mm"), "mean"));
     const double held_out_registration =
         num(member(member(cv, "registration_only_position_error_mm"), "mean"));
+    const double located = num(member(member(position, "nominal_point_located"), "mean"));
     std::string text =
         "Mean 3-D position error of the measured point on the calibration data: " + fmt(before, 4) +
         " mm before, " +
+        (std::isfinite(located)
+             ? fmt(located, 4) + " mm for the nominal geometry with the measured point located, "
+             : std::string()) +
         (std::isfinite(registration)
              ? fmt(registration, 4) + " mm with registration only (frames fitted), "
              : std::string()) +
@@ -283,12 +237,11 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
            "The 3-D position error before and after could not both be computed (" + text + ")",
            ""});
     else
-      out.push_back({better ? L::kGood : L::kProblem, text,
-                     better ? (std::isfinite(held_out)
-                                   ? ""
-                                   : "Check it on held-out data: kincal validate, or --folds K.")
-                            : "The calibration does not reduce the error: check the data, the "
-                              "free parameters and the model."});
+      // The figures; a calibration that does not reduce the error is the verdict's finding.
+      out.push_back({better ? L::kGood : L::kNote, text,
+                     better && !std::isfinite(held_out)
+                         ? "Check it on held-out data: kincal validate, or --folds K."
+                         : ""});
   }
   // The predicted pose error of the estimate against the nominal model (experiment design).
   const Json& predicted = member(r, "predicted_pose_error");
@@ -300,16 +253,11 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                      "Predicted position error over the workspace: " + fmt(calibrated, 3) +
                          " mm RMS, against " + fmt(nominal, 3) + " mm for the nominal model.",
                      ""});
-    else
-      out.push_back({L::kProblem,
-                     "This calibration is NOT expected to beat the nominal model: predicted "
-                     "position error " +
-                         fmt(calibrated, 3) + " mm RMS against " + fmt(nominal, 3) +
-                         " mm for the nominal model.",
-                     "Do not load it as it is: measure configurations chosen by kincal design, "
-                     "add what you know as prior_std, or fix the weakly determined parameters."});
+    // Not expected to beat nominal: the verdict's "accuracy" finding says so.
   }
-  if (const auto target = target_verdict(member(r, "target"))) out.push_back(*target);
+  // A target not met is the verdict's "target" finding.
+  if (const auto target = target_verdict(member(r, "target")))
+    if (target->level != L::kProblem) out.push_back(*target);
   // What readings that measure no point cannot show (issue: a single gauge).
   if (member(r, "pose_accuracy_shown") == false)
     out.push_back({L::kNote,
@@ -318,8 +266,7 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                    "pose error comes from the model, not from a measured pose.",
                    "To check the pose, measure configurations with a point or pose tracker, or "
                    "with the gauge in a second placement, and run kincal validate on them."});
-  if (member(r, "warnings").is_array())
-    for (const auto& w : r["warnings"]) out.push_back({L::kWarning, text_of(w), ""});
+  // The report's warnings are the verdict's "data" findings.
   return out;
 }
 

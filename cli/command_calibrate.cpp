@@ -18,10 +18,12 @@
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/calibration_verdict.hpp"
 #include "kincal/framework/analysis/cross_validation.hpp"
 #include "kincal/framework/analysis/position_error.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
+#include "kincal/framework/calibration/equivalent_solutions.hpp"
 #include "kincal/framework/calibration/prior_problem.hpp"
 #include "kincal/framework/least_squares/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
@@ -114,6 +116,35 @@ void add_baselines(CalibrationReport& report, const std::shared_ptr<const Measur
                    const IdentifiabilityOptions& id_options) {
   SolverOptions options = choice.options;
   options.verbosity = 0;  // the iterations shown are the calibration's
+  // Only the parameters of `subset` the data determine (a point's orientation is unseen).
+  const auto determined = [&](std::vector<int> subset) {
+    const CalibrationProblem probe(model, data, start, subset);
+    MatrixXd J;
+    if (!probe.evaluate(probe.initial_free_parameters(), nullptr, &J)) return subset;
+    std::vector<int> kept;
+    for (int i : identifiable_subset(J, id_options)) kept.push_back(subset[i]);
+    return kept;
+  };
+  // The nominal geometry with the measured point located: "before" as a user means it when
+  // the model did not know where the reflector is (an imported arm's starts at the flange).
+  const std::vector<int> point = measured_point_indices(*model, free);
+  if (measures_position(*model) && !point.empty() && point.size() < free.size()) {
+    const std::vector<int> located = determined(point);
+    const Fit fit =
+        fit_parameters(model, data, start, located, *choice.solver, options, with_prior);
+    if (fit.ok()) {
+      try {
+        const MatrixXd r = residual_matrix(model, data, fit.values);
+        report.point_located.residual_rms = residual_rms_by_unit(*model, r);
+        report.point_located.position = summarize_position_errors(position_errors(*model, r));
+        report.point_located.termination = to_string(fit.summary.termination);
+        for (int i : located) report.point_located.names.push_back(model->parameters()[i].name);
+        report.point_located.computed = !located.empty();
+      } catch (const std::runtime_error&) {
+        // Not computable at the located point: no such line in the report.
+      }
+    }
+  }
   std::vector<int> registration = registration_indices(*model, free);
   auto& baseline = report.registration;
   if (registration.empty()) {
@@ -121,14 +152,7 @@ void add_baselines(CalibrationReport& report, const std::shared_ptr<const Measur
   } else if (registration.size() == free.size()) {
     baseline.why_not = "every free parameter is a frame: the calibration is a registration";
   } else {
-    // Only the frame parameters the data determine (a point's orientation is unseen).
-    const CalibrationProblem probe(model, data, start, registration);
-    MatrixXd J;
-    if (probe.evaluate(probe.initial_free_parameters(), nullptr, &J)) {
-      std::vector<int> kept;
-      for (int i : identifiable_subset(J, id_options)) kept.push_back(registration[i]);
-      registration = kept;
-    }
+    registration = determined(registration);
     const Fit fit =
         fit_parameters(model, data, start, registration, *choice.solver, options, with_prior);
     baseline.termination = to_string(fit.summary.termination);
@@ -324,9 +348,18 @@ int run_calibrate(const Args& args) {
     starts_report = single_start_report(start, x, summary, vm["seed"].as<Seed>().value);
   }
 
+  // An equivalent solution away from the nominal values (whole turns, a flipped link) is
+  // mapped back when the map is exact; what stays far from nominal is a finding below.
+  const NominalBranch branch = map_to_nominal_branch(problem, x);
+  x = branch.x;
   CalibrationReport report =
       make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
                               prior.any() ? prior.precision() : VectorXd());
+  report.branch_mapped = branch.mapped;
+  report.branch_rejected = branch.rejected;
+  report.duplicate_rows = loaded.duplicate_rows;
+  report.repeated_configurations = loaded.repeated_configurations;
+  report.repeat_rows = loaded.repeat_rows;
   if (!formulation_note.empty()) note("calibrate", formulation_note);
   report.formulation = to_string(solved_formulation);
   report.formulation_note = formulation_note;
@@ -354,12 +387,21 @@ int run_calibrate(const Args& args) {
     report_json["target"] =
         predicted_target(*target, report_json["predicted_pose_error"], "calibrated");
   if (sensitivity) report_json["sensitivity"] = sensitivity_json(*sensitivity);
+  CalibrationVerdict verdict = judge_calibration(report);
+  if (target && report_json["target"]["meets"] == false)
+    verdict.findings.push_back({"target", Finding::Level::kDoNotLoad,
+                                "The calibration does not meet the target: " +
+                                    report_json["target"]["verdict"].get<std::string>() + ".",
+                                "Measure more, or better chosen, configurations (kincal design "
+                                "--target), or state what you know as prior_std."});
+  report_json["verdict"] = to_json(verdict);
   if (!report_to_stdout) {
     std::cout << to_text(report);
     std::cout << starts_text(starts_report);
     if (sensitivity) std::cout << sensitivity_text(*sensitivity);
     if (target)
       std::cout << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
+    std::cout << to_text(verdict);
   }
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
@@ -389,6 +431,16 @@ int run_calibrate(const Args& args) {
     note("calibrate", "iteration limit reached before convergence; consider --max-iterations");
   if (!vm.count("out") && !report_to_stdout)
     note("calibrate", "no --out given: the calibrated model was not saved");
+  // Written, but not to be loaded: a distinct exit code, so that no script takes it for a
+  // plain success.
+  if (verdict.worst() == Finding::Level::kDoNotLoad) {
+    for (const Finding& f : verdict.findings)
+      if (f.level == Finding::Level::kDoNotLoad) {
+        std::cerr << "kincal calibrate: verdict: do not load this calibration: " << f.text << "\n";
+        break;
+      }
+    return kDoNotLoadExitCode;
+  }
   return 0;
 }
 

@@ -100,6 +100,12 @@ class UrdfArm final : public Mechanism {
   Pose joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                       Eigen::Ref<Matrix6Xd> J_pose_q) const;
 
+  /// A joint's zero turned by pi with the links after it turned back
+  /// (models/urdf_arm_symmetry.cpp).
+  bool nearer_equivalent(const ParamsRef& params, const ParamsRef& nominal,
+                         const std::vector<bool>& changeable, const VectorXd& scale, VectorXd& out,
+                         std::string* what) const override;
+
   /// The geometry with the parameter values `params` (errors, offsets, base, tool).
   UrdfArmGeometry geometry_from(const ParamsRef& params) const;
 
@@ -112,6 +118,9 @@ class UrdfArm final : public Mechanism {
   int tool_index() const { return joint_index(num_joints()); }
 
  private:
+  bool is_revolute_joint(int joint) const {
+    return geometry_.joints[joint].type != UrdfJointType::kPrismatic;
+  }
   template <class Visit>
   Pose walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit&& visit) const;
 

@@ -5,10 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/statistics.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
+#include "kincal/framework/calibration/equivalent_solutions.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
@@ -22,6 +25,35 @@ double upper_median(std::vector<double> values) {
   const auto mid = values.begin() + values.size() / 2;
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+// What is far from nominal after the branch map: angles on another branch, corrections far
+// beyond their tolerance; outside the registration frames, whose starting values are guesses.
+void add_branch_and_tolerances(CalibrationReport& r, const CalibrationProblem& problem,
+                               const VectorXd& x) {
+  const MeasurementModel& model = problem.model();
+  std::vector<bool> assumed;
+  const VectorXd tolerance = parameter_tolerances(model, &assumed);
+  const std::vector<int> frames = registration_indices(model, problem.free_indices());
+  const VectorXd full = problem.full_parameters(x);
+  const VectorXd nominal = problem.full_parameters(problem.initial_free_parameters());
+  char text[200];
+  for (int i : problem.free_indices()) {
+    if (std::find(frames.begin(), frames.end(), i) != frames.end()) continue;
+    const Parameter& p = model.parameters()[i];
+    const bool angle = p.unit == kRadian;
+    const double change = angle ? wrap_angle(full[i] - nominal[i]) : full[i] - nominal[i];
+    if (angle && std::abs(change) > kPi / 2) {
+      std::snprintf(text, sizeof text, "%s %.6g rad (nominal %.6g)", p.name.c_str(),
+                    nominal[i] + change, nominal[i]);
+      r.off_branch.push_back(text);
+    }
+    if (std::abs(change) > kFarBeyondTolerance * tolerance[i])
+      r.far_corrections.push_back({p.name, p.unit, change, tolerance[i], assumed[i]});
+  }
+  std::sort(r.far_corrections.begin(), r.far_corrections.end(), [](const auto& a, const auto& b) {
+    return std::abs(a.change) / a.tolerance > std::abs(b.change) / b.tolerance;
+  });
 }
 
 }  // namespace
@@ -52,7 +84,10 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   r.nominal = problem.initial_free_parameters();
   r.estimate = x;
   for (std::size_t i = 0; i < r.units.size(); ++i)
-    if (r.units[i] == kRadian) r.estimate[static_cast<int>(i)] = wrap_angle(x[static_cast<int>(i)]);
+    if (r.units[i] == kRadian)  // on the branch nearest the nominal value
+      r.estimate[static_cast<int>(i)] =
+          r.nominal[static_cast<int>(i)] +
+          wrap_angle(x[static_cast<int>(i)] - r.nominal[static_cast<int>(i)]);
   r.num_configurations = problem.num_residual_blocks();
   r.reading_names = model.reading_names();
   r.reading_units = model.reading_units();
@@ -156,6 +191,8 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
     }
   }
   r.fit_check = check_fit(r, measured_r);
+  r.structure = analyze_residual_structure(problem, x);
+  add_branch_and_tolerances(r, problem, x);
   r.predicted_accuracy = compare_with_nominal(model, problem.full_parameters(x),
                                               problem.free_indices(), r.uncertainty.covariance);
   r.pose_accuracy_shown = measures_position(model);

@@ -11,6 +11,7 @@
 #include "kincal/framework/analysis/identifiability.hpp"
 #include "kincal/framework/analysis/pose_accuracy.hpp"
 #include "kincal/framework/analysis/position_error.hpp"
+#include "kincal/framework/analysis/residual_structure.hpp"
 #include "kincal/framework/calibration/calibration_problem.hpp"
 #include "kincal/framework/calibration/fit_check.hpp"
 #include "kincal/framework/least_squares/robust_loss.hpp"
@@ -35,7 +36,8 @@ struct CalibrationReport {
   Summary summary;
   std::vector<std::string> names;  ///< free parameters, problem order
   std::vector<std::string> units;  ///< their units ("mm", "rad")
-  VectorXd nominal, estimate;      ///< free parameters (their units; angles wrapped to (-pi, pi])
+  /// Free parameters in their units; angles on the branch nearest nominal (nominal +- pi).
+  VectorXd nominal, estimate;
   ParameterUncertainty uncertainty;
   int num_configurations = 0;
   std::vector<std::string> reading_names, reading_units;
@@ -91,6 +93,31 @@ struct CalibrationReport {
   /// A prior was used: the estimate is MAP, uncertainty.std the posterior std.
   bool prior = false;
   FitCheck fit_check;
+  /// The residuals' shape: noise or a model error (residual_structure.hpp).
+  ResidualStructure structure;
+  /// The estimate's branch (framework/calibration/equivalent_solutions.hpp), filled by the
+  /// caller that mapped it: what was mapped to the branch nearest nominal, and a map the
+  /// mechanism proposed that was not exact.
+  std::vector<std::string> branch_mapped;
+  std::string branch_rejected;
+  /// Free angles of the geometry (outside the registration frames) still more than pi/2
+  /// from their nominal: "shoulder_lift_joint.offset 3.141 rad (nominal 0)".
+  std::vector<std::string> off_branch;
+  /// Free parameters outside the registration frames whose correction exceeds
+  /// kFarBeyondTolerance x their tolerance (parameter_tolerances), largest ratio first.
+  struct FarCorrection {
+    std::string name, unit;
+    double change = 0, tolerance = 0;
+    bool assumed = false;  ///< the tolerance is kincal's assumption, not the model's
+  };
+  std::vector<FarCorrection> far_corrections;
+  /// Rows that repeat an earlier row exactly, actuators and readings (counted once: a copy is
+  /// not a second measurement), and configurations measured more than once with different
+  /// readings (repeats: kept, their scatter is the noise). Filled by the caller that read the
+  /// data (data_checks.hpp: find_repeats).
+  int duplicate_rows = 0;
+  int repeated_configurations = 0;
+  int repeat_rows = 0;
   /// Predicted pose error over the workspace from the estimate's covariance, next to the
   /// nominal model's (compare_with_nominal at the estimate).
   AccuracyComparison predicted_accuracy;
@@ -116,6 +143,10 @@ struct CalibrationReport {
     std::map<std::string, double> residual_rms;  ///< per unit, on the calibration data
     PositionErrorStats position;
   } registration;
+  /// The nominal geometry with only the measured point located on the end effector
+  /// (measured_point_indices): the error of the starting model as a user means it when the
+  /// model did not know where the reflector is. Filled by the caller like `registration`.
+  Baseline point_located;
   /// K-fold cross-validation (calibrate --folds K), filled by the caller: held-out errors of
   /// the full calibration and of the registration-only fit.
   struct Folds {

@@ -113,11 +113,50 @@ Json to_json(const CalibrationReport& r) {
     fit["chi_square"] = f.tested ? number(f.chi_square) : Json();
     fit["degrees_of_freedom"] = f.tested ? Json(f.degrees_of_freedom) : Json();
     fit["p_larger"] = f.tested ? number(f.p_larger) : Json();
+    // Above the stated noise is not by itself a model error (real set-ups scatter more than
+    // their datasheet): the residuals' shape and the verdict say which it is.
     fit["note"] = !f.tested       ? f.not_tested
-                  : f.too_large() ? std::string(kFitTooLarge)
+                  : f.too_large() ? std::string(kFitAboveStatedNoise)
                                   : std::string(kFitConsistent);
     out["fit_check"] = fit;
   }
+  {
+    const ResidualStructure& s = r.structure;
+    Json shape;
+    shape["tested"] = s.tested;
+    if (!s.tested) shape["why_not"] = s.not_tested;
+    shape["neighbour_pairs"] = s.pairs;
+    shape["neighbour_fraction"] = number(s.neighbour_fraction);
+    shape["neighbour_z"] = number(s.neighbour_z);
+    shape["mean_neighbour_distance"] = number(s.mean_neighbour_distance);
+    shape["neighbour_structured"] = s.neighbour_structured();
+    shape["fixed_directions"] = s.fixed_directions;
+    shape["fixed_fraction"] = number(s.fixed_fraction);
+    shape["fixed_p"] = number(s.fixed_p);
+    shape["dominant_fixed"] = s.dominant_fixed.empty() ? Json() : Json(s.dominant_fixed);
+    shape["dominant_fixed_fraction"] = number(s.dominant_fixed_fraction);
+    shape["fixed_structured"] = s.fixed_structured();
+    Json spread = Json::object();
+    for (const auto& [unit, share] : s.unexplained_spread)
+      spread[unit] = {{"reading_spread", number(s.reading_spread.at(unit))},
+                      {"unexplained_share", number(share)}};
+    shape["unexplained_spread"] = spread;
+    out["residual_structure"] = shape;
+  }
+  out["nominal_branch"] = {
+      {"mapped", r.branch_mapped},
+      {"rejected", r.branch_rejected.empty() ? Json() : Json(r.branch_rejected)},
+      {"off_branch", r.off_branch}};
+  out["far_corrections"] = Json::array();
+  for (const auto& c : r.far_corrections)
+    out["far_corrections"].push_back({{"name", c.name},
+                                      {"unit", c.unit},
+                                      {"change", number(c.change)},
+                                      {"tolerance", number(c.tolerance)},
+                                      {"tolerance_assumed", c.assumed}});
+  out["duplicate_rows"] = r.duplicate_rows;
+  out["repeated_configurations"] = r.repeated_configurations;
+  out["repeat_rows"] = r.repeat_rows;
   out["effective_degrees_of_freedom"] = number(r.uncertainty.effective_degrees_of_freedom);
   out["robust_std_factor"] = number(r.uncertainty.robust_factor);
   out["prior"] = r.prior;
@@ -172,6 +211,13 @@ Json to_json(const CalibrationReport& r) {
     Json position = {{"before", to_json(r.position_before)}, {"after", to_json(r.position_after)}};
     position["before_is"] = "the model's starting values, on the calibration data";
     position["after_is"] = "the estimate, on the calibration data (in-sample)";
+    if (r.point_located.computed) {
+      position["nominal_point_located"] = to_json(r.point_located.position);
+      position["nominal_point_located_is"] =
+          "the starting values with only the measured point's position on the end effector "
+          "fitted (" +
+          std::to_string(r.point_located.names.size()) + " parameters)";
+    }
     if (r.registration.computed) {
       position["registration_only"] = to_json(r.registration.position);
     }

@@ -113,11 +113,19 @@ std::string to_text(const CalibrationReport& r) {
         << r.loss << " loss sees them (" << format("%.4g", r.psi_sigma)
         << ") scaled by Huber's factor " << format("%.3g", r.uncertainty.robust_factor);
   out << ")\n";
-  // Only a flagged fit: the JSON holds the check either way.
+  // Above the stated noise: the verdict says whether that is noise or a model error.
   if (r.fit_check.too_large())
     out << "fit check: chi-square " << format("%.4g", r.fit_check.chi_square) << " on "
         << r.fit_check.degrees_of_freedom << " degrees of freedom against the stated noise, "
-        << "P(larger) " << format("%.3g", r.fit_check.p_larger) << ": " << kFitTooLarge << "\n";
+        << "P(larger) " << format("%.3g", r.fit_check.p_larger) << ": above the stated noise\n";
+  if (r.structure.tested)
+    out << "residual shape: " << format("%.0f", 100 * std::max(0.0, r.structure.neighbour_fraction))
+        << " % of the variance shared by neighbouring configurations"
+        << (r.structure.fixed_directions > 0
+                ? ", " + format("%.0f", 100 * r.structure.fixed_fraction) +
+                      " % explained by the fixed parameters"
+                : std::string())
+        << "\n";
   if (r.loss != "none" && std::isnan(r.uncertainty.robust_factor))
     out << "no standard deviations: the " << r.loss
         << " loss rejects most residuals (its delta is too small for this data)\n";
@@ -186,6 +194,10 @@ std::string to_text(const CalibrationReport& r) {
     out << "3-D position error of the measured point, mm (" << r.position_after.points
         << " points):\n";
     line("before (the starting values)", r.position_before);
+    if (r.point_located.computed && r.point_located.position.points > 0)
+      line("nominal, measured point located (" + std::to_string(r.point_located.names.size()) +
+               " parameters)",
+           r.point_located.position);
     if (r.registration.computed && r.registration.position.points > 0)
       line("registration only (" + std::to_string(r.registration.names.size()) +
                " frame parameters)",

@@ -154,4 +154,18 @@ std::vector<int> registration_indices(const MeasurementModel& model, const std::
   return out;
 }
 
+std::vector<int> measured_point_indices(const MeasurementModel& model,
+                                        const std::vector<int>& free) {
+  std::vector<int> out;
+  for (int i : registration_indices(model, free)) {
+    const std::string& name = model.parameters()[i].name;
+    const std::string axis = name.substr(name.rfind('.') + 1);
+    if (axis != "x" && axis != "y" && axis != "z") continue;
+    if (name.rfind("tool.", 0) == 0 || name.find(".target.") != std::string::npos ||
+        name.find(".marker.") != std::string::npos)
+      out.push_back(i);
+  }
+  return out;
+}
+
 }  // namespace kincal

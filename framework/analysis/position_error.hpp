@@ -65,4 +65,11 @@ nlohmann::ordered_json to_json(const PointErrorPrediction& p);
 /// base.* and tool.* frames; the joints and links stay at their model values.
 std::vector<int> registration_indices(const MeasurementModel& model, const std::vector<int>& free);
 
+/// Of those, the translations that place the measured point on the end effector (tool.x, .y,
+/// .z; a sensor's target or marker position): what a starting model most often does not know
+/// (an imported arm's reflector starts at the flange's centre), so that its error before
+/// calibration is measured with them fitted too ("nominal geometry, measured point located").
+std::vector<int> measured_point_indices(const MeasurementModel& model,
+                                        const std::vector<int>& free);
+
 }  // namespace kincal

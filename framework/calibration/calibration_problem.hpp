@@ -68,6 +68,7 @@ class CalibrationProblem : public LeastSquaresProblem {
   int num_measured_residuals() const { return data_.num_present(); }
 
   const MeasurementModel& model() const { return *model_; }
+  const std::shared_ptr<const MeasurementModel>& model_ptr() const { return model_; }
   const Measurements& data() const { return data_; }
   const std::vector<int>& free_indices() const { return free_indices_; }
 

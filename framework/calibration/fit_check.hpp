@@ -16,6 +16,12 @@ inline constexpr const char* kFitTooLarge =
     "the residuals are far above the stated noise: probably a local minimum or a model error "
     "(try --starts, check the fixed parameters, outliers and reading_std)";
 
+/// What calibrate's report says of a fit above its stated noise: by itself no model error
+/// (the residuals' shape tells: framework/analysis/residual_structure.hpp).
+inline constexpr const char* kFitAboveStatedNoise =
+    "the residuals are above the stated noise; whether that is the set-up's noise or a model "
+    "error is what the residuals' shape tells (residual_structure, and the verdict)";
+
 /// What they say of a fit that passes: the check has a blind side.
 inline constexpr const char* kFitConsistent =
     "consistent with the noise (a local minimum whose residuals are as small as the noise "

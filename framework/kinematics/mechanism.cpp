@@ -124,4 +124,9 @@ bool Mechanism::pose_jacobian_actuators(const ParamsRef& params, const Actuators
   return J_pose_actuators.allFinite();
 }
 
+bool Mechanism::nearer_equivalent(const ParamsRef&, const ParamsRef&, const std::vector<bool>&,
+                                  const VectorXd&, VectorXd&, std::string*) const {
+  return false;
+}
+
 }  // namespace kincal

@@ -133,6 +133,18 @@ class Mechanism {
                                       const Pose& pose,
                                       const Eigen::Ref<const MatrixX6d>& J_out_pose,
                                       Eigen::Ref<MatrixXd> J_out_params) const;
+
+  /// For a parametrisation with discrete symmetries (a revolute joint's zero turned by pi,
+  /// the next link's frame turned with it: the links drawn flipped, every pose the same), the
+  /// equivalent parameter vector nearest `nominal` reachable from `params` by them, in `out`,
+  /// with what was mapped in words. Only parameters whose `changeable` entry is true may
+  /// differ from `params`; the distance to nominal is sum ((value - nominal) / scale)^2,
+  /// angles taken on their branch nearest nominal. False when none is nearer than `params`
+  /// (the default: no symmetry known). The caller checks that the predictions are unchanged
+  /// (framework/calibration/equivalent_solutions.hpp), so a wrong map is never used.
+  virtual bool nearer_equivalent(const ParamsRef& params, const ParamsRef& nominal,
+                                 const std::vector<bool>& changeable, const VectorXd& scale,
+                                 VectorXd& out, std::string* what) const;
 };
 
 }  // namespace kincal
