@@ -7,6 +7,7 @@
 # Usage: hostile_audit_round_three_test.sh KINCAL SECTION [PYTHONPATH_OF_THE_MODULE]
 set -uo pipefail
 kincal=$1
+[[ $kincal == /* ]] || kincal=$PWD/$kincal  # the cases run in a temporary directory
 section=$2
 export KINCAL_AUDIT_PYTHONPATH=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
