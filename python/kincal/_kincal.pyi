@@ -66,6 +66,17 @@ def calibration_residuals(
 def measurements_to_csv(
     actuators: ArrayLike, readings: ArrayLike, model: Model, comment: str = ...
 ) -> str: ...
+def check_measurements(
+    actuators: ArrayLike, readings: ArrayLike, actuator_names: List[str], reading_names: List[str]
+) -> None: ...
+def write_measurements(
+    path: str,
+    actuators: ArrayLike,
+    readings: ArrayLike,
+    actuator_names: List[str],
+    reading_names: List[str],
+    comment: str = ...,
+) -> None: ...
 
 class LeastSquaresProblem:
     def __init__(
