@@ -20,8 +20,8 @@ namespace kincal::python {
 namespace {
 
 // The problem as Python sees it (kincal.LeastSquaresProblem): the callables and sizes. It
-// holds nothing a solve changes, so it can be solved again after a callable raised, and by
-// several threads at once; each solve evaluates it through a CallableSolve of its own.
+// holds nothing a solve changes, so it can be solved again after a callable raised: each
+// solve evaluates it through a CallableSolve of its own.
 class CallableProblem {
  public:
   CallableProblem(py::object residuals, py::object jacobian, int num_parameters, int num_residuals,
