@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::cli {
@@ -99,13 +100,13 @@ bool parse_command_line(const std::string& command, const Args& args,
   }
   resolve_deprecated_aliases(command, options, vm);
   if (vm.count("help")) {
-    std::cout << "usage: kincal " << command << " [options]\n"
-              << options << "\nEvery command also takes --plugin FILE (a kincal plug-in, "
-              << "repeatable) and loads those KINCAL_PLUGIN_PATH names.\n";
+    out() << "usage: kincal " << command << " [options]\n"
+          << options << "\nEvery command also takes --plugin FILE (a kincal plug-in, "
+          << "repeatable) and loads those KINCAL_PLUGIN_PATH names.\n";
     return false;
   }
   if (vm.count("version")) {
-    std::cout << version_text();
+    out() << version_text();
     return false;
   }
   return true;

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/html_report.hpp"
 #include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/identifiability_words.hpp"
@@ -396,12 +397,11 @@ int run_calibrate(const Args& args) {
                                 "--target), or state what you know as prior_std."});
   report_json["verdict"] = to_json(verdict);
   if (!report_to_stdout) {
-    std::cout << to_text(report);
-    std::cout << starts_text(starts_report);
-    if (sensitivity) std::cout << sensitivity_text(*sensitivity);
-    if (target)
-      std::cout << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
-    std::cout << to_text(verdict);
+    out() << to_text(report);
+    out() << starts_text(starts_report);
+    if (sensitivity) out() << sensitivity_text(*sensitivity);
+    if (target) out() << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
+    out() << to_text(verdict);
   }
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
@@ -422,9 +422,9 @@ int run_calibrate(const Args& args) {
   if (!model_text.empty()) outputs.push_back({"--out", model_text});
   plan.write(outputs);
   if (!solved) {
-    std::cerr << "kincal calibrate: error: the solver did not reach a solution ("
-              << to_string(summary.termination) << ": " << summary.message
-              << "); no calibrated model written\n";
+    err() << "kincal calibrate: error: the solver did not reach a solution ("
+          << to_string(summary.termination) << ": " << summary.message
+          << "); no calibrated model written\n";
     return 1;
   }
   if (summary.termination == TerminationType::kMaxIterations)
@@ -436,7 +436,7 @@ int run_calibrate(const Args& args) {
   if (verdict.worst() == Finding::Level::kDoNotLoad) {
     for (const Finding& f : verdict.findings)
       if (f.level == Finding::Level::kDoNotLoad) {
-        std::cerr << "kincal calibrate: verdict: do not load this calibration: " << f.text << "\n";
+        err() << "kincal calibrate: verdict: do not load this calibration: " << f.text << "\n";
         break;
       }
     return kDoNotLoadExitCode;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
@@ -108,7 +109,7 @@ int run_check(const Args& args) {
       if (c.tolerance > 0)
         line += "  worst " + number(c.worst) + " (tolerance " + number(c.tolerance) + ")";
       if (!c.detail.empty()) line += "  " + c.detail;
-      std::cout << line << std::endl;
+      out() << line << std::endl;
     }
     json["subjects"].push_back(entry);
   };
@@ -118,8 +119,8 @@ int run_check(const Args& args) {
   json["checks"] = total;
   json["failures"] = failures;
   if (!json_to_stdout)
-    std::cout << (failures ? "FAILED: " + std::to_string(failures) + " of " : "passed: all ")
-              << total << " checks\n";
+    out() << (failures ? "FAILED: " + std::to_string(failures) + " of " : "passed: all ") << total
+          << " checks\n";
   if (!json_file.empty()) plan.write({{"--json", json.dump(2) + "\n"}});
   return failures ? 1 : 0;
 }

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/model_pair.hpp"
@@ -216,27 +217,28 @@ int run_compare(const Args& args) {
   const bool quiet = (!json_file.empty() && plan.to_stdout("--json")) ||
                      (vm.count("html") && plan.to_stdout("--html"));
   if (!quiet) {
-    std::printf("kincal compare: %s against the truth %s\n", printable(model_file).c_str(),
-                printable(truth_file).c_str());
-    std::printf("parameters (error = estimate - truth; %zu free or different):\n",
-                parameters.size());
-    std::printf("  %-24s %-4s %14s %14s %12s\n", "name", "unit", "truth", "estimate", "error");
+    out() << format_text("kincal compare: %s against the truth %s\n", printable(model_file).c_str(),
+                         printable(truth_file).c_str());
+    out() << format_text("parameters (error = estimate - truth; %zu free or different):\n",
+                         parameters.size());
+    out() << format_text("  %-24s %-4s %14s %14s %12s\n", "name", "unit", "truth", "estimate",
+                         "error");
     for (const auto& p : parameters)
-      std::printf("  %-24s %-4s %14.8g %14.8g %12.4g\n", printable(p.name).c_str(), p.unit.c_str(),
-                  p.truth, p.estimate, p.error);
+      out() << format_text("  %-24s %-4s %14.8g %14.8g %12.4g\n", printable(p.name).c_str(),
+                           p.unit.c_str(), p.truth, p.estimate, p.error);
     for (const auto& [unit, sc] : rms_by_unit)
-      std::printf("parameter error RMS %.4g %s over %d parameters (largest: %s, %.4g %s)\n",
-                  std::sqrt(sc.first / sc.second), unit.c_str(), sc.second,
-                  printable(worst_by_unit[unit]->name).c_str(), worst_by_unit[unit]->error,
-                  unit.c_str());
-    std::printf("pose error over %s:\n", where.c_str());
-    std::printf("  position    mean %.6g mm  RMS %.6g mm  max %.6g mm\n", pose.position_mean,
-                pose.position_rms, pose.position_max);
-    std::printf("  orientation mean %.4e rad  RMS %.4e rad  max %.4e rad\n", pose.orientation_mean,
-                pose.orientation_rms, pose.orientation_max);
+      out() << format_text(
+          "parameter error RMS %.4g %s over %d parameters (largest: %s, %.4g %s)\n",
+          std::sqrt(sc.first / sc.second), unit.c_str(), sc.second,
+          printable(worst_by_unit[unit]->name).c_str(), worst_by_unit[unit]->error, unit.c_str());
+    out() << format_text("pose error over %s:\n", where.c_str());
+    out() << format_text("  position    mean %.6g mm  RMS %.6g mm  max %.6g mm\n",
+                         pose.position_mean, pose.position_rms, pose.position_max);
+    out() << format_text("  orientation mean %.4e rad  RMS %.4e rad  max %.4e rad\n",
+                         pose.orientation_mean, pose.orientation_rms, pose.orientation_max);
     if (pose.fk_failures)
-      std::printf("  %d configurations unreachable by the truth or the model (left out)\n",
-                  pose.fk_failures);
+      out() << format_text("  %d configurations unreachable by the truth or the model (left out)\n",
+                           pose.fk_failures);
   }
   std::vector<std::pair<std::string, std::string>> outputs;
   if (!json_file.empty()) outputs.push_back({"--json", j.dump(2) + "\n"});

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/design_map.hpp"
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/identifiability_check.hpp"
@@ -154,8 +155,8 @@ std::string figure(double v) {
 }
 
 void print_prediction_row(const char* label, double designed, double random, double nominal) {
-  std::printf("  %-34s %s %s %s\n", label, figure(designed).c_str(), figure(random).c_str(),
-              figure(nominal).c_str());
+  out() << format_text("  %-34s %s %s %s\n", label, figure(designed).c_str(),
+                       figure(random).c_str(), figure(nominal).c_str());
 }
 
 }  // namespace
@@ -309,10 +310,10 @@ int run_design(const Args& args) {
   const DesignCandidates candidates = make_design_candidates(*model, setup, design);
   if (candidates.stopped && candidates.size() < design.count) {
     if (progress) progress->finish();
-    std::fprintf(stderr,
-                 "kincal design: interrupted while drawing candidates: %d reachable so far, "
-                 "fewer than --poses %d; nothing written\n",
-                 candidates.size(), design.count);
+    err() << format_text(
+        "kincal design: interrupted while drawing candidates: %d reachable so far, "
+        "fewer than --poses %d; nothing written\n",
+        candidates.size(), design.count);
     return 130;  // the shell's code for a run ended by SIGINT
   }
   if (candidates.size() < design.count)
@@ -413,20 +414,20 @@ int run_design(const Args& args) {
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
-    std::printf(
+    out() << format_text(
         "kincal design: %s, criterion %s, %d measurements in %d configurations, seed %llu\n",
         printable(model_file).c_str(), criterion, design.count, rows.size(),
         static_cast<unsigned long long>(design.seed));
-    std::printf(
+    out() << format_text(
         "candidates: %d (%d box corners + random; rejected: %d unreachable, %d below the "
         "singularity margin %g)\n",
         candidates.size(), candidates.num_corners, candidates.rejected_unreachable,
         candidates.rejected_singular, design.min_singularity_margin);
-    std::printf("exchange: %d passes, %d exchanges; criterion %s: greedy %.6g -> %.6g\n",
-                result.passes, result.exchanges, criterion, result.greedy_value,
-                result.criterion_value);
+    out() << format_text("exchange: %d passes, %d exchanges; criterion %s: greedy %.6g -> %.6g\n",
+                         result.passes, result.exchanges, criterion, result.greedy_value,
+                         result.criterion_value);
     if (std::isfinite(bound.bound))
-      std::printf(
+      out() << format_text(
           "bound: no design of %d from these candidates has criterion %s %s %.6g (certified "
           "after %d iterations); this design's %s are within %.2f %% of the best possible\n",
           design.count, criterion, design.criterion == DesignCriterion::kD ? "above" : "below",
@@ -435,13 +436,13 @@ int run_design(const Args& args) {
           : design.criterion == DesignCriterion::kI ? "predicted position errors (RMS)"
                                                     : "parameter stds (RMS, relative)",
           100 * (std_ratio - 1));
-    std::printf(
+    out() << format_text(
         "prediction (linearised at the nominal values; reading noise std %s from %s%s%s):\n",
         noise_text, noise_source, setup.has_prior ? "; with the model's prior" : "",
         setup.existing_readings
             ? ("; with " + std::to_string(setup.existing_readings) + " existing readings").c_str()
             : "");
-    std::printf("  %-34s %12s %12s %12s\n", "", "designed", "random", "nominal");
+    out() << format_text("  %-34s %12s %12s %12s\n", "", "designed", "random", "nominal");
     print_prediction_row("position error RMS (mm)", designed_pose.position_rms,
                          random_pose.position_rms, nominal_pose.position_rms);
     print_prediction_row("position error mean 1sigma (mm)", designed_pose.position_mean_1sigma,
@@ -452,24 +453,26 @@ int run_design(const Args& args) {
                          random_pose.orientation_rms, nominal_pose.orientation_rms);
     print_prediction_row("orientation error max 95% (rad)", designed_pose.orientation_max_95,
                          random_pose.orientation_max_95, nominal_pose.orientation_max_95);
-    std::printf("predicted parameter std:\n  %-22s %-4s %12s %12s %12s\n", "name", "unit",
-                "designed", "random", "nominal");
+    out() << format_text("predicted parameter std:\n  %-22s %-4s %12s %12s %12s\n", "name", "unit",
+                         "designed", "random", "nominal");
     for (int c = 0; c < n; ++c) {
       const Parameter& p = model->parameters()[free[c]];
-      std::printf("  %-22s %-4s %s %s %s\n", p.name.c_str(), p.unit.c_str(),
-                  figure(std::sqrt(designed_cov(c, c))).c_str(),
-                  figure(std::sqrt(random_cov(c, c))).c_str(), figure(setup.scale[c]).c_str());
+      out() << format_text("  %-22s %-4s %s %s %s\n", p.name.c_str(), p.unit.c_str(),
+                           figure(std::sqrt(designed_cov(c, c))).c_str(),
+                           figure(std::sqrt(random_cov(c, c))).c_str(),
+                           figure(setup.scale[c]).c_str());
     }
-    std::printf("template: %s (%d configurations; fill in the reading columns)\n",
-                vm["out"].as<std::string>().c_str(), rows.size());
+    out() << format_text("template: %s (%d configurations; fill in the reading columns)\n",
+                         vm["out"].as<std::string>().c_str(), rows.size());
     if (partial)
-      std::printf("PARTIAL: interrupted in the %s; the design is the best found so far\n",
-                  stopped_in.c_str());
+      out() << format_text("PARTIAL: interrupted in the %s; the design is the best found so far\n",
+                           stopped_in.c_str());
     if (target)
-      std::printf("target: %s\n", predicted_target(*target, {{"designed", to_json(designed_pose)}},
-                                                   "designed")["verdict"]
-                                      .get<std::string>()
-                                      .c_str());
+      out() << format_text(
+          "target: %s\n",
+          predicted_target(*target, {{"designed", to_json(designed_pose)}}, "designed")["verdict"]
+              .get<std::string>()
+              .c_str());
   }
 
   std::vector<std::pair<std::string, std::string>> outputs;
@@ -541,10 +544,10 @@ int run_design(const Args& args) {
   outputs.push_back({"--out", template_csv(*model, rows, heading)});
   plan.write(outputs);
   if (partial) {
-    std::fprintf(stderr,
-                 "kincal design: interrupted in the %s: wrote the best design found so far, "
-                 "marked partial (a full run may do better)\n",
-                 stopped_in.c_str());
+    err() << format_text(
+        "kincal design: interrupted in the %s: wrote the best design found so far, "
+        "marked partial (a full run may do better)\n",
+        stopped_in.c_str());
     return 130;  // the shell's code for a run ended by SIGINT
   }
   return 0;

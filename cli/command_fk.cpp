@@ -6,6 +6,7 @@
 
 #include "kincal/cli/command_kinematics.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/units.hpp"
@@ -135,12 +136,12 @@ int run_fk(const Args& args) {
     plan.write({{"--json", json.dump(2) + "\n"}});
     if (plan.to_stdout("--json")) return 0;
   }
-  std::printf("position_mm   %.6f %.6f %.6f\n", row.pose[0], row.pose[1], row.pose[2]);
-  std::printf("rotation_deg  %.6f %.6f %.6f   (rx ry rz, R = Rz(rz) Ry(ry) Rx(rx))\n", row.pose[3],
-              row.pose[4], row.pose[5]);
+  out() << format_text("position_mm   %.6f %.6f %.6f\n", row.pose[0], row.pose[1], row.pose[2]);
+  out() << format_text("rotation_deg  %.6f %.6f %.6f   (rx ry rz, R = Rz(rz) Ry(ry) Rx(rx))\n",
+                       row.pose[3], row.pose[4], row.pose[5]);
   const auto names = model->reading_names();
   for (int k = 0; k < row.readings.size(); ++k)
-    std::printf("%-13s %.6f\n", names[k].c_str(), row.readings[k]);
+    out() << format_text("%-13s %.6f\n", names[k].c_str(), row.readings[k]);
   return 0;
 }
 

@@ -5,6 +5,7 @@
 
 #include "kincal/cli/command_kinematics.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
 
 namespace kincal::cli {
@@ -69,15 +70,15 @@ int run_ik(const Args& args) {
   // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
   const auto& actuators = model->mechanism().actuators();
   for (int i = 0; i < row.actuators.size(); ++i)
-    std::printf(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n", names[i].c_str(),
-                row.actuators[i]);
+    out() << format_text(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n",
+                         names[i].c_str(), row.actuators[i]);
   const auto reading_names = model->reading_names();
   for (int k = 0; k < row.readings.size(); ++k)
-    std::printf("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
+    out() << format_text("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
   // The unit of each actuator value above, last so that the lines above stay name-value.
   std::string units;
   for (const auto& a : actuators) units += (units.empty() ? "" : ", ") + a.name + " " + a.unit;
-  std::printf("(actuator units: %s)\n", units.c_str());
+  out() << format_text("(actuator units: %s)\n", units.c_str());
   return 0;
 }
 

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
@@ -69,8 +70,8 @@ int run_table(const std::string& command, const po::variables_map& vm, OutputPla
   if (!csv_file.empty()) outputs.push_back({"--out", rows_csv(model, rows)});
   plan.write(outputs);
   if (failures == 0) return 0;
-  std::cerr << "kincal " << command << ": " << failures << " of " << rows.size()
-            << " rows failed (see their status and reason)\n";
+  err() << "kincal " << command << ": " << failures << " of " << rows.size()
+        << " rows failed (see their status and reason)\n";
   return 1;
 }
 

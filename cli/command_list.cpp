@@ -7,6 +7,7 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/extension/plugin.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
@@ -68,9 +69,9 @@ void print(const Entries& entries) {
   for (const auto& e : entries) {
     std::string padded = e.name;
     if (padded.size() < 22) padded.resize(22, ' ');
-    std::cout << padded << " " << e.description;
-    if (!e.plugin.empty()) std::cout << " [plug-in " << e.plugin << "]";
-    std::cout << "\n";
+    out() << padded << " " << e.description;
+    if (!e.plugin.empty()) out() << " [plug-in " << e.plugin << "]";
+    out() << "\n";
   }
 }
 
@@ -101,11 +102,11 @@ int run_list(const Args& args) {
   try {
     po::store(po::command_line_parser(args).options(options).positional(positional).run(), vm);
     if (vm.count("help")) {
-      std::cout << kUsage << "\n" << options << "\n";
+      out() << kUsage << "\n" << options << "\n";
       return 0;
     }
     if (vm.count("version")) {
-      std::cout << version_text();
+      out() << version_text();
       return 0;
     }
     po::notify(vm);
@@ -135,7 +136,7 @@ int run_list(const Args& args) {
     const Entries entries = list();
     json[name] = to_json(entries, name == "solvers");
     if (json_to_stdout) continue;
-    if (what.empty()) std::cout << (first ? "" : "\n") << name << ":\n";
+    if (what.empty()) out() << (first ? "" : "\n") << name << ":\n";
     print(entries);
     first = false;
   }

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
@@ -136,24 +137,24 @@ int run_observability(const Args& args) {
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
-    std::cout << data.size() << " configurations\n" << to_text(a);
+    out() << data.size() << " configurations\n" << to_text(a);
     if (with_prior) {
-      std::cout << "determined by the data / by the prior (1 - posterior var / prior var, at "
-                   "the stated reading_std):\n";
+      out() << "determined by the data / by the prior (1 - posterior var / prior var, at "
+               "the stated reading_std):\n";
       for (int i = 0; i < a.data_share.size(); ++i)
-        std::printf("  %-24s data %5.1f %%  prior %5.1f %%\n", a.names[i].c_str(),
-                    100 * a.data_share[i], 100 * (1 - a.data_share[i]));
+        out() << format_text("  %-24s data %5.1f %%  prior %5.1f %%\n", a.names[i].c_str(),
+                             100 * a.data_share[i], 100 * (1 - a.data_share[i]));
     }
     if (a.num_residuals < a.num_parameters)
-      std::cout << "fewer readings (" << a.num_residuals << ") than free parameters ("
-                << a.num_parameters << "): measure more configurations\n";
+      out() << "fewer readings (" << a.num_residuals << ") than free parameters ("
+            << a.num_parameters << "): measure more configurations\n";
     if (!kept_names.empty()) {
-      std::cout << "an arm imported from a URDF: calibrate (without --free/--fix) keeps "
-                << kept_names.size() << " of the " << free.size()
-                << " free parameters and fixes the others, each a duplicate of kept ones:\n";
-      for (const auto& line : null_directions) std::cout << "  " << line << "\n";
+      out() << "an arm imported from a URDF: calibrate (without --free/--fix) keeps "
+            << kept_names.size() << " of the " << free.size()
+            << " free parameters and fixes the others, each a duplicate of kept ones:\n";
+      for (const auto& line : null_directions) out() << "  " << line << "\n";
     }
-    if (sensitivity) std::cout << sensitivity_text(*sensitivity);
+    if (sensitivity) out() << sensitivity_text(*sensitivity);
   }
   if (vm.count("json") || vm.count("html")) {
     nlohmann::ordered_json out = json_document("kincal-observability");

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/progress.hpp"
@@ -100,20 +101,20 @@ int run_reproduce(const Args& args) {
   const bool partial = trials_done < total;
 
   // With --json - the table goes to stderr, so that standard output holds only the JSON.
-  std::FILE* text = json_to_stdout ? stderr : stdout;
-  std::fprintf(text,
-               "kincal reproduce: %d trials per case, solver %s, parameter errors ±%g mm, "
-               "%d validation poses%s\n",
-               num_trials, choice.name.c_str(), base.param_error_half_width, base.num_validation,
-               partial ? " (PARTIAL: interrupted)" : "");
-  std::fprintf(text, "%-4s %-9s %5s | %-32s | %-32s | %5s | %-17s | %s\n", "case", "noise mm",
-               "poses", "position error mm", "orientation error rad", "iter", "conv/maxit/div/fail",
-               "unreachable");
-  std::fprintf(text, "%-4s %-9s %5s | %10s %10s %10s | %10s %10s %10s | %5s | %-17s | %s\n", "", "",
-               "", "before", "after", "after p90", "before", "after", "after p90", "med", "",
-               "(trials)");
+  std::ostream& text = json_to_stdout ? err() : out();
+  text << format_text(
+      "kincal reproduce: %d trials per case, solver %s, parameter errors ±%g mm, "
+      "%d validation poses%s\n",
+      num_trials, choice.name.c_str(), base.param_error_half_width, base.num_validation,
+      partial ? " (PARTIAL: interrupted)" : "");
+  text << format_text("%-4s %-9s %5s | %-32s | %-32s | %5s | %-17s | %s\n", "case", "noise mm",
+                      "poses", "position error mm", "orientation error rad", "iter",
+                      "conv/maxit/div/fail", "unreachable");
+  text << format_text("%-4s %-9s %5s | %10s %10s %10s | %10s %10s %10s | %5s | %-17s | %s\n", "",
+                      "", "", "before", "after", "after p90", "before", "after", "after p90", "med",
+                      "", "(trials)");
   const ReproduceTables tables = reproduce_tables(cases, num_trials, partial, choice.name);
-  std::fputs(tables.text_rows.c_str(), text);
+  text << tables.text_rows;
   plan.write_directory("--out", {{"summary.csv", tables.summary_csv},
                                  {"trials.csv", tables.trials_csv},
                                  {"trace.csv", tables.trace_csv}});
@@ -122,18 +123,18 @@ int run_reproduce(const Args& args) {
         reproduce_json(choice.name, num_trials, partial, base, out_dir, tables.json_cases);
     plan.write({{"--json", json.dump(2) + "\n"}});
   }
-  std::fprintf(text,
-               "pose errors are means over the validation poses (before = nominal geometry); "
-               "median/p90 over trials;\nunreachable = trials whose calibrated model cannot reach "
-               "some validation poses (left out of their means).\n"
-               "wrote %s/summary.csv, trials.csv, trace.csv (mean error per iteration: "
-               "the paper's Figs. 3-4)\n",
-               out_dir.c_str());
+  text << format_text(
+      "pose errors are means over the validation poses (before = nominal geometry); "
+      "median/p90 over trials;\nunreachable = trials whose calibrated model cannot reach "
+      "some validation poses (left out of their means).\n"
+      "wrote %s/summary.csv, trials.csv, trace.csv (mean error per iteration: "
+      "the paper's Figs. 3-4)\n",
+      out_dir.c_str());
   if (partial) {
-    std::fprintf(stderr,
-                 "kincal reproduce: interrupted: wrote the %d of %d trials that finished, as "
-                 "partial results (partial = true in %s/summary.csv%s)\n",
-                 trials_done, total, out_dir.c_str(), json_file.empty() ? "" : " and --json");
+    err() << format_text(
+        "kincal reproduce: interrupted: wrote the %d of %d trials that finished, as "
+        "partial results (partial = true in %s/summary.csv%s)\n",
+        trials_done, total, out_dir.c_str(), json_file.empty() ? "" : " and --json");
     return 130;  // the shell's code for a run ended by SIGINT
   }
   return 0;

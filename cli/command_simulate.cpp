@@ -8,6 +8,7 @@
 #include <set>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
@@ -30,11 +31,11 @@ namespace {
 constexpr const char* kTruthLabel = "--write-data's true model";
 
 void print_errors(const char* label, const PoseErrorStats& e) {
-  std::printf(
+  out() << format_text(
       "  %-8s position mean %10.6f mm  max %10.6f mm   orientation mean %.3e rad  max %.3e rad",
       label, e.position_mean_mm, e.position_max_mm, e.orientation_mean_rad, e.orientation_max_rad);
-  if (e.fk_failures) std::printf("  (%d poses unreachable)", e.fk_failures);
-  std::printf("\n");
+  if (e.fk_failures) out() << format_text("  (%d poses unreachable)", e.fk_failures);
+  out() << format_text("\n");
 }
 
 // "5 mm, 0.01 rad" for the units the free parameters (or readings) are in.
@@ -60,16 +61,16 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
   std::set<std::string> parameter_units, reading_units;
   for (int i : scenario.free_indices) parameter_units.insert(model.parameters()[i].unit);
   for (const auto& u : model.reading_units()) reading_units.insert(u);
-  std::printf("kincal simulate: %s, ", model_name.c_str());
-  if (case_id) std::printf("case %d, ", case_id);
-  std::printf("%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
-              per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
-              o.truth.size()
-                  ? "true model given (--truth)"
-                  : ("parameter errors " + per_unit(o.param_error_half_width,
-                                                    o.param_error_half_width_rad, parameter_units))
-                        .c_str(),
-              static_cast<unsigned long long>(o.seed));
+  out() << format_text("kincal simulate: %s, ", model_name.c_str());
+  if (case_id) out() << format_text("case %d, ", case_id);
+  out() << format_text("%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
+                       per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
+                       o.truth.size() ? "true model given (--truth)"
+                                      : ("parameter errors " +
+                                         per_unit(o.param_error_half_width,
+                                                  o.param_error_half_width_rad, parameter_units))
+                                            .c_str(),
+                       static_cast<unsigned long long>(o.seed));
   if (o.prior_std > 0 || o.prior_std_rad > 0) {
     std::string stds;
     char buf[64];
@@ -81,37 +82,39 @@ void print_report(const Scenario& scenario, const CalibrationRun& run, int case_
       std::snprintf(buf, sizeof buf, "%s%g rad", stds.empty() ? "" : ", ", o.prior_std_rad);
       stds += buf;
     }
-    std::printf("MAP estimate: Gaussian prior of std %s around nominal on every free parameter\n",
-                stds.c_str());
+    out() << format_text(
+        "MAP estimate: Gaussian prior of std %s around nominal on every free parameter\n",
+        stds.c_str());
   } else {
     int with_prior = 0;
     for (int i : scenario.free_indices) with_prior += model.parameters()[i].has_prior();
     if (with_prior)
-      std::printf("MAP estimate: Gaussian prior around nominal on %d of %zu free parameters\n",
-                  with_prior, scenario.free_indices.size());
+      out() << format_text(
+          "MAP estimate: Gaussian prior around nominal on %d of %zu free parameters\n", with_prior,
+          scenario.free_indices.size());
   }
-  std::printf("solver %s: %s — %s\n", s.solver.c_str(), to_string(s.termination),
-              s.message.c_str());
-  std::printf(
+  out() << format_text("solver %s: %s — %s\n", s.solver.c_str(), to_string(s.termination),
+                       s.message.c_str());
+  out() << format_text(
       "  %d iterations, %d residual / %d Jacobian evaluations, cost %.6e -> %.6e, "
       "solve %.3f ms\n",
       s.iterations, s.residual_evaluations, s.jacobian_evaluations, s.initial_cost, s.final_cost,
       1e3 * run.solve_seconds);
-  std::printf("validation over %d poses:\n", o.num_validation);
+  out() << format_text("validation over %d poses:\n", o.num_validation);
   print_errors("before", run.before);
   print_errors("after", run.after);
   const FitCheck fit = simulated_fit_check(scenario, run);
   if (fit.too_large())  // only a flagged fit: the JSON holds the check either way
-    std::printf(
+    out() << format_text(
         "fit check: chi-square %.4g on %d degrees of freedom against the simulated "
         "noise, P(larger) %.3g: %s\n",
         fit.chi_square, fit.degrees_of_freedom, fit.p_larger, kFitTooLarge);
-  std::printf("parameter RMS error after calibration:");
-  if (parameter_units.count(kMillimetre)) std::printf(" %.6g mm", run.parameter_rms_error);
+  out() << format_text("parameter RMS error after calibration:");
+  if (parameter_units.count(kMillimetre)) out() << format_text(" %.6g mm", run.parameter_rms_error);
   if (parameter_units.count(kRadian))
-    std::printf("%s %.6g rad", parameter_units.count(kMillimetre) ? "," : "",
-                run.parameter_rms_error_rad);
-  std::printf(" (%zu free parameters)\n", scenario.free_indices.size());
+    out() << format_text("%s %.6g rad", parameter_units.count(kMillimetre) ? "," : "",
+                         run.parameter_rms_error_rad);
+  out() << format_text(" (%zu free parameters)\n", scenario.free_indices.size());
 }
 
 // The scenario options with the configurations chosen by experiment design on the nominal
@@ -396,9 +399,9 @@ int run_simulate(const Args& args) {
 
   const bool json_to_stdout = vm.count("json") && plan.to_stdout("--json");
   if (!json_to_stdout) {
-    if (!design_text.empty()) std::printf("%s\n", design_text.c_str());
+    if (!design_text.empty()) out() << format_text("%s\n", design_text.c_str());
     print_report(scenario, run, case_id, model_name);
-    std::fputs(starts_text(starts_report).c_str(), stdout);
+    out() << starts_text(starts_report);
   }
   // All outputs or none while the process runs (data without its truth file is useless);
   // the data file names its truth file's SHA-256, for a check after a crash.
@@ -452,8 +455,8 @@ int run_simulate(const Args& args) {
   plan.write(outputs);
   // As calibrate: a solve that reached no solution is exit code 1, outputs written.
   if (!run.summary.converged() && run.summary.termination != TerminationType::kMaxIterations) {
-    std::cerr << "kincal simulate: error: the solver did not reach a solution ("
-              << to_string(run.summary.termination) << ": " << run.summary.message << ")\n";
+    err() << "kincal simulate: error: the solver did not reach a solution ("
+          << to_string(run.summary.termination) << ": " << run.summary.message << ")\n";
     return 1;
   }
   return 0;

@@ -9,6 +9,7 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/output_plan.hpp"
@@ -23,15 +24,16 @@ namespace {
 using problems::SuiteCaseResult;
 
 void print_problem_list(const std::vector<std::shared_ptr<const problems::TestProblem>>& list) {
-  std::printf("%-40s %3s %3s  %-16s %s\n", "problem", "n", "m", "starts", "published minimum");
+  out() << format_text("%-40s %3s %3s  %-16s %s\n", "problem", "n", "m", "starts",
+                       "published minimum");
   for (const auto& p : list) {
     std::string starts;
     for (const auto& s : problems::suite_starts(*p))
       starts += (starts.empty() ? "" : ",") + s.label + (s.evaluable ? "" : "(!)");
-    std::printf("%-40s %3d %3d  %-16s %.6g\n", p->name().c_str(), p->num_parameters(),
-                p->num_residuals(), starts.c_str(), p->published_minimum());
+    out() << format_text("%-40s %3d %3d  %-16s %.6g\n", p->name().c_str(), p->num_parameters(),
+                         p->num_residuals(), starts.c_str(), p->published_minimum());
   }
-  std::printf(
+  out() << format_text(
       "(!) = not evaluable: the cost overflows there. Costs are 1/2 |r|^2, half the "
       "paper's f.\n");
 }
@@ -128,7 +130,7 @@ int run_solver_suite(const Args& args) {
                         {"version", 1},
                         {"problems", selected.size()},
                         {"solvers", nlohmann::json::array()}};
-  std::ostream& text = json_to_stdout ? std::cerr : std::cout;
+  std::ostream& text = json_to_stdout ? err() : cli::out();  // `out` is the JSON here
   int broken = 0;
   long runs_per_solver = 0;
   for (const auto& p : selected)
@@ -215,11 +217,11 @@ int run_solver_suite(const Args& args) {
   }
   if (json) plan.write({{"--json", out.dump(2) + "\n"}});
   if (partial) {
-    std::fprintf(stderr,
-                 "kincal solver-suite: interrupted: %ld of %ld runs finished; the tallies%s "
-                 "cover those only\n",
-                 finished, runs_per_solver * static_cast<long>(solvers.size()),
-                 json ? " and the JSON (\"partial\": true)" : "");
+    err() << format_text(
+        "kincal solver-suite: interrupted: %ld of %ld runs finished; the tallies%s "
+        "cover those only\n",
+        finished, runs_per_solver * static_cast<long>(solvers.size()),
+        json ? " and the JSON (\"partial\": true)" : "");
     return 130;  // the shell's code for a run ended by SIGINT
   }
   return broken > 0 ? 1 : 0;

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
@@ -337,63 +338,65 @@ int run_validate(const Args& args) {
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
-    std::cout << "held-out validation of " << printable(model_file) << " on "
-              << printable(data_file) << ": " << v.configurations << " configurations, "
-              << v.readings << " readings\n";
-    // Repeats test the noise at their configurations, not the calibration elsewhere.
-    if (loaded.repeated_configurations > 0)
-      std::cout << "repeats: " << loaded.repeat_rows << " rows measure only "
-                << loaded.repeated_configurations
-                << " configuration(s) again: they test the noise and the prediction there, and "
-                   "the parameters' error is common to all of them (counted once by the test)\n";
-    if (tested)
-      std::cout << "predicted: noise = " << noise_source
-                << (v.parameter_uncertainty
-                        ? " + the parameters' uncertainty from the report (J Sigma J^T)"
-                        : " alone (no --report: the parameters are taken as exact)")
-                << "\n";
-    else
-      std::cout << "predicted: nothing (no --report and no reading_std in the model): the errors "
-                   "are reported, the consistency test is not made\n";
+    out() << "held-out validation of " << printable(model_file) << " on " << printable(data_file)
+          << ": " << v.configurations << " configurations, " << v.readings
+          << " readings
+             ";
+        // Repeats test the noise at their configurations, not the calibration elsewhere.
+        if (loaded.repeated_configurations > 0) out()
+          << "repeats: " << loaded.repeat_rows << " rows measure only "
+          << loaded.repeated_configurations
+          << " configuration(s) again: they test the noise and the prediction there, and "
+             "the parameters' error is common to all of them (counted once by the test)
+             ";
+        if (tested) out()
+          << "predicted: noise = " << noise_source
+          << (v.parameter_uncertainty
+                  ? " + the parameters' uncertainty from the report (J Sigma J^T)"
+                  : " alone (no --report: the parameters are taken as exact)")
+          << "\n";
+    else out() << "predicted: nothing (no --report and no reading_std in the model): the errors "
+                  "are reported, the consistency test is not made\n";
     for (const auto& p : v.per_reading) {
       if (!p.count) continue;
       if (tested)
-        std::printf(
+        out() << format_text(
             "  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g predicted RMS %-10.4g "
             "(noise %.4g, parameters %.4g)\n",
             p.name.c_str(), p.unit.c_str(), p.count, p.rms, p.max, p.predicted_rms, p.noise_std,
             p.parameter_rms);
       else
-        std::printf("  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g\n", p.name.c_str(),
-                    p.unit.c_str(), p.count, p.rms, p.max);
+        out() << format_text("  %-12s %-4s %5d readings  RMS %-10.4g max %-10.4g\n", p.name.c_str(),
+                             p.unit.c_str(), p.count, p.rms, p.max);
     }
     if (position.computed) {
-      std::cout << "3-D position error of the measured point, mm (" << position.after.points
-                << " points):\n";
+      out() << "3-D position error of the measured point, mm (" << position.after.points
+            << " points):\n";
       if (!position.before_is.empty())
-        std::printf("  before  mean %9.4g  RMS %9.4g  max %9.4g   (%s)\n", position.before.mean,
-                    position.before.rms, position.before.max, position.before_is.c_str());
-      std::printf("  %-7s mean %9.4g  RMS %9.4g  max %9.4g   (%s)\n",
-                  position.before_is.empty() ? "error" : "after", position.after.mean,
-                  position.after.rms, position.after.max, model_file.c_str());
+        out() << format_text("  before  mean %9.4g  RMS %9.4g  max %9.4g   (%s)\n",
+                             position.before.mean, position.before.rms, position.before.max,
+                             position.before_is.c_str());
+      out() << format_text("  %-7s mean %9.4g  RMS %9.4g  max %9.4g   (%s)\n",
+                           position.before_is.empty() ? "error" : "after", position.after.mean,
+                           position.after.rms, position.after.max, model_file.c_str());
     }
     if (tested)
-      std::cout << "standardized RMS " << format("%.3f", v.standardized_rms)
-                << " (1 = as predicted), chi-square " << format("%.4g", v.chi_square) << " on "
-                << v.readings << " degrees of freedom: P(larger) " << format("%.3g", v.p_larger)
-                << ", P(smaller) " << format("%.3g", v.p_smaller) << "\n";
+      out() << "standardized RMS " << format("%.3f", v.standardized_rms)
+            << " (1 = as predicted), chi-square " << format("%.4g", v.chi_square) << " on "
+            << v.readings << " degrees of freedom: P(larger) " << format("%.3g", v.p_larger)
+            << ", P(smaller) " << format("%.3g", v.p_smaller) << "\n";
     if (v.verdict == "not_tested")
-      std::cout << "not tested: give --report (the calibration's) or state reading_std in the "
-                   "model to test the residuals against a prediction\n";
+      out() << "not tested: give --report (the calibration's) or state reading_std in the "
+               "model to test the residuals against a prediction\n";
     else if (v.verdict == "consistent")
-      std::cout << "consistent: the held-out residuals are what the calibration predicts\n";
+      out() << "consistent: the held-out residuals are what the calibration predicts\n";
     else if (v.verdict == "larger_than_predicted")
-      std::cout << "NOT consistent: the held-out residuals are larger than predicted (the "
-                   "model misses something, or its uncertainty is understated)\n";
+      out() << "NOT consistent: the held-out residuals are larger than predicted (the "
+               "model misses something, or its uncertainty is understated)\n";
     else
-      std::cout << "smaller than predicted: the stated noise or uncertainty is pessimistic\n";
-    if (!shows_pose) std::cout << "note: " << kPoseNotShown << "\n";
-    if (target) std::cout << "target: " << target_result["verdict"].get<std::string>() << "\n";
+      out() << "smaller than predicted: the stated noise or uncertainty is pessimistic\n";
+    if (!shows_pose) out() << "note: " << kPoseNotShown << "\n";
+    if (target) out() << "target: " << target_result["verdict"].get<std::string>() << "\n";
   }
   if (vm.count("json") || vm.count("html")) {
     Json out;

@@ -8,6 +8,7 @@
 
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/sha256.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
@@ -58,15 +59,15 @@ int run_verify(const Args& args) {
     plan.write({{"--json", verdict.dump(2) + "\n"}});
   }
   if (actual != expected) {
-    std::cerr << "kincal verify: error: " << model_file << " is not the model " << report_file
-              << " describes: its SHA-256 is " << actual << ", the report's " << expected
-              << " (a calibrate interrupted between writing the two leaves a new report beside "
-                 "an old model; run it again)\n";
+    err() << "kincal verify: error: " << model_file << " is not the model " << report_file
+          << " describes: its SHA-256 is " << actual << ", the report's " << expected
+          << " (a calibrate interrupted between writing the two leaves a new report beside "
+             "an old model; run it again)\n";
     return 1;
   }
   if (json_to_stdout) return 0;
-  std::cout << printable(model_file) << " is the calibrated model " << printable(report_file)
-            << " describes (SHA-256 " << actual << ")\n";
+  out() << printable(model_file) << " is the calibrated model " << printable(report_file)
+        << " describes (SHA-256 " << actual << ")\n";
   return 0;
 }
 

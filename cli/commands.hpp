@@ -1,9 +1,9 @@
 #pragma once
 // One function per sub-command, each in its own cli/command_<name>.cpp. A command receives
-// the arguments after its name, prints to stdout, and returns the exit code. Bad input is
-// thrown as std::exception (usually CliError) and run() (cli/run.cpp) turns it into one line
-// on stderr and exit code 2. Every file a command reads or writes goes through an OutputPlan
-// (output_plan.hpp).
+// the arguments after its name, prints to its standard output (out(), console.hpp), and
+// returns the exit code. Bad input is thrown as std::exception (usually CliError) and run()
+// (cli/run.cpp) turns it into one line on its standard error (err()) and exit code 2. Every file a
+// command reads or writes goes through an OutputPlan (output_plan.hpp).
 
 #include <functional>
 #include <stdexcept>

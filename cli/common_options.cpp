@@ -8,6 +8,8 @@
 
 #include "kincal/framework/least_squares/solver_registry.hpp"
 
+#include "kincal/cli/console.hpp"
+
 #ifndef KINCAL_VERSION
 #define KINCAL_VERSION "unknown"
 #endif
@@ -33,7 +35,8 @@ void add_progress_option(po::options_description& options) {
 }
 
 bool progress_wanted(const po::variables_map& vm) {
-  return (vm.count("progress") && vm["progress"].as<bool>()) || ::isatty(STDERR_FILENO);
+  return (vm.count("progress") && vm["progress"].as<bool>()) ||
+         (err_is_process_stderr() && ::isatty(STDERR_FILENO));
 }
 
 std::string default_text(double value) {

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
@@ -110,7 +111,7 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 }
 
 void note(const std::string& command, const std::string& text) {
-  std::cerr << "kincal " << command << ": note: " << text << "\n";
+  err() << "kincal " << command << ": note: " << text << "\n";
 }
 
 void add_data_size_option(po::options_description& options) {

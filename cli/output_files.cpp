@@ -15,6 +15,7 @@
 #include <random>
 
 #include "kincal/cli/commands.hpp"
+#include "kincal/cli/console.hpp"
 
 namespace kincal::cli {
 
@@ -183,17 +184,21 @@ void write_all(int fd, const std::string& content, const std::string& path) {
 
 // Whatever the command printed so far, then `content`, on standard output, checked: a full
 // disk, a closed standard output or a broken device is an error, never a silent loss.
-// Through std::cout, which a caller of run() may have pointed elsewhere (the fuzzers do).
+// Through out() (cli/console.hpp): std::cout, which a caller of run() may have pointed
+// elsewhere (the fuzzers do), or the stream an in-process caller gave the command.
 void write_standard_output(const std::string& content) {
   errno = 0;
-  std::cout << content;
-  std::cout.flush();
-  bool failed = !std::cout;
-  failed = std::fflush(stdout) != 0 || failed;  // what printf wrote (design's summary)
+  std::ostream& stream = out();
+  stream << content;
+  stream.flush();
+  bool failed = !stream;
+  // What anything else in the process wrote on stdio's stdout comes before the files too.
+  const bool process = out_is_process_stdout();
+  if (process) failed = std::fflush(stdout) != 0 || failed;
   const int error = errno;
-  if (failed || std::ferror(stdout)) {
-    std::cout.clear();
-    std::clearerr(stdout);
+  if (failed || (process && std::ferror(stdout))) {
+    stream.clear();
+    if (process) std::clearerr(stdout);
     throw CliError("cannot write standard output" +
                    (error != 0 ? ": " + errno_text(error) : std::string()));
   }

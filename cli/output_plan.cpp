@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "kincal/cli/commands.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 
@@ -27,7 +28,8 @@ struct Identity {
     kNode,     // an existing file, device or pipe: device + inode
     kNewName,  // a file to be created: its directory's device + inode, and its name
     kNull,     // the null device: writing it twice or reading it loses nothing
-    kStdout,   // standard output when it cannot be examined (closed)
+    kStdout,   // standard output when it is no file to compare: closed, or a stream of the
+               // caller's (cli/console.hpp), which no file named by the command can be
   };
   Kind kind = Kind::kNone;
   dev_t dev = 0;
@@ -53,6 +55,7 @@ Identity identity_of(const struct stat& st) {
 }
 
 Identity stdout_identity() {
+  if (!out_is_process_stdout()) return {Identity::Kind::kStdout, 0, 0, {}};
   struct stat st {};
   if (::fstat(STDOUT_FILENO, &st) != 0) return {Identity::Kind::kStdout, 0, 0, {}};
   return identity_of(st);

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "kincal/cli/console.hpp"
+
 namespace kincal::cli {
 
 std::string duration_text(double seconds) {
@@ -77,7 +79,7 @@ Progress::Progress(std::string command, long total, std::string unit, bool enabl
       unit_(std::move(unit)),
       total_(total),
       enabled_(enabled),
-      terminal_(::isatty(STDERR_FILENO) != 0),
+      terminal_(err_is_process_stderr() && ::isatty(STDERR_FILENO) != 0),
       delay_s_(delay_s),
       start_(std::chrono::steady_clock::now()) {}
 
@@ -102,19 +104,19 @@ void Progress::advance(long n, double seconds_left) {
                                                      : line(done, total_, unit_, t, seconds_left));
   if (terminal_) {
     // \33[K clears what a longer earlier line left.
-    std::fprintf(stderr, "\r%s\33[K", text.c_str());
+    err() << "\r" << text << "\33[K";
     open_line_ = true;
   } else {
-    std::fprintf(stderr, "%s\n", text.c_str());
+    err() << text << "\n";
   }
-  std::fflush(stderr);
+  err().flush();
 }
 
 void Progress::finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!open_line_) return;
-  std::fprintf(stderr, "\n");
-  std::fflush(stderr);
+  err() << "\n";
+  err().flush();
   open_line_ = false;
 }
 

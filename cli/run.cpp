@@ -13,6 +13,7 @@
 
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/output_files.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
@@ -65,7 +66,7 @@ void print_usage(std::ostream& out) {
 
 // One line whatever the message holds (a path with a line break, a 60 KB field).
 void print_error(const std::string& command, const std::string& what) {
-  std::cerr << "kincal " << command << ": error: " << message_excerpt(what, 4000) << "\n";
+  err() << "kincal " << command << ": error: " << message_excerpt(what, 4000) << "\n";
 }
 
 // Takes every `--plugin FILE` / `--plugin=FILE` out of `args`: a global option, so that no
@@ -116,16 +117,16 @@ void prepare_process() {
 
 int run(int argc, const char* const* argv) {
   if (argc < 2) {
-    print_usage(std::cerr);
+    print_usage(err());
     return 2;
   }
   const std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help" || name == "--version" ||
       name == "version") {
     if (name.find("version") != std::string::npos)
-      std::cout << version_text();
+      out() << version_text();
     else
-      print_usage(std::cout);
+      print_usage(out());
     try {
       check_standard_output();
     } catch (const std::exception& e) {
@@ -142,7 +143,7 @@ int run(int argc, const char* const* argv) {
       load_plugins(args);
       const int code = command.run(args);
       check_standard_output();  // what was printed after the last file: never lost silently
-      for (const std::string& line : deprecation_notes()) std::cerr << line << "\n";
+      for (const std::string& line : deprecation_notes()) err() << line << "\n";
       return code;
     } catch (const OptionsChecked&) {
       return 0;  // the fuzzer's stop before any work (stop_after_option_checks)
@@ -154,8 +155,7 @@ int run(int argc, const char* const* argv) {
       return 2;
     }
   }
-  std::cerr << "kincal: error: unknown command '" << message_excerpt(name)
-            << "' (try kincal --help)\n";
+  err() << "kincal: error: unknown command '" << message_excerpt(name) << "' (try kincal --help)\n";
   return 2;
 }
 

@@ -72,6 +72,15 @@ Json model_to_json(const MeasurementModel& model, const VectorXd& values) {
     throw std::invalid_argument("model_to_json: " + std::to_string(values.size()) +
                                 " values for a model with " +
                                 std::to_string(model.num_parameters()) + " parameters");
+  // JSON has no infinity or NaN (nlohmann would write null), and a model file holds finite
+  // numbers only: what is written must read back.
+  for (int i = 0; i < model.num_parameters(); ++i)
+    if (!std::isfinite(values[i]))
+      throw std::invalid_argument("parameter '" + model.parameters()[i].name + "': value " +
+                                  (std::isnan(values[i])     ? "nan"
+                                   : std::signbit(values[i]) ? "-inf"
+                                                             : "inf") +
+                                  "; a model file holds finite numbers only");
   const ModelRegistry& registry = ModelRegistry::global();
   const Mechanism& mechanism = model.mechanism();
   Json out;
@@ -256,17 +265,25 @@ std::string without_json_tag(const std::string& what) {
   return pos == std::string::npos ? what : what.substr(pos + 2);
 }
 
+std::shared_ptr<MeasurementModel> model_from_parsed_json(const Json& j, const std::string& source) {
+  try {
+    return model_from_json(j, source);
+  } catch (const nlohmann::json::exception& e) {
+    // model_from_json checks types before reading them; this is the net under that.
+    throw std::invalid_argument(source + ": unexpected value: " + without_json_tag(e.what()));
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<MeasurementModel> load_model(const std::string& path) {
   // Size and nesting limits, duplicate keys and malformed JSON: framework/io/json_input.hpp.
-  const Json j = read_json_file(path, "model file");
-  try {
-    return model_from_json(j, path);
-  } catch (const nlohmann::json::exception& e) {
-    // model_from_json checks types before reading them; this is the net under that.
-    throw std::invalid_argument(path + ": unexpected value: " + without_json_tag(e.what()));
-  }
+  return model_from_parsed_json(read_json_file(path, "model file"), path);
+}
+
+std::shared_ptr<MeasurementModel> model_from_text(const std::string& text,
+                                                  const std::string& source) {
+  return model_from_parsed_json(parse_json_text(text, source), source);
 }
 
 std::shared_ptr<MeasurementModel> model_with_values(const MeasurementModel& model,

@@ -26,7 +26,8 @@ inline constexpr const char* kModelFormat = "kincal-model";
 inline constexpr int kModelFormatVersion = 1;
 
 /// The model with parameter values `values` (full vector, model layout) and the model's
-/// free mask. Throws std::invalid_argument for mechanism or sensor types it cannot write.
+/// free mask. Throws std::invalid_argument for mechanism or sensor types it cannot write,
+/// and for a value that is not finite (a model file holds finite numbers only).
 nlohmann::ordered_json model_to_json(const MeasurementModel& model, const VectorXd& values);
 
 /// A model whose nominal values are those of the file and whose free mask is its "free"
@@ -39,6 +40,12 @@ std::shared_ptr<MeasurementModel> model_from_json(const nlohmann::ordered_json& 
 /// "<path>: " (with line/column for malformed JSON): a missing file, a directory, a read
 /// error, a number out of range (1e999), or any schema violation of model_from_json.
 std::shared_ptr<MeasurementModel> load_model(const std::string& path);
+
+/// A model from the text of a model file, read as load_model reads the file (the size,
+/// nesting and duplicate-key rules of framework/io/json_input.hpp, then model_from_json);
+/// `source` names it in messages. Throws std::invalid_argument.
+std::shared_ptr<MeasurementModel> model_from_text(const std::string& text,
+                                                  const std::string& source);
 
 /// A copy of `model` whose nominal values are `values`, same free mask.
 std::shared_ptr<MeasurementModel> model_with_values(const MeasurementModel& model,

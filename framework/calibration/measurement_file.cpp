@@ -15,6 +15,7 @@
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
 
@@ -331,10 +332,65 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
   return table;
 }
 
+void check_measurements_writable(const Measurements& data,
+                                 const std::vector<std::string>& actuator_names,
+                                 const std::vector<std::string>& reading_names,
+                                 const std::string& comment) {
+  const auto check_columns = [](const char* what, const std::vector<std::string>& names,
+                                Eigen::Index columns) {
+    if (static_cast<Eigen::Index>(names.size()) != columns)
+      throw std::invalid_argument(std::string(what) + ": " + std::to_string(names.size()) +
+                                  " column names for " + std::to_string(columns) +
+                                  " columns; expected one name per column");
+  };
+  check_columns("actuators", actuator_names, data.actuators.cols());
+  check_columns("readings", reading_names, data.readings.cols());
+  if (data.readings.rows() != data.actuators.rows())
+    throw std::invalid_argument("readings: " + std::to_string(data.readings.rows()) + " rows for " +
+                                std::to_string(data.actuators.rows()) +
+                                " rows of actuators; expected one per configuration");
+  std::vector<std::string> names = actuator_names;
+  names.insert(names.end(), reading_names.begin(), reading_names.end());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    // The reader splits the header at separators and matches names exactly: a name it
+    // could not read back, or one that a spreadsheet would run as a formula, is refused.
+    const std::string problem = name_problem(names[i], NameKind::kColumn);
+    if (!problem.empty())
+      throw std::invalid_argument("column '" + message_excerpt(names[i]) + "': " + problem +
+                                  "; expected a name kincal reads back (docs/reliability.md, "
+                                  "\"Names\")");
+    for (std::size_t k = 0; k < i; ++k)
+      if (names[k] == names[i])
+        throw std::invalid_argument("column '" + message_excerpt(names[i]) +
+                                    "' is given twice; expected one column per name");
+  }
+  const auto value_text = [](double v) {
+    return std::string(std::isnan(v) ? "nan" : std::signbit(v) ? "-inf" : "inf");
+  };
+  for (Eigen::Index r = 0; r < data.actuators.rows(); ++r)
+    for (Eigen::Index c = 0; c < data.actuators.cols(); ++c)
+      if (!std::isfinite(data.actuators(r, c)))
+        throw std::invalid_argument("actuators[" + std::to_string(r) + ", " + std::to_string(c) +
+                                    "] ('" + message_excerpt(actuator_names[c]) + "') is " +
+                                    value_text(data.actuators(r, c)) +
+                                    "; expected a finite actuator value in every row");
+  for (Eigen::Index r = 0; r < data.readings.rows(); ++r)
+    for (Eigen::Index c = 0; c < data.readings.cols(); ++c)
+      if (std::isinf(data.readings(r, c)))
+        throw std::invalid_argument("readings[" + std::to_string(r) + ", " + std::to_string(c) +
+                                    "] ('" + message_excerpt(reading_names[c]) + "') is " +
+                                    value_text(data.readings(r, c)) +
+                                    "; expected a finite reading, or NaN for one not taken");
+  if (comment.find('\0') != std::string::npos)
+    throw std::invalid_argument(
+        "comment: holds a NUL byte, which no measurement file may hold; expected text");
+}
+
 std::string measurements_to_csv(const Measurements& data,
                                 const std::vector<std::string>& actuator_names,
                                 const std::vector<std::string>& reading_names,
                                 const std::string& comment) {
+  check_measurements_writable(data, actuator_names, reading_names, comment);
   std::ostringstream out;
   if (!comment.empty()) {
     std::istringstream lines(comment);

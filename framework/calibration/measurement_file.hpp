@@ -105,8 +105,20 @@ MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                     const std::vector<std::string>& reading_names,
                                     const CsvLimits& limits = {});
 
+/// Throws std::invalid_argument when `data` under these column names would not read back as
+/// it is: a column name the name policy refuses (framework/kinematics/names.hpp, e.g. one
+/// holding a ',' or starting with '='), a name given twice, a number of names other than
+/// the data's columns, an actuator value that is not finite, an infinite reading (NaN is a
+/// reading not taken), or a NUL byte in `comment`. The message names the column or the entry
+/// ("actuators[3, 1] ('leg2') is inf").
+void check_measurements_writable(const Measurements& data,
+                                 const std::vector<std::string>& actuator_names,
+                                 const std::vector<std::string>& reading_names,
+                                 const std::string& comment = "");
+
 /// CSV text of `data` (header, then one row per configuration, full precision). Each line
-/// of `comment` becomes a leading "# " line.
+/// of `comment` becomes a leading "# " line. Checked first (check_measurements_writable):
+/// what is written reads back.
 std::string measurements_to_csv(const Measurements& data,
                                 const std::vector<std::string>& actuator_names,
                                 const std::vector<std::string>& reading_names,

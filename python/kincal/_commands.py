@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 import tempfile
 import threading
 from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
@@ -60,10 +59,9 @@ def option_args(options: Mapping[str, Any]) -> List[str]:
 
 
 def run(command: str, args: List[str]) -> Tuple[int, str, str, bool]:
-    """Runs ``kincal COMMAND ARGS...`` in-process (GIL released, output captured).
-    Returns (exit code, stdout, stderr, interrupted); raises KincalError on bad input."""
-    sys.stdout.flush()
-    sys.stderr.flush()
+    """Runs ``kincal COMMAND ARGS...`` in-process (GIL released) with standard output and
+    error of its own: returns (exit code, what it printed on each, interrupted); what other
+    threads print meanwhile is not part of it. Raises KincalError on bad input."""
     code, out, err, interrupted = _kincal.run_command([command] + args, _on_main_thread())
     out_text = out.decode("utf-8", "replace")
     err_text = err.decode("utf-8", "replace")

@@ -4,8 +4,8 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
-from typing import List, Optional, Tuple, Union
+from dataclasses import dataclass, field, fields
+from typing import Any, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -23,6 +23,31 @@ class Measurements:
     actuator_names: List[str]
     reading_names: List[str]
     notices: List[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self._check()
+
+    def __setstate__(self, state: Any) -> None:
+        """Unpickling: the state comes from elsewhere (a file, a socket) and is checked as a
+        measurement file's content is, never taken as it is."""
+        expected = {f.name for f in fields(self)}
+        if not isinstance(state, dict) or set(state) != expected:
+            raise ValueError(
+                "kincal.Measurements pickle: expected a state with the fields " + ", ".join(sorted(expected))
+            )
+        self.__dict__.update(state)
+        self._check()
+
+    def _check(self) -> None:
+        """ValueError unless this could be a measurement file kincal reads back: column names
+        of the name policy (docs/reliability.md, "Names"), none twice, one per column,
+        finite actuator values, readings finite or NaN (not taken)."""
+        for name in ("actuator_names", "reading_names", "notices"):
+            value = getattr(self, name)
+            if not isinstance(value, (list, tuple)) or not all(isinstance(s, str) for s in value):
+                raise ValueError(f"{name}: expected a list of strings")
+            setattr(self, name, list(value))
+        _kincal.check_measurements(self.actuators, self.readings, self.actuator_names, self.reading_names)
 
     @classmethod
     def read(
@@ -58,13 +83,11 @@ class Measurements:
         return r, J, list(names)
 
     def write(self, path: Union[str, "os.PathLike[str]"], comment: str = "") -> None:
-        """Writes the file (the column names are this object's)."""
-        lines = []
-        if comment:
-            lines += ["# " + line for line in comment.splitlines()]
-        lines.append(",".join(self.actuator_names + self.reading_names))
-        for a, r in zip(np.asarray(self.actuators), np.asarray(self.readings)):
-            values = [repr(float(v)) for v in a] + ["" if np.isnan(v) else repr(float(v)) for v in r]
-            lines.append(",".join(values))
-        with open(os.fspath(path), "w", encoding="utf-8") as f:
-            f.write("\n".join(lines) + "\n")
+        """Writes the file (the column names are this object's) as the program writes its
+        files: to a temporary file renamed over ``path``, so that it is old or new, whole.
+        ValueError, writing nothing, for a column name kincal would not read back (the name
+        policy, docs/reliability.md), a value a measurement file cannot hold, or a path the
+        program would not write (a directory, a read-only file)."""
+        _kincal.write_measurements(
+            os.fspath(path), self.actuators, self.readings, self.actuator_names, self.reading_names, comment
+        )

@@ -18,7 +18,7 @@ import sys
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _kincal
-from ._commands import KincalInterrupt, _on_main_thread, option_args
+from ._commands import KincalError, KincalInterrupt, _on_main_thread, option_args
 
 __all__ = ["reproduce", "accuracy", "design_study", "calibrate_fleet"]
 
@@ -49,6 +49,16 @@ def _progress(done: int, total: int) -> None:
     sys.stderr.flush()
 
 
+def _directory_step(step: Callable[..., None], *args: str) -> None:
+    """Checks or writes reproduce's out directory as ``kincal reproduce --out`` does (only a
+    directory holding just the three tables is replaced, in one step); its refusal is a
+    KincalError with the program's message."""
+    try:
+        step(*args)
+    except _kincal.CliError as e:
+        raise KincalError(str(e)) from None
+
+
 def reproduce(
     trials: int = 100,
     client: Any = None,
@@ -56,7 +66,7 @@ def reproduce(
     solver: str = "lm",
     seed: int = 1,
     validation: int = 200,
-    out: Optional[str] = None,
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
     chunk: int = 10,
     retries: int = 3,
     threads: int = 0,
@@ -67,7 +77,9 @@ def reproduce(
     --trials TRIALS``; returns its JSON document (a dict). Options are the command's
     (``param_error="5mm,0.01rad"``, ``config_range=``, ``solver_option={...}``,
     ``max_iterations=``). ``out``: also write summary.csv, trials.csv and trace.csv there
-    (the document's "out" is then that directory, else None). ``progress``: True reports
+    (the document's "out" is then that directory, else None) as the program does: the
+    directory is replaced whole, in one step, so it may hold only those three files
+    (anything else is refused before any work, with KincalError). ``progress``: True reports
     tasks done on stderr (with a client, also see the Dask dashboard); a callable is called
     as progress(done, total) after each task (a notebook's progress bar). Ctrl-C raises
     KincalInterrupt whose ``result`` is the partial document."""
@@ -78,6 +90,10 @@ def reproduce(
     args = _study_args(solver, seed, validation, options)
     # Bad options fail here, before any work: the same parse the trials make.
     _kincal.reproduce_report(args, 1, [[None]] * NUM_CASES, "")
+    out_dir = None if out is None else os.fspath(out)
+    if out_dir is not None:
+        # The program's rule for its out directory, checked before any work too.
+        _directory_step(_kincal.check_reproduce_directory, out_dir)
     results: List[List[Any]] = [[None] * trials for _ in range(NUM_CASES)]
     report: Optional[Callable[[int, int], None]] = None
     if callable(progress):
@@ -118,15 +134,12 @@ def reproduce(
             if futures:
                 client.cancel(futures)
             interrupted = True
-    text, _rows, summary, trials_csv, trace = _kincal.reproduce_report(args, trials, results, out or "")
+    text, _rows, summary, trials_csv, trace = _kincal.reproduce_report(args, trials, results, out_dir or "")
     document: Dict[str, Any] = json.loads(text)
-    if out is None:
+    if out_dir is None:
         document["out"] = None
     else:
-        os.makedirs(out, exist_ok=True)
-        for name, content in (("summary.csv", summary), ("trials.csv", trials_csv), ("trace.csv", trace)):
-            with open(os.path.join(out, name), "w", encoding="utf-8") as f:
-                f.write(content)
+        _directory_step(_kincal.write_reproduce_directory, out_dir, summary, trials_csv, trace)
     if interrupted:
         raise KincalInterrupt("kincal.studies.reproduce interrupted: partial results", document)
     return document

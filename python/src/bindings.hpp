@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>  // in every file: the casters of std::vector must agree (ODR)
 
+#include <mutex>
 #include <string>
 
 #include "kincal/framework/base/types.hpp"
@@ -22,6 +23,11 @@ void bind_least_squares(py::module_& m);
 void bind_sensors(py::module_& m);
 void bind_mechanisms(py::module_& m);
 void bind_studies(py::module_& m);
+
+/// Held while a command runs in-process (commands.cpp): the commands share process state,
+/// the console (cli/console.hpp) and the Ctrl-C handler, so they run one at a time, and so
+/// does anything else that uses the CLI's console (its file writers flush it).
+std::mutex& command_mutex();
 
 /// Row-major view of a float64 matrix: what numpy gives without a copy.
 using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

@@ -4,6 +4,7 @@
 
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -18,7 +19,10 @@ namespace kincal::python {
 
 namespace {
 
-class CallableProblem : public LeastSquaresProblem {
+// The problem as Python sees it (kincal.LeastSquaresProblem): the callables and sizes. It
+// holds nothing a solve changes, so it can be solved again after a callable raised: each
+// solve evaluates it through a CallableSolve of its own.
+class CallableProblem {
  public:
   CallableProblem(py::object residuals, py::object jacobian, int num_parameters, int num_residuals,
                   std::vector<std::string> names)
@@ -34,27 +38,63 @@ class CallableProblem : public LeastSquaresProblem {
                             std::to_string(names_.size()));
   }
 
-  int num_parameters() const override { return n_; }
-  int num_residual_blocks() const override { return 1; }
-  int residuals_per_block() const override { return m_; }
-  std::vector<std::string> parameter_names() const override {
-    return names_.empty() ? LeastSquaresProblem::parameter_names() : names_;
+  int num_parameters() const { return n_; }
+  int num_residuals() const { return m_; }
+  std::vector<std::string> parameter_names() const {
+    if (!names_.empty()) return names_;
+    std::vector<std::string> names;
+    for (int i = 0; i < n_; ++i) names.push_back("x" + std::to_string(i));
+    return names;
   }
+  const py::object& residuals() const { return residuals_; }
+  const py::object& jacobian() const { return jacobian_; }
+
+ private:
+  py::object residuals_, jacobian_;
+  int n_, m_;
+  std::vector<std::string> names_;
+};
+
+// "[i, j] is nan" (or "[i] is inf" for a vector) for the first entry of `m` that is not finite.
+std::string first_non_finite(const Eigen::Ref<const MatrixXd>& m) {
+  for (Eigen::Index j = 0; j < m.cols(); ++j)
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+      if (!std::isfinite(m(i, j)))
+        return "[" + std::to_string(i) + (m.cols() > 1 ? ", " + std::to_string(j) : "") + "] is " +
+               (std::isnan(m(i, j)) ? "nan"
+                : m(i, j) > 0       ? "inf"
+                                    : "-inf");
+  return "";
+}
+
+// One solve of a CallableProblem: the LeastSquaresProblem the backend sees, and the first
+// exception a callable raised during this solve (the solve stops at it; solve() raises it).
+// Residuals or a Jacobian that are not finite are a failed evaluation, as the calibration
+// problem's are, with the entry named: a backend then never sees them.
+class CallableSolve : public LeastSquaresProblem {
+ public:
+  explicit CallableSolve(const CallableProblem& problem) : problem_(problem) {}
+
+  int num_parameters() const override { return problem_.num_parameters(); }
+  int num_residual_blocks() const override { return 1; }
+  int residuals_per_block() const override { return problem_.num_residuals(); }
+  std::vector<std::string> parameter_names() const override { return problem_.parameter_names(); }
 
   bool evaluate_block(int, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override {
+    const int n = problem_.num_parameters(), m = problem_.num_residuals();
     py::gil_scoped_acquire acquire;
     if (failed()) return fail(why, "an earlier call raised");
     try {
       const py::array_t<double> xs = to_numpy(x);
-      const auto r = as_vector(residuals_(xs), "residuals(x)", m_);
-      residuals = Eigen::Map<const VectorXd>(r.data(), m_);
+      const auto r = as_vector(problem_.residuals()(xs), "residuals(x)", m);
+      residuals = Eigen::Map<const VectorXd>(r.data(), m);
       if (jacobian) {
-        const auto j = as_rows(jacobian_(xs), "jacobian(x)", n_);
-        if (j.shape(0) != m_)
-          throw py::value_error("jacobian(x): expected shape (" + std::to_string(m_) + ", " +
-                                std::to_string(n_) + "), got (" + std::to_string(j.shape(0)) +
-                                ", " + std::to_string(n_) + ")");
+        const auto j = as_rows(problem_.jacobian()(xs), "jacobian(x)", n);
+        if (j.shape(0) != m)
+          throw py::value_error("jacobian(x): expected shape (" + std::to_string(m) + ", " +
+                                std::to_string(n) + "), got (" + std::to_string(j.shape(0)) + ", " +
+                                std::to_string(n) + ")");
         *jacobian = rows_view(j);
       }
     } catch (py::error_already_set&) {
@@ -64,7 +104,10 @@ class CallableProblem : public LeastSquaresProblem {
       remember(std::current_exception());
       return fail(why, "the Python callable returned a wrong value");
     }
-    if (!residuals.allFinite()) return fail(why, "residuals(x) is not finite");
+    if (!residuals.allFinite())
+      return fail(why, "residuals(x)" + first_non_finite(residuals) + ", expected finite numbers");
+    if (jacobian && !jacobian->allFinite())
+      return fail(why, "jacobian(x)" + first_non_finite(*jacobian) + ", expected finite numbers");
     return true;
   }
 
@@ -72,13 +115,18 @@ class CallableProblem : public LeastSquaresProblem {
     std::lock_guard<std::mutex> lock(mutex_);
     return static_cast<bool>(error_);
   }
-  void rethrow() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (error_) std::rethrow_exception(error_);
+  /// Raises the callable's exception, once (pybind11 restores a Python error only once).
+  void rethrow() {
+    std::exception_ptr error;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::swap(error, error_);
+    }
+    if (error) std::rethrow_exception(error);
   }
 
  private:
-  static bool fail(std::string* why, const char* text) {
+  static bool fail(std::string* why, const std::string& text) {
     if (why) *why = text;
     return false;
   }
@@ -87,9 +135,7 @@ class CallableProblem : public LeastSquaresProblem {
     if (!error_) error_ = e;
   }
 
-  py::object residuals_, jacobian_;
-  int n_, m_;
-  std::vector<std::string> names_;
+  const CallableProblem& problem_;
   mutable std::mutex mutex_;
   mutable std::exception_ptr error_;
 };
@@ -117,11 +163,12 @@ py::dict summary_dict(const Summary& s, const VectorXd& x, bool interrupted) {
   return d;
 }
 
-py::dict solve(const CallableProblem& problem, const py::object& x0, const std::string& solver_name,
-               int max_iterations, double function_tolerance, double parameter_tolerance,
-               double gradient_tolerance, const py::object& lower, const py::object& upper,
-               const std::map<std::string, std::string>& backend_options, int verbosity,
-               bool catch_sigint) {
+py::dict solve(const CallableProblem& callables, const py::object& x0,
+               const std::string& solver_name, int max_iterations, double function_tolerance,
+               double parameter_tolerance, double gradient_tolerance, const py::object& lower,
+               const py::object& upper, const std::map<std::string, std::string>& backend_options,
+               int verbosity, bool catch_sigint) {
+  CallableSolve problem(callables);
   const int n = problem.num_parameters();
   const auto start = as_vector(x0, "x0", n);
   VectorXd x = Eigen::Map<const VectorXd>(start.data(), n);

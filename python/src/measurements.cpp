@@ -3,16 +3,59 @@
 
 #include <pybind11/stl.h>
 
-#include <fstream>
+#include <cmath>
+#include <mutex>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "bindings.hpp"
+#include "kincal/cli/console.hpp"
+#include "kincal/cli/output_files.hpp"
 #include "kincal/framework/calibration/calibration_problem.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
 #include "model_handle.hpp"
 
 namespace kincal::python {
+
+namespace {
+
+// Actuators and readings (as_rows' arrays) with as many rows.
+Measurements measurements_of(const py::array_t<double, py::array::c_style>& actuators,
+                             const py::array_t<double, py::array::c_style>& readings) {
+  if (actuators.shape(0) != readings.shape(0))
+    throw py::value_error("readings: expected " + std::to_string(actuators.shape(0)) +
+                          " rows, one per row of actuators, got " +
+                          std::to_string(readings.shape(0)));
+  Measurements data;
+  data.actuators = rows_view(actuators);
+  data.readings = rows_view(readings);
+  return data;
+}
+
+// A residual or derivative that is not finite (a reading of 1e308 weighted by a small
+// reading_std overflows) is an error naming the row and the reading, never a value returned.
+void check_finite(const VectorXd& residuals, const MatrixXd& jacobian,
+                  const std::vector<std::string>& readings,
+                  const std::vector<std::string>& parameters) {
+  const auto where = [&](Eigen::Index k) {
+    const auto per_row = static_cast<Eigen::Index>(readings.size());
+    return "row " + std::to_string(k / per_row) + ", reading '" + readings[k % per_row] + "'";
+  };
+  const auto text = [](double v) { return std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf"; };
+  for (Eigen::Index k = 0; k < residuals.size(); ++k)
+    if (!std::isfinite(residuals[k]))
+      throw py::value_error(where(k) + ": the residual (predicted - measured, weighted) is " +
+                            text(residuals[k]) +
+                            " at these values; expected readings on the scale of the machine");
+  for (Eigen::Index k = 0; k < jacobian.rows(); ++k)
+    for (Eigen::Index j = 0; j < jacobian.cols(); ++j)
+      if (!std::isfinite(jacobian(k, j)))
+        throw py::value_error(where(k) + ": the derivative with respect to '" + parameters[j] +
+                              "' is " + text(jacobian(k, j)) + " at these values");
+}
+
+}  // namespace
 
 void bind_measurements(py::module_& m) {
   m.def(
@@ -37,18 +80,49 @@ void bind_measurements(py::module_& m) {
         const auto names = h.model->mechanism().actuator_names();
         const auto a = as_rows(actuators, "actuators", static_cast<py::ssize_t>(names.size()));
         const auto r = as_rows(readings, "readings", h.model->num_readings());
-        if (a.shape(0) != r.shape(0))
-          throw py::value_error("readings: expected " + std::to_string(a.shape(0)) +
-                                " rows, one per row of actuators, got " +
-                                std::to_string(r.shape(0)));
-        Measurements data;
-        data.actuators = rows_view(a);
-        data.readings = rows_view(r);
-        return measurements_to_csv(data, names, h.model->reading_names(), comment);
+        return measurements_to_csv(measurements_of(a, r), names, h.model->reading_names(), comment);
       },
       py::arg("actuators"), py::arg("readings"), py::arg("model"), py::arg("comment") = "",
       "The CSV text of a measurement file (full precision: it reads back to the same "
-      "doubles); each line of `comment` becomes a leading '# ' line.");
+      "doubles); each line of `comment` becomes a leading '# ' line. ValueError for values "
+      "a measurement file cannot hold (see check_measurements).");
+  m.def(
+      "check_measurements",
+      [](const py::object& actuators, const py::object& readings,
+         const std::vector<std::string>& actuator_names,
+         const std::vector<std::string>& reading_names) {
+        const auto a = as_rows(actuators, "actuators", py::ssize_t(actuator_names.size()));
+        const auto r = as_rows(readings, "readings", py::ssize_t(reading_names.size()));
+        check_measurements_writable(measurements_of(a, r), actuator_names, reading_names);
+      },
+      py::arg("actuators"), py::arg("readings"), py::arg("actuator_names"),
+      py::arg("reading_names"),
+      "ValueError unless these columns could be a measurement file kincal reads back: names "
+      "of the name policy (docs/reliability.md, \"Names\"), none twice, one per column, "
+      "finite actuator values, readings finite or NaN (not taken).");
+  m.def(
+      "write_measurements",
+      [](const std::string& path, const py::object& actuators, const py::object& readings,
+         const std::vector<std::string>& actuator_names,
+         const std::vector<std::string>& reading_names, const std::string& comment) {
+        const auto a = as_rows(actuators, "actuators", py::ssize_t(actuator_names.size()));
+        const auto r = as_rows(readings, "readings", py::ssize_t(reading_names.size()));
+        const std::string text =
+            measurements_to_csv(measurements_of(a, r), actuator_names, reading_names, comment);
+        // As the program writes its files: whole or not at all (cli/output_files.hpp). "-"
+        // is a file here, not standard output. The writer first flushes the command's
+        // standard output, which is none here: a console of its own, as a command has.
+        py::gil_scoped_release release;
+        const std::lock_guard<std::mutex> lock(command_mutex());
+        std::ostringstream nothing;
+        const cli::ConsoleScope console(nothing, nothing);
+        cli::write_files_atomically({{path == "-" ? "./-" : path, text}});
+      },
+      py::arg("path"), py::arg("actuators"), py::arg("readings"), py::arg("actuator_names"),
+      py::arg("reading_names"), py::arg("comment") = "",
+      "Writes a measurement file as the program writes its files (a temporary file renamed "
+      "over the target); ValueError, writing nothing, for what check_measurements refuses "
+      "or a path kincal does not write (a directory, a read-only file...).");
   m.def(
       "calibration_residuals",
       [](const ModelHandle& h, const py::object& actuators, const py::object& readings,
@@ -56,13 +130,7 @@ void bind_measurements(py::module_& m) {
         const int na = h.model->mechanism().num_actuators();
         const auto a = as_rows(actuators, "actuators", na);
         const auto r = as_rows(readings, "readings", h.model->num_readings());
-        if (a.shape(0) != r.shape(0))
-          throw py::value_error("readings: expected " + std::to_string(a.shape(0)) +
-                                " rows, one per row of actuators, got " +
-                                std::to_string(r.shape(0)));
-        Measurements data;
-        data.actuators = rows_view(a);
-        data.readings = rows_view(r);
+        const Measurements data = measurements_of(a, r);
         VectorXd full = h.model->parameters().nominal_values();
         if (!values.is_none()) {
           const auto v = as_vector(values, "values", h.model->num_parameters());
@@ -81,6 +149,7 @@ void bind_measurements(py::module_& m) {
           names = problem.parameter_names();
         }
         if (!ok) throw py::value_error("the residuals cannot be computed at these values: " + why);
+        check_finite(residuals, jacobian, h.model->reading_names(), names);
         return py::make_tuple(to_numpy(residuals), to_numpy(jacobian), names);
       },
       py::arg("model"), py::arg("actuators"), py::arg("readings"), py::arg("values") = py::none(),

@@ -82,16 +82,13 @@ kincal.Model.from_json().)doc")
       .def_static(
           "from_json",
           [](const std::string& text, const std::string& source) {
-            nlohmann::ordered_json j;
-            try {
-              j = nlohmann::ordered_json::parse(text);
-            } catch (const nlohmann::json::exception& e) {
-              throw py::value_error(source + ": not JSON: " + e.what());
-            }
-            return ModelHandle{model_from_json(j, source), source};
+            // Read as a model file is: size and nesting limits, a key given twice refused.
+            return ModelHandle{model_from_text(text, source), source};
           },
           py::arg("text"), py::arg("source") = "<string>",
-          "A model from the text of a model file; `source` names it in messages.")
+          "A model from the text of a model file, read as Model.load reads the file (at most "
+          "16 MiB and 64 levels of nesting, no key given twice, finite numbers); `source` "
+          "names it in messages. ValueError for anything a model file may not hold.")
       .def(
           "to_json",
           [](const ModelHandle& h, const py::object& values) {
@@ -107,18 +104,20 @@ kincal.Model.from_json().)doc")
       .def(
           "copy", [](const ModelHandle& h) { return h.copy(); }, "An independent copy.")
       // Pickled as its model file's text (to a Dask worker, say); a model no file can hold
-      // (Python sensors) raises ValueError.
+      // (Python sensors) raises ValueError. A pickle is text from elsewhere: it is read back
+      // as a model file is, with the same limits and checks.
       .def(py::pickle(
           [](const ModelHandle& h) {
             return py::make_tuple(
                 model_to_json(*h.model, h.model->parameters().nominal_values()).dump(), h.source);
           },
           [](const py::tuple& t) {
-            if (t.size() != 2) throw py::value_error("kincal.Model: a pickle of 2 items expected");
+            if (t.size() != 2 || !py::isinstance<py::str>(t[0]) || !py::isinstance<py::str>(t[1]))
+              throw py::value_error(
+                  "kincal.Model pickle: expected (model file text, source), two strings");
             const auto source = t[1].cast<std::string>();
-            return ModelHandle{
-                model_from_json(nlohmann::ordered_json::parse(t[0].cast<std::string>()), source),
-                source};
+            return ModelHandle{model_from_text(t[0].cast<std::string>(), "kincal.Model pickle"),
+                               source};
           }))
       .def(
           "with_values",

@@ -13,6 +13,7 @@
 #include "bindings.hpp"
 #include "interrupt.hpp"
 #include "kincal/cli/cli_util.hpp"
+#include "kincal/cli/output_files.hpp"
 #include "kincal/cli/reproduce_study.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/base/parallel.hpp"
@@ -147,9 +148,36 @@ py::tuple reproduce_report(const std::vector<std::string>& args, int num_trials,
                         tables.trials_csv, tables.trace_csv);
 }
 
+// reproduce's out directory: the program's rule (cli/output_files.hpp, docs/reliability.md
+// "A directory: replaced in one step"). It may hold only the three tables, is checked before
+// the work and again just before it is swapped, whole, with the new one.
+const std::vector<std::string> kReproduceTables = {"summary.csv", "trials.csv", "trace.csv"};
+
+cli::DirectoryTarget reproduce_directory(const std::string& path, const std::string& what) {
+  return cli::resolve_output_directory(path, what + " '" + path + "'", kReproduceTables);
+}
+
+void write_reproduce_directory(const std::string& path, const std::string& summary,
+                               const std::string& trials, const std::string& trace) {
+  const cli::DirectoryTarget target = reproduce_directory(path, "cannot write out");
+  py::gil_scoped_release release;
+  cli::write_directory_atomically(
+      target, {{"summary.csv", summary}, {"trials.csv", trials}, {"trace.csv", trace}});
+}
+
 }  // namespace
 
 void bind_studies(py::module_& m) {
+  m.def(
+      "check_reproduce_directory",
+      [](const std::string& path) { reproduce_directory(path, "out"); }, py::arg("path"),
+      "Raises CliError (a ValueError) unless `path` may be reproduce's out directory: a new "
+      "directory, or one holding only summary.csv, trials.csv and trace.csv (it is replaced "
+      "whole), not the current directory or a parent of it, the root or a mount point.");
+  m.def("write_reproduce_directory", &write_reproduce_directory, py::arg("path"),
+        py::arg("summary"), py::arg("trials"), py::arg("trace"),
+        "Replaces directory `path` by one holding the three tables, in one step (renameat2 "
+        "RENAME_EXCHANGE), as `kincal reproduce --out` does; checked again first.");
   m.def("reproduce_trials", &reproduce_trials, py::arg("args"), py::arg("tasks"),
         py::arg("threads") = 0, py::arg("catch_sigint") = false,
         "Trials of the paper's Monte Carlo: `args` are `kincal reproduce`'s scenario and "

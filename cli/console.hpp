@@ -1,0 +1,41 @@
+#pragma once
+// Where a command prints: out() and err(), its standard output and standard error. The
+// program prints on the process's (std::cout, std::cerr); a caller that runs commands
+// in-process (the Python module, python/src/commands.cpp) gives a command streams of its
+// own with a ConsoleScope, so that what the command prints is captured and what other
+// threads print meanwhile (a Python thread's print()) is not mixed into it. Commands print
+// through these only, never through printf or std::cout directly.
+
+#include <ostream>
+#include <string>
+
+namespace kincal::cli {
+
+/// The command's standard output: std::cout, or the stream of the ConsoleScope in force.
+std::ostream& out();
+/// The command's standard error: std::cerr, or the stream of the ConsoleScope in force.
+std::ostream& err();
+/// Whether out() is the process's standard output (descriptor 1), which then may be a file
+/// the command also names (output_plan.hpp compares them).
+bool out_is_process_stdout();
+/// Whether err() is the process's standard error (then a terminal there shows progress).
+bool err_is_process_stderr();
+
+/// printf's formatting into a string, for the commands' tables: out() << format_text(...).
+std::string format_text(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+/// Points out() and err() at `out` and `err` while it lives, for every thread (a command's
+/// workers print progress): one at a time in a process, held by whoever runs the command.
+class ConsoleScope {
+ public:
+  ConsoleScope(std::ostream& out, std::ostream& err);
+  ~ConsoleScope();
+  ConsoleScope(const ConsoleScope&) = delete;
+  ConsoleScope& operator=(const ConsoleScope&) = delete;
+
+ private:
+  std::ostream* saved_out_;
+  std::ostream* saved_err_;
+};
+
+}  // namespace kincal::cli
