@@ -339,24 +339,22 @@ int run_validate(const Args& args) {
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     out() << "held-out validation of " << printable(model_file) << " on " << printable(data_file)
-          << ": " << v.configurations << " configurations, " << v.readings
-          << " readings
-             ";
-        // Repeats test the noise at their configurations, not the calibration elsewhere.
-        if (loaded.repeated_configurations > 0) out()
-          << "repeats: " << loaded.repeat_rows << " rows measure only "
-          << loaded.repeated_configurations
-          << " configuration(s) again: they test the noise and the prediction there, and "
-             "the parameters' error is common to all of them (counted once by the test)
-             ";
-        if (tested) out()
-          << "predicted: noise = " << noise_source
-          << (v.parameter_uncertainty
-                  ? " + the parameters' uncertainty from the report (J Sigma J^T)"
-                  : " alone (no --report: the parameters are taken as exact)")
-          << "\n";
-    else out() << "predicted: nothing (no --report and no reading_std in the model): the errors "
-                  "are reported, the consistency test is not made\n";
+          << ": " << v.configurations << " configurations, " << v.readings << " readings\n";
+    // Repeats test the noise at their configurations, not the calibration elsewhere.
+    if (loaded.repeated_configurations > 0)
+      out() << "repeats: " << loaded.repeat_rows << " rows measure only "
+            << loaded.repeated_configurations
+            << " configuration(s) again: they test the noise and the prediction there, and "
+               "the parameters' error is common to all of them (counted once by the test)\n";
+    if (tested)
+      out() << "predicted: noise = " << noise_source
+            << (v.parameter_uncertainty
+                    ? " + the parameters' uncertainty from the report (J Sigma J^T)"
+                    : " alone (no --report: the parameters are taken as exact)")
+            << "\n";
+    else
+      out() << "predicted: nothing (no --report and no reading_std in the model): the errors "
+               "are reported, the consistency test is not made\n";
     for (const auto& p : v.per_reading) {
       if (!p.count) continue;
       if (tested)

@@ -158,7 +158,10 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
                       {"unit", p.unit},
                       {"nominal", scenario.nominal[i]},
                       {"true", scenario.truth[i]},
-                      {"estimate", angle ? wrap_angle(run.estimate[i]) : run.estimate[i]}});
+                      // An angle on the branch nearest its nominal, as calibrate reports it.
+                      {"estimate", angle ? scenario.nominal[i] +
+                                               wrap_angle(run.estimate[i] - scenario.nominal[i])
+                                         : run.estimate[i]}});
   }
   out["parameters"] = params;
   out["validation"] = {{"before", to_json(run.before)}, {"after", to_json(run.after)}};

@@ -195,7 +195,7 @@ std::string to_text(const CalibrationReport& r) {
         << " points):\n";
     line("before (the starting values)", r.position_before);
     if (r.point_located.computed && r.point_located.position.points > 0)
-      line("nominal, measured point located (" + std::to_string(r.point_located.names.size()) +
+      line("nominal, point located (" + std::to_string(r.point_located.names.size()) +
                " parameters)",
            r.point_located.position);
     if (r.registration.computed && r.registration.position.points > 0)
