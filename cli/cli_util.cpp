@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
+#include "kincal/cli/plugin_option.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::cli {
@@ -80,6 +81,7 @@ std::string deprecated_alias_target(const std::string& description) {
 
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm) {
+  add_plugin_option(options);
   options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
   try {
     // An empty positional description makes boost reject stray words ("too many
@@ -90,11 +92,12 @@ bool parse_command_line(const std::string& command, const Args& args,
   } catch (const po::error& e) {
     throw CliError(option_error_message(e, args));
   }
+  // Only now, with every token assigned to its option, are the plug-ins known: a value of
+  // another option never names one (cli/plugin_option.hpp).
+  load_plugins(vm);
   resolve_deprecated_aliases(command, options, vm);
   if (vm.count("help")) {
-    std::cout << "usage: kincal " << command << " [options]\n"
-              << options << "\nEvery command also takes --plugin FILE (a kincal plug-in, "
-              << "repeatable) and loads those KINCAL_PLUGIN_PATH names.\n";
+    std::cout << "usage: kincal " << command << " [options]\n" << options;
     return false;
   }
   if (vm.count("version")) {

@@ -10,6 +10,7 @@
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/kinematics/model_names.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
@@ -207,6 +208,10 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
       }
     }
   }
+  // The other names the types made (parameters, sensors, constraint labels; a plug-in's
+  // type may make any): the same policy.
+  const std::string bad_name = model_name_problem(*model);
+  if (!bad_name.empty()) root.fail(bad_name);
 
   const Json& free = member(j, "free", root);
   if (!free.is_array()) (root / "free").fail("expected an array of parameter names or patterns");
