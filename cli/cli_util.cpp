@@ -120,16 +120,20 @@ void validate(boost::any& out, const std::vector<std::string>& values, Seed*, in
   }
 }
 
+std::string option_flag(const std::string& name) {
+  return name.rfind("--", 0) == 0 ? name : "--" + name;
+}
+
 std::map<std::string, std::string> parse_key_values(const std::vector<std::string>& entries,
                                                     const std::string& option_name) {
   std::map<std::string, std::string> out;
   for (const auto& entry : entries) {
     const auto eq = entry.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw CliError("--" + option_name + " '" + entry + "': expected key=value");
+      throw CliError(option_flag(option_name) + " '" + entry + "': expected key=value");
     const std::string key = entry.substr(0, eq);
     if (out.count(key))
-      throw CliError("--" + option_name + " '" + key + "' is given twice ('" + out[key] +
+      throw CliError(option_flag(option_name) + " '" + key + "' is given twice ('" + out[key] +
                      "' and '" + entry.substr(eq + 1) + "')");
     out[key] = entry.substr(eq + 1);
   }

@@ -234,8 +234,9 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     for_each_pattern(
         *prior_std, root / "prior_std",
         [&](const std::string& pattern, double value, const JsonPath&) {
-          if (!(value > 0))  // for_each_pattern names where
-            throw std::invalid_argument("expected a prior std > 0 (omit it for no prior)");
+          if (!(value >= kMinPriorStd && value <= kMaxPriorStd))  // for_each_pattern names where
+            throw std::invalid_argument(
+                "expected a prior std between 1e-150 and 1e150 (omit it for no prior)");
           model->parameters().for_each_matching(pattern,
                                                 [value](Parameter& p) { p.prior_std = value; });
         });
