@@ -5,6 +5,7 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
+#include "kincal/cli/plugin_option.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 
 namespace kincal::cli {
@@ -81,6 +82,7 @@ std::string deprecated_alias_target(const std::string& description) {
 
 bool parse_command_line(const std::string& command, const Args& args,
                         po::options_description& options, po::variables_map& vm) {
+  add_plugin_option(options);
   options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
   try {
     // An empty positional description makes boost reject stray words ("too many
@@ -98,11 +100,12 @@ bool parse_command_line(const std::string& command, const Args& args,
   } catch (const po::error& e) {
     throw CliError(option_error_message(e, args));
   }
+  // Only now, with every token assigned to its option, are the plug-ins known: a value of
+  // another option never names one (cli/plugin_option.hpp).
+  load_plugins(vm);
   resolve_deprecated_aliases(command, options, vm);
   if (vm.count("help")) {
-    out() << "usage: kincal " << command << " [options]\n"
-          << options << "\nEvery command also takes --plugin FILE (a kincal plug-in, "
-          << "repeatable) and loads those KINCAL_PLUGIN_PATH names.\n";
+    out() << "usage: kincal " << command << " [options]\n" << options;
     return false;
   }
   if (vm.count("version")) {
@@ -125,16 +128,20 @@ void validate(boost::any& out, const std::vector<std::string>& values, Seed*, in
   }
 }
 
+std::string option_flag(const std::string& name) {
+  return name.rfind("--", 0) == 0 ? name : "--" + name;
+}
+
 std::map<std::string, std::string> parse_key_values(const std::vector<std::string>& entries,
                                                     const std::string& option_name) {
   std::map<std::string, std::string> out;
   for (const auto& entry : entries) {
     const auto eq = entry.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw CliError("--" + option_name + " '" + entry + "': expected key=value");
+      throw CliError(option_flag(option_name) + " '" + entry + "': expected key=value");
     const std::string key = entry.substr(0, eq);
     if (out.count(key))
-      throw CliError("--" + option_name + " '" + key + "' is given twice ('" + out[key] +
+      throw CliError(option_flag(option_name) + " '" + key + "' is given twice ('" + out[key] +
                      "' and '" + entry.substr(eq + 1) + "')");
     out[key] = entry.substr(eq + 1);
   }

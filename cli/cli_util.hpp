@@ -61,6 +61,10 @@ struct Seed {
 };
 void validate(boost::any& out, const std::vector<std::string>& values, Seed*, int);
 
+/// How a message names an option: "--name", whether `name` is given with its dashes or
+/// without ("point" and "--point" both give "--point", never "----point").
+std::string option_flag(const std::string& name);
+
 /// "key=value" strings -> map; throws CliError naming the bad entry.
 std::map<std::string, std::string> parse_key_values(const std::vector<std::string>& entries,
                                                     const std::string& option_name);

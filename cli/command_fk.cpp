@@ -51,7 +51,7 @@ std::vector<double> parse_actuators(const std::string& text, const std::string& 
   for (std::size_t i = 0; i < q.size(); ++i) {
     const std::string& own = actuators[i].unit;
     const std::string& unit = units[i];
-    const std::string value = "--" + option + " '" + text + "': " + actuators[i].name + " = ";
+    const std::string value = option_flag(option) + " '" + text + "': " + actuators[i].name + " = ";
     if (unit.empty()) {
       if (own == kRadian && std::abs(q[i]) > 2 * M_PI * (1 + 1e-9)) {
         char buf[64];
@@ -123,11 +123,11 @@ int run_fk(const Args& args) {
   const KinematicsRow row =
       forward_from_values(*model, parse_actuators(text, option, *model, expected));
   if (row.status == "overflow")
-    throw CliError("--" + option + " '" + text +
+    throw CliError(option_flag(option) + " '" + text +
                    "': the readings at this pose are not finite numbers (the arithmetic "
                    "overflows); expected actuator values of the machine's workspace");
   if (!row.ok())
-    throw CliError("--" + option + " '" + text + "': " + row.reason +
+    throw CliError(option_flag(option) + " '" + text + "': " + row.reason +
                    "; expected actuator values the model can reach");
   if (!json_file.empty()) {
     nlohmann::ordered_json json = {

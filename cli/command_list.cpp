@@ -8,6 +8,8 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
+#include "kincal/cli/plugin_option.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/extension/plugin.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
@@ -65,12 +67,14 @@ Entries sensors() {
   return out;
 }
 
+// Escaped (control characters and bytes that are not UTF-8 as \xNN): a plug-in's names and
+// descriptions are checked when it is loaded, and its file name is the user's.
 void print(const Entries& entries) {
   for (const auto& e : entries) {
-    std::string padded = e.name;
+    std::string padded = printable(e.name);
     if (padded.size() < 22) padded.resize(22, ' ');
-    out() << padded << " " << e.description;
-    if (!e.plugin.empty()) out() << " [plug-in " << e.plugin << "]";
+    out() << padded << " " << printable(e.description);
+    if (!e.plugin.empty()) out() << " [plug-in " << printable(e.plugin) << "]";
     out() << "\n";
   }
 }
@@ -95,12 +99,14 @@ int run_list(const Args& args) {
                         "solvers, models (presets), mechanisms, sensors or constraints; all when "
                         "omitted");
   add_json_option(options, "the list");
+  add_plugin_option(options);
   options.add_options()("help,h", "show this help")("version", "show kincal's version and exit");
   po::positional_options_description positional;
   positional.add("what", 1);
   po::variables_map vm;
   try {
     po::store(po::command_line_parser(args).options(options).positional(positional).run(), vm);
+    load_plugins(vm);  // after the parse: only a real --plugin option names one
     if (vm.count("help")) {
       out() << kUsage << "\n" << options << "\n";
       return 0;

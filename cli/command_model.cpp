@@ -38,7 +38,7 @@ std::shared_ptr<MeasurementModel> import_model(const po::variables_map& vm) {
         "the tip frame");
   Vector3d point = Vector3d::Zero();
   if (vm.count("point")) {
-    const auto v = parse_numbers(vm["point"].as<std::string>(), 3, "--point", "x,y,z in mm");
+    const auto v = parse_numbers(vm["point"].as<std::string>(), 3, "point", "x,y,z in mm");
     point = Vector3d(v[0], v[1], v[2]);
   }
   UrdfArmGeometry g;

@@ -1,5 +1,6 @@
 #include "kincal/cli/identifiability_check.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 #include "kincal/cli/cli_util.hpp"
@@ -30,6 +31,79 @@ std::string describe_deficiency(const Identifiability& a) {
   return text;
 }
 
+namespace {
+
+// Beyond this, an entry of the whitened Jacobian (a derivative divided by its std) makes the
+// sums of squares of the analysis and the solve overflow, or swamps every other entry: no
+// real machine's derivatives are that large, but a std of 1e-300 makes them so.
+constexpr double kMaxWhitenedJacobian = 1e100;
+
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+// Which residual row `row` of J is, in words, with its std: a reading of a configuration or
+// a constraint (cli/identifiability_check.hpp: the data's rows, then the constraints').
+// `fix` gets what to check.
+std::string describe_row(const CalibrationProblem& problem, Eigen::Index row, std::string& fix) {
+  const MeasurementModel& model = problem.model();
+  const int readings = model.num_readings();
+  const Eigen::Index data_rows = static_cast<Eigen::Index>(problem.data().size()) * readings;
+  if (row < data_rows) {
+    const int reading = static_cast<int>(row % readings);
+    std::size_t sensor = 0;
+    while (sensor + 1 < model.sensors().size() &&
+           model.sensor_reading_offset(static_cast<int>(sensor) + 1) <= reading)
+      ++sensor;
+    fix = "the reading's std (reading_std, --noise-std) or the derivatives of sensor '" +
+          model.sensors()[sensor]->name() + "' (type " + model.sensors()[sensor]->type() +
+          ") and of mechanism type " + model.mechanism().type();
+    return "configuration " + std::to_string(row / readings + 1) + ", reading '" +
+           model.reading_names()[reading] + "' of sensor '" + model.sensors()[sensor]->name() +
+           "' (std " + number_text(model.reading_std()[reading]) + " " +
+           model.reading_units()[reading] + ")";
+  }
+  Eigen::Index first = data_rows;
+  for (const auto& constraint : model.constraints()) {
+    const int n = constraint->num_residuals();
+    if (row < first + n) {
+      const int k = static_cast<int>(row - first);
+      fix = "the constraint's std or the derivatives of constraint type " + constraint->type();
+      return "constraint " + constraint->type() + " " + constraint->label() + " (std " +
+             number_text(constraint->residual_std()[k]) + " " + constraint->residual_units()[k] +
+             ")";
+    }
+    first += n;
+  }
+  return "row " + std::to_string(row + 1);
+}
+
+// Throws CliError naming the first entry of J (whitened: each row divided by its std) that is
+// not finite or beyond kMaxWhitenedJacobian, with its reading or constraint and parameter: the
+// analysis would otherwise see a parameter "no reading depends on", which blames the data.
+void check_jacobian_usable(const std::string& where, const CalibrationProblem& problem,
+                           const MatrixXd& J) {
+  for (Eigen::Index c = 0; c < J.cols(); ++c)
+    for (Eigen::Index r = 0; r < J.rows(); ++r) {
+      const double value = J(r, c);
+      if (std::isfinite(value) && std::abs(value) <= kMaxWhitenedJacobian) continue;
+      std::string fix;
+      const std::string row = describe_row(problem, r, fix);
+      const std::string parameter = problem.parameter_names()[static_cast<std::size_t>(c)];
+      if (!std::isfinite(value))
+        throw CliError(where + ": the whitened Jacobian (each derivative divided by its std) is " +
+                       number_text(value) + " at " + row + ", parameter " + parameter +
+                       ": a derivative or a std is not finite; check " + fix);
+      throw CliError(where + ": the whitened Jacobian (each derivative divided by its std) is " +
+                     number_text(value) + " at " + row + ", parameter " + parameter +
+                     ", beyond 1e100, where its squares overflow; check " + fix);
+    }
+}
+
+}  // namespace
+
 WhenRankDeficient when_rank_deficient(const MeasurementModel& model, bool allow_rank_deficient,
                                       bool explicit_mask) {
   const bool imported = model.mechanism().type() == "urdf-arm" && !explicit_mask;
@@ -44,6 +118,7 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
                                            const std::string& remedy) {
   // The rows of the readings present and the constraint rows after the data's; no copy when
   // nothing is missing (J can have millions of rows).
+  check_jacobian_usable(where, problem, J_all);
   const Measurements& data = problem.data();
   MatrixXd present;
   const bool missing = data.num_present() < data.readings.size();

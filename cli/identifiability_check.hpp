@@ -38,6 +38,10 @@ enum class WhenRankDeficient {
 /// data's rows, then any constraint rows), with the prior the model states on them
 /// (model_prior), if any. Only the readings present are analysed, as in the report: a missing
 /// one is a zero row of J that would count as a residual.
+/// First, J must be usable: an entry that is not finite (a plug-in's NaN derivative) or beyond
+/// 1e100 (a std of 1e-300 divides it) throws CliError "<where>: the whitened Jacobian ... is
+/// <value> at <the reading with its sensor, or the constraint, and its std>, parameter <name>
+/// ...; check <what>" instead of blaming the data for a parameter "no reading depends on".
 /// When data and prior do not determine every free parameter: with kStop, throws CliError
 /// "<where>: <describe_deficiency>; null directions: ...; <remedy>"; with kFixDependent,
 /// keeps the identifiable subset (choose_identifiable), says on stderr which parameters it

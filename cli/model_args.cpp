@@ -98,14 +98,15 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
     char* end = nullptr;
     const double v = std::strtod(field.c_str(), &end);
     if (field.empty() || *end != '\0' || !std::isfinite(v))
-      throw CliError("--" + option + " '" + text + "': field " + std::to_string(values.size() + 1) +
-                     " '" + field + "' is not a finite number (expected " + expected + ")");
+      throw CliError(option_flag(option) + " '" + text + "': field " +
+                     std::to_string(values.size() + 1) + " '" + field +
+                     "' is not a finite number (expected " + expected + ")");
     values.push_back(v);
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
   if (static_cast<int>(values.size()) != count)
-    throw CliError("--" + option + " '" + text + "': " + std::to_string(values.size()) +
+    throw CliError(option_flag(option) + " '" + text + "': " + std::to_string(values.size()) +
                    " numbers, expected " + std::to_string(count) + " (" + expected + ")");
   return values;
 }

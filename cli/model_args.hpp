@@ -27,7 +27,8 @@ std::shared_ptr<MeasurementModel> load_model_option(const po::variables_map& vm)
 /// The same for a model file named by another option (compare --truth, simulate --truth).
 std::shared_ptr<MeasurementModel> load_model_file(const std::string& path);
 
-/// "a,b,c" -> exactly `count` finite numbers; throws CliError naming `option` otherwise.
+/// "a,b,c" -> exactly `count` finite numbers; throws CliError naming `option` (its name, with
+/// or without the dashes: option_flag) otherwise.
 std::vector<double> parse_numbers(const std::string& text, int count, const std::string& option,
                                   const std::string& expected);
 

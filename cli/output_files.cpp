@@ -2,6 +2,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -257,6 +258,66 @@ void sync_directory(const std::string& dir) {
   ::close(fd);
 }
 
+// An exclusive flock(2) on each directory the renames of one write go into, held while they
+// run: two kincal processes writing the same outputs (two calibrate runs on one
+// --out and --json) then rename their sets one after the other, never interleaved, so the
+// files left are one run's set (a report and the model it describes). The locks are taken in
+// (device, inode) order, so that two writers cannot each hold one the other waits for; they
+// are on the directories themselves, so no lock file is left anywhere. Best effort: a
+// directory that cannot be opened (no read permission) or a file system without flock goes
+// unlocked, as before.
+class RenameLocks {
+ public:
+  explicit RenameLocks(const std::vector<std::string>& directories) {
+    struct Opened {
+      dev_t device;
+      ino_t inode;
+      int fd;
+    };
+    std::vector<Opened> opened;
+    for (const std::string& dir : directories) {
+      const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+      if (fd < 0) continue;
+      struct stat st {};
+      bool seen = ::fstat(fd, &st) != 0;
+      for (const Opened& o : opened) seen = seen || (o.device == st.st_dev && o.inode == st.st_ino);
+      if (seen) {
+        ::close(fd);
+        continue;
+      }
+      opened.push_back({st.st_dev, st.st_ino, fd});
+    }
+    std::sort(opened.begin(), opened.end(), [](const Opened& a, const Opened& b) {
+      return a.device != b.device ? a.device < b.device : a.inode < b.inode;
+    });
+    for (const Opened& o : opened) {
+      while (::flock(o.fd, LOCK_EX) != 0 && errno == EINTR) {
+      }
+      fds_.push_back(o.fd);  // closing it releases the lock (also if flock failed)
+    }
+  }
+  ~RenameLocks() {
+    for (const int fd : fds_) ::close(fd);
+  }
+  RenameLocks(const RenameLocks&) = delete;
+  RenameLocks& operator=(const RenameLocks&) = delete;
+
+ private:
+  std::vector<int> fds_;
+};
+
+// Test hook: with KINCAL_TEST_PAUSE_BETWEEN_RENAMES_MS=N in the environment, a multi-file
+// write sleeps N milliseconds between two renames, so that a test can make another kincal
+// process write the same outputs in that window (tests/cli/audit3/plugins.sh). Without it,
+// nothing happens.
+void pause_between_renames() {
+  static const long pause_ms = [] {
+    const char* text = std::getenv("KINCAL_TEST_PAUSE_BETWEEN_RENAMES_MS");
+    return text ? std::atol(text) : 0L;
+  }();
+  if (pause_ms > 0) ::usleep(static_cast<useconds_t>(std::min(pause_ms, 10000L)) * 1000);
+}
+
 }  // namespace
 
 void write_step() {
@@ -402,9 +463,18 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
     remove_temps();
     throw;
   }
-  // Phase 3: the renames, which cannot run out of space.
+  // Phase 3: the renames, which cannot run out of space, under the locks of their
+  // directories: another kincal writing the same files waits, and renames its set after.
+  // A single file is locked too: its rename must not land between another writer's two.
+  std::vector<std::string> directories;
+  for (std::size_t i = 0; i < files.size(); ++i)
+    if (!temps[i].empty()) directories.push_back(fs::path(targets[i].real).parent_path().string());
+  const RenameLocks locks(directories);
+  bool renamed_one = false;
   for (std::size_t i = 0; i < files.size(); ++i) {
     if (temps[i].empty()) continue;
+    if (renamed_one) pause_between_renames();
+    renamed_one = true;
     if (::rename(temps[i].c_str(), targets[i].real.c_str()) != 0) {
       const int error = errno;
       remove_temps();

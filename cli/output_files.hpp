@@ -72,7 +72,10 @@ struct OutputFile {
 /// streams (kStream) are written after the temporary files and before any rename, so that a
 /// stream that fails (a full disk, a closed standard output) leaves every file as it was.
 /// An existing file that is read-only (no write bit) or has several names (hard links) is
-/// refused by resolve_output. Throws CliError "cannot write '<path>': <reason>".
+/// refused by resolve_output. The renames hold an exclusive flock on each target directory
+/// (taken in a fixed order, released at the end): two kincal processes writing the same files
+/// rename their sets one after the other, so the files left all come from one of them.
+/// Throws CliError "cannot write '<path>': <reason>".
 void write_files_atomically(const std::vector<OutputFile>& files);
 
 /// Flushes what the command printed on standard output and throws CliError "cannot write
@@ -103,6 +106,11 @@ DirectoryTarget resolve_output_directory(const std::string& path, const std::str
 void write_directory_atomically(const DirectoryTarget& target,
                                 const std::vector<OutputFile>& files);
 
+/// Test hook for the concurrency test (tests/cli/audit3/plugins.sh): with
+/// KINCAL_TEST_PAUSE_BETWEEN_RENAMES_MS=N in the environment, write_files_atomically sleeps N
+/// milliseconds (at most 10 s) between two renames, a window in which another process may
+/// write the same files. Without it, nothing happens.
+///
 /// Test hook for the crash tests: with KINCAL_TEST_KILL_AT_WRITE_STEP=N in the environment,
 /// the process kills itself with SIGKILL at the N-th step of writing files (each creation,
 /// write, flush, rename and removal is a step). Without it, nothing happens.

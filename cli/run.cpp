@@ -53,9 +53,9 @@ void print_usage(std::ostream& out) {
   out << "usage: kincal <command> [options] [--plugin FILE ...]   (kincal <command> --help for "
          "its options)\n"
          "       kincal --version\n\n"
-         "--plugin FILE (any command, repeatable) loads a plug-in with further mechanism, sensor\n"
-         "and solver types, after those named by KINCAL_PLUGIN_PATH (files or folders, ':'\n"
-         "between them).\n\n"
+         "--plugin FILE (any command's option, repeatable) loads a plug-in with further\n"
+         "mechanism, sensor and solver types, after those named by KINCAL_PLUGIN_PATH (files or\n"
+         "folders, ':' between them).\n\n"
          "commands:\n";
   for (const auto& c : commands()) {
     std::string name = c.name;
@@ -69,36 +69,16 @@ void print_error(const std::string& command, const std::string& what) {
   err() << "kincal " << command << ": error: " << message_excerpt(what, 4000) << "\n";
 }
 
-// Takes every `--plugin FILE` / `--plugin=FILE` out of `args`: a global option, so that no
-// command spells it. Returns the files in the order given.
-std::vector<std::string> take_plugin_options(Args& args) {
-  std::vector<std::string> files;
-  Args rest;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--") {  // the rest are operands
-      rest.insert(rest.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
-      break;
-    }
-    if (args[i] == "--plugin") {
-      if (i + 1 == args.size()) throw CliError("--plugin needs a file (a kincal plug-in)");
-      files.push_back(args[++i]);
-    } else if (args[i].rfind("--plugin=", 0) == 0) {
-      files.push_back(args[i].substr(9));
-      if (files.back().empty()) throw CliError("--plugin needs a file (a kincal plug-in)");
-    } else {
-      rest.push_back(args[i]);
-    }
-  }
-  args = std::move(rest);
-  return files;
-}
-
-// KINCAL_PLUGIN_PATH's plug-ins, then --plugin's, into the global registries.
-void load_plugins(Args& args) {
-  std::vector<std::string> files = plugins_from_environment();
-  const std::vector<std::string> given = take_plugin_options(args);
-  files.insert(files.end(), given.begin(), given.end());
-  for (const auto& file : files) load_plugin(file);
+// What to say about an exception that is not a std::exception: kincal throws none, so one
+// came from a plug-in's code (a method of one of its types, called during the run;
+// registration and factories are guarded by name in framework/extension/plugin.cpp).
+std::string unknown_exception_text() {
+  std::string list;
+  for (const std::string& file : loaded_plugins())
+    list += (list.empty() ? "'" : "', '") + printable(file);
+  if (list.empty()) return "an exception that is not a std::exception (a bug: please report it)";
+  return "a plug-in threw an exception that is not a std::exception (loaded: " + list +
+         "'); a plug-in must throw std::exception or a class derived from it";
 }
 
 }  // namespace
@@ -139,8 +119,9 @@ int run(int argc, const char* const* argv) {
     if (name != command.name) continue;
     deprecation_notes().clear();
     try {
-      Args args(argv + 2, argv + argc);
-      load_plugins(args);
+      // The plug-ins are loaded by parse_command_line, once the options have been parsed
+      // (cli/plugin_option.hpp): never from a token that is another option's value.
+      const Args args(argv + 2, argv + argc);
       const int code = command.run(args);
       check_standard_output();  // what was printed after the last file: never lost silently
       for (const std::string& line : deprecation_notes()) err() << line << "\n";
@@ -152,6 +133,9 @@ int run(int argc, const char* const* argv) {
       return 2;
     } catch (const std::exception& e) {
       print_error(name, e.what());
+      return 2;
+    } catch (...) {
+      print_error(name, unknown_exception_text());  // one line rather than std::terminate
       return 2;
     }
   }

@@ -32,8 +32,15 @@ PriorStdRule parse_value(const std::string& text, bool bare_is_parameter_unit) {
     if (values.values().size() != 1)
       throw std::invalid_argument("'" + text + "' gives more than one value");
   }
-  if (!std::isfinite(rule.value) || !(rule.value > 0))
-    throw std::invalid_argument("'" + text + "' is not a std > 0");
+  // A subnormal or tiny std (1e-320) makes the prior's precision 1 / std^2 infinite: refused
+  // here, naming the option, rather than found later as data that "determine only n of n".
+  if (!(rule.value >= kMinPriorStd && rule.value <= kMaxPriorStd)) {
+    char value[48] = "";
+    if (!rule.unit.empty())  // converted (deg to rad): say what was compared
+      std::snprintf(value, sizeof value, " (%g %s)", rule.value, rule.unit.c_str());
+    throw std::invalid_argument("'" + text + "'" + value +
+                                " is not a std between 1e-150 and 1e150");
+  }
   return rule;
 }
 

@@ -36,10 +36,11 @@ UnitValues unit_values_option(const po::variables_map& vm, const std::string& op
   try {
     values = UnitValues::parse(text);
   } catch (const std::invalid_argument& e) {
-    throw CliError("--" + option + " '" + text + "': " + e.what());
+    throw CliError(option_flag(option) + " '" + text + "': " + e.what());
   }
   for (const auto& [unit, value] : values.values())
-    if (!(value >= 0)) throw CliError("--" + option + " '" + text + "': expected values >= 0");
+    if (!(value >= 0))
+      throw CliError(option_flag(option) + " '" + text + "': expected values >= 0");
   return values;
 }
 

@@ -10,6 +10,7 @@
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/kinematics/model_names.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
@@ -216,6 +217,10 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
       }
     }
   }
+  // The other names the types made (parameters, sensors, constraint labels; a plug-in's
+  // type may make any): the same policy.
+  const std::string bad_name = model_name_problem(*model);
+  if (!bad_name.empty()) root.fail(bad_name);
 
   const Json& free = member(j, "free", root);
   if (!free.is_array()) (root / "free").fail("expected an array of parameter names or patterns");
@@ -238,8 +243,9 @@ std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::stri
     for_each_pattern(
         *prior_std, root / "prior_std",
         [&](const std::string& pattern, double value, const JsonPath&) {
-          if (!(value > 0))  // for_each_pattern names where
-            throw std::invalid_argument("expected a prior std > 0 (omit it for no prior)");
+          if (!(value >= kMinPriorStd && value <= kMaxPriorStd))  // for_each_pattern names where
+            throw std::invalid_argument(
+                "expected a prior std between 1e-150 and 1e150 (omit it for no prior)");
           model->parameters().for_each_matching(pattern,
                                                 [value](Parameter& p) { p.prior_std = value; });
         });

@@ -15,6 +15,8 @@
 #include <tuple>
 
 #include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/kinematics/model_names.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
 
@@ -69,6 +71,168 @@ std::vector<std::string> clashes(const ModelRegistry& scratch,
   return out;
 }
 
+// ---- the names a plug-in registers -----------------------------------------------------
+
+// The first name or description `models` and `solvers` (a plug-in's, just registered) hold
+// that the name policy refuses (framework/kinematics/names.hpp), as "<kind> '<name>' <problem>",
+// or "". Names become columns, CSV cells and report keys; descriptions are printed by
+// kincal list.
+std::string registered_name_problem(const ModelRegistry& models, const SolverRegistry& solvers) {
+  std::string problem;
+  const auto name = [&problem](const std::string& kind, const std::string& text) {
+    if (problem.empty()) {
+      const std::string why = name_problem(text);
+      if (!why.empty()) problem = kind + " '" + message_excerpt(text) + "' " + why;
+    }
+  };
+  const auto text = [&problem](const std::string& kind, const std::string& owner,
+                               const std::string& description) {
+    if (problem.empty()) {
+      const std::string why = text_problem(description);
+      if (!why.empty())
+        problem = "the description of " + kind + " '" + message_excerpt(owner) + "' " + why;
+    }
+  };
+  for (const auto& t : models.mechanisms()) {
+    name("mechanism type", t.type);
+    text("mechanism type", t.type, t.description);
+  }
+  for (const auto& t : models.sensors()) {
+    name("sensor type", t.type);
+    text("sensor type", t.type, t.description);
+  }
+  for (const auto& t : models.constraints()) {
+    name("constraint type", t.type);
+    text("constraint type", t.type, t.description);
+  }
+  for (const auto& p : models.presets()) {
+    name("preset", p.name);
+    text("preset", p.name, p.description);
+  }
+  for (const auto& f : models.export_formats()) {
+    name("export format", f.format);
+    name("export format's mechanism type", f.mechanism_type);
+    text("export format", f.format, f.description);
+  }
+  for (const auto& info : solvers.list()) {
+    const std::string family = info.name.substr(0, info.name.find(':'));
+    name("solver", family);
+    text("solver", family, info.description);
+    for (const auto& variant : info.variants)
+      if (variant.find(':') != std::string::npos)
+        name("solver variant", variant.substr(variant.find(':') + 1));
+  }
+  for (const auto& missing : solvers.unavailable()) {
+    name("solver", missing.name);
+    text("unavailable solver", missing.name, missing.reason);
+  }
+  return problem;
+}
+
+// ---- calls into a plug-in --------------------------------------------------------------
+
+// `f`, a function of the plug-in, such that what it throws that is not a std::exception
+// (`throw 42;`) becomes a PluginError naming the plug-in and `what` it was asked to do,
+// instead of ending the program in std::terminate. A std::exception passes unchanged:
+// readers report bad input with theirs.
+template <class F>
+auto guarded(const std::string& where, const std::string& what, F f) {
+  return [where, what, f = std::move(f)](auto&&... args) {
+    try {
+      return f(std::forward<decltype(args)>(args)...);
+    } catch (const std::exception&) {
+      throw;
+    } catch (...) {
+      throw PluginError(where + ": " + what +
+                        " threw an exception that is not a std::exception (a plug-in must throw "
+                        "std::exception or a class derived from it)");
+    }
+  };
+}
+
+// `result` of the plug-in's `what`, refused when null: kincal would dereference it.
+template <class Pointer>
+Pointer non_null(Pointer result, const std::string& where, const std::string& what) {
+  if (!result) throw PluginError(where + ": " + what + " returned null");
+  return result;
+}
+
+// Every function of the plug-in's `scratch` entries, guarded (what a reader or factory makes
+// checked too), added to `models`.
+void add_guarded(const ModelRegistry& scratch, ModelRegistry& models, const std::string& where) {
+  for (MechanismType t : scratch.mechanisms()) {
+    const std::string what = "mechanism type '" + t.type + "'";
+    t.read = [read = guarded(where, what + "'s reader", t.read), where, what](const Json& object,
+                                                                              const JsonPath& at) {
+      return non_null(read(object, at), where, what + "'s reader");
+    };
+    t.write = guarded(where, what + "'s writer", t.write);
+    models.add_mechanism(t);
+  }
+  for (SensorType t : scratch.sensors()) {
+    const std::string what = "sensor type '" + t.type + "'";
+    t.read = [read = guarded(where, what + "'s reader", t.read), where, what](const Json& object,
+                                                                              const JsonPath& at) {
+      return non_null(read(object, at), where, what + "'s reader");
+    };
+    t.write = guarded(where, what + "'s writer", t.write);
+    models.add_sensor(t);
+  }
+  for (ConstraintType t : scratch.constraints()) {
+    const std::string what = "constraint type '" + t.type + "'";
+    t.read = [read = guarded(where, what + "'s reader", t.read), where, what](
+                 const Json& object, const JsonPath& at, const MeasurementModel& model) {
+      return non_null(read(object, at, model), where, what + "'s reader");
+    };
+    t.write = guarded(where, what + "'s writer", t.write);
+    models.add_constraint(t);
+  }
+  for (ModelPreset p : scratch.presets()) {
+    // A preset's model reaches files and the terminal without a model file's checks: its
+    // names are held to the same policy here.
+    const std::string what = "preset '" + p.name + "'";
+    p.make = [make = guarded(where, what, p.make), where, what]() {
+      std::shared_ptr<MeasurementModel> model = non_null(make(), where, what);
+      const std::string problem = model_name_problem(*model);
+      if (!problem.empty())
+        throw PluginError(where + ": " + what + " makes a model whose " + problem);
+      return model;
+    };
+    models.add_preset(p);
+  }
+  for (ExportFormat f : scratch.export_formats()) {
+    f.write = guarded(where, "export format '" + f.format + "'", f.write);
+    models.add_export_format(f);
+  }
+}
+
+// The plug-in's backends, added to `solvers` through factories that call the plug-in's
+// (kept alive by them) guarded: a throw that is not a std::exception or a null solver is a
+// PluginError naming the plug-in and the solver.
+void add_guarded(std::shared_ptr<const SolverRegistry> scratch, SolverRegistry& solvers,
+                 const std::string& where) {
+  for (const SolverInfo& info : scratch->list()) {
+    const auto colon = info.name.find(':');
+    const bool family = colon != std::string::npos;
+    const std::string name = info.name.substr(0, colon);
+    SolverRegistry::Factory factory = [scratch, name, family, where](const std::string& variant) {
+      const std::string solver = family ? name + ":" + variant : name;
+      const std::string what = "solver '" + message_excerpt(solver) + "'";
+      return non_null(guarded(where, what, [&] { return scratch->create(solver); })(), where,
+                      what + "'s factory");
+    };
+    if (!family) {
+      solvers.add(name, info.description, info.kind, std::move(factory));
+      continue;
+    }
+    std::vector<std::string> variants;
+    for (const std::string& v : info.variants) variants.push_back(v.substr(v.find(':') + 1));
+    solvers.add_family(name, info.description, info.kind, std::move(factory), variants);
+  }
+  for (const UnavailableSolver& missing : scratch->unavailable())
+    solvers.add_unavailable(missing.name, missing.kind, missing.reason);
+}
+
 template <class Entries, class NameOf>
 void remember_owner(std::map<std::string, std::string>& owners, const Entries& entries,
                     NameOf name_of, const char* kind, const std::string& file) {
@@ -106,7 +270,12 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
   if (!entry)
     throw PluginError(where + ": not a kincal plug-in (it defines no " KINCAL_PLUGIN_ENTRY_SYMBOL
                               "; one source file needs KINCAL_PLUGIN(your_register_function))");
-  const kincal_plugin_info* info = entry();
+  const kincal_plugin_info* info = nullptr;
+  try {
+    info = entry();
+  } catch (...) {
+    throw PluginError(where + ": its " KINCAL_PLUGIN_ENTRY_SYMBOL " threw an exception");
+  }
   if (!info || info->magic != KINCAL_PLUGIN_MAGIC)
     throw PluginError(where + ": its " KINCAL_PLUGIN_ENTRY_SYMBOL " is not kincal's");
   if (info->layout != KINCAL_PLUGIN_INFO_LAYOUT)
@@ -124,12 +293,22 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
 
   // Into empty registries first, so that a clash or a throw adds nothing.
   ModelRegistry scratch_models;
-  SolverRegistry scratch_solvers;
+  // Shared: the guarded factories added to `solvers` call the plug-in's through it.
+  const auto scratch_solver_registry = std::make_shared<SolverRegistry>();
+  SolverRegistry& scratch_solvers = *scratch_solver_registry;
   try {
     info->register_types(scratch_models, scratch_solvers);
   } catch (const std::exception& e) {
     throw PluginError(where + ": its registration failed: " + message_excerpt(e.what()));
+  } catch (...) {
+    throw PluginError(where +
+                      ": its registration threw an exception that is not a std::exception (a "
+                      "plug-in must throw std::exception or a class derived from it)");
   }
+  const std::string bad_name = registered_name_problem(scratch_models, scratch_solvers);
+  if (!bad_name.empty())
+    throw PluginError(where + " registers a name kincal does not accept: " + bad_name +
+                      " (docs/reliability.md, \"Names\")");
   const std::vector<std::string> clashing =
       clashes(scratch_models, scratch_solvers, models, solvers);
   if (!clashing.empty()) {
@@ -143,12 +322,8 @@ void load_plugin(const std::string& path, ModelRegistry& models, SolverRegistry&
     }
     throw PluginError(where + " registers names that are taken: " + list);
   }
-  for (const auto& t : scratch_models.mechanisms()) models.add_mechanism(t);
-  for (const auto& t : scratch_models.sensors()) models.add_sensor(t);
-  for (const auto& p : scratch_models.presets()) models.add_preset(p);
-  for (const auto& f : scratch_models.export_formats()) models.add_export_format(f);
-  for (const auto& c : scratch_models.constraints()) models.add_constraint(c);
-  solvers.add_all(scratch_solvers);
+  add_guarded(scratch_models, models, where);
+  add_guarded(scratch_solver_registry, solvers, where);
 
   auto& owners = state.owner_of_name;
   remember_owner(

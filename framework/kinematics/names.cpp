@@ -16,15 +16,17 @@ bool is_valid_utf8(const std::string& text) {
   return true;
 }
 
-std::string name_problem(const std::string& name, NameKind kind) {
-  if (name.empty()) return "is empty";
-  const std::size_t max_bytes = kind == NameKind::kName ? kMaxNameBytes : kMaxColumnNameBytes;
-  if (name.size() > max_bytes)
-    return "is " + std::to_string(name.size()) + " bytes long, more than the " +
+namespace {
+
+// What is wrong with `text` as printable text of 1 to `max_bytes` bytes, or "".
+std::string printable_problem(const std::string& text, std::size_t max_bytes) {
+  if (text.empty()) return "is empty";
+  if (text.size() > max_bytes)
+    return "is " + std::to_string(text.size()) + " bytes long, more than the " +
            std::to_string(max_bytes) + " allowed";
   unsigned code = 0;
-  for (std::size_t i = 0; i < name.size();) {
-    const std::size_t n = utf8_sequence_length(name, i, &code);
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t n = utf8_sequence_length(text, i, &code);
     if (n == 0) return "is not valid UTF-8";
     if (code < 0x20 || code == 0x7F || (code >= 0x80 && code < 0xA0)) {
       char hex[16];
@@ -33,6 +35,17 @@ std::string name_problem(const std::string& name, NameKind kind) {
     }
     i += n;
   }
+  return "";
+}
+
+}  // namespace
+
+std::string text_problem(const std::string& text) { return printable_problem(text, kMaxTextBytes); }
+
+std::string name_problem(const std::string& name, NameKind kind) {
+  const std::string problem =
+      printable_problem(name, kind == NameKind::kName ? kMaxNameBytes : kMaxColumnNameBytes);
+  if (!problem.empty()) return problem;
   if (std::string("=+-@").find(name[0]) != std::string::npos)
     return "starts with '" + name.substr(0, 1) +
            "', which makes a spreadsheet read the cell as a formula";

@@ -27,6 +27,15 @@ enum class NameKind { kName, kColumn };
 /// hold dots and be up to kMaxColumnNameBytes long.
 std::string name_problem(const std::string& name, NameKind kind = NameKind::kName);
 
+/// The longest one-line text accepted where a name is not enough (a type's or preset's
+/// description, a constraint's label), in bytes.
+inline constexpr std::size_t kMaxTextBytes = 1000;
+
+/// Empty when `text` is acceptable as one line of text shown on a terminal and in reports
+/// (a description, a label): 1 to kMaxTextBytes bytes of valid UTF-8 without control
+/// characters (no line break, escape or bell). Spaces and punctuation are fine.
+std::string text_problem(const std::string& text);
+
 /// Whether `text` is valid UTF-8 (what JSON can hold as a string).
 bool is_valid_utf8(const std::string& text);
 

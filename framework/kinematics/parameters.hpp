@@ -12,6 +12,10 @@
 
 namespace kincal {
 
+/// The prior stds model files and --prior-std accept: beyond them the prior's precision
+/// 1 / std^2 overflows (a std of 1e-320, subnormal, gives infinity) or underflows to 0.
+inline constexpr double kMinPriorStd = 1e-150, kMaxPriorStd = 1e150;
+
 struct Parameter {
   std::string name;    ///< e.g. "leg4.base.x", "gauge.offset"
   double nominal = 0;  ///< value in `unit`
@@ -22,6 +26,7 @@ struct Parameter {
   double error_half_width = std::numeric_limits<double>::quiet_NaN();
   /// Standard deviation (in `unit`) of a Gaussian prior on this parameter around `nominal`
   /// (e.g. its manufacturing tolerance); 0 = no prior. Set per parameter in model files.
+  /// Readers accept kMinPriorStd to kMaxPriorStd.
   double prior_std = 0;
   bool has_prior() const { return prior_std > 0; }
 };

@@ -8,9 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
 #include "cli_runner.hpp"
 #include "kincal/framework/extension/plugin.hpp"
+#include "kincal/framework/kinematics/model_names.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal::testing {
 namespace {
@@ -170,7 +174,14 @@ TEST(Plugins, NotAPluginOrNoFileIsOneLine) {
   EXPECT_TRUE(contains(none.err, "none.so")) << none.err;
   const auto no_value = run_cli("list --plugin");
   EXPECT_EQ(no_value.exit_code, 2);
-  EXPECT_TRUE(contains(no_value.err, "--plugin needs a file")) << no_value.err;
+  EXPECT_TRUE(contains(no_value.err, "the required argument for option '--plugin' is missing"))
+      << no_value.err;
+  const auto empty = run_cli("list --plugin ''");
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_TRUE(contains(empty.err, "--plugin needs a file")) << empty.err;
+  const auto nothing_after_equals = run_cli("list --plugin=");
+  EXPECT_EQ(nothing_after_equals.exit_code, 2);
+  EXPECT_TRUE(contains(nothing_after_equals.err, "'--plugin'")) << nothing_after_equals.err;
   // A shared library without the entry point.
   const auto other = run_cli("list --plugin /lib/x86_64-linux-gnu/libm.so.6");
   if (std::filesystem::exists("/lib/x86_64-linux-gnu/libm.so.6")) {
@@ -188,6 +199,108 @@ TEST(Plugins, APluginsSolverIsUsedByName) {
       run_cli("simulate --preset planar-3rpr --noise-half-width 0 --solver plugin-gn --json -" + p);
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   EXPECT_LT(nlohmann::json::parse(sim.out)["parameter_rms_error_mm"].get<double>(), 1e-6);
+}
+
+// The misbehaving plug-in (tests/plugins/misbehaving_plugin.cpp): KINCAL_TEST_PLUGIN_MODE
+// chooses how its registration misbehaves; KINCAL_TEST_PLUGIN_MARKER=FILE shows it ran.
+const std::string kMisbehaving = KINCAL_MISBEHAVING_PLUGIN;
+
+bool exactly_one_line(const std::string& err) {
+  return !err.empty() && err.find('\n') == err.size() - 1;
+}
+
+TEST(Plugins, OnlyARealPluginOptionLoadsOne) {
+  TempDir dir("plugin-option");
+  const std::string marker = dir / "ran";
+  const std::string env = "KINCAL_TEST_PLUGIN_MARKER=" + marker + " ";
+  ASSERT_EQ(run_cli("model --preset puma560 --out " + dir / "M.json").exit_code, 0);
+  // The value of --data, of --out, an operand after --: not plug-ins.
+  for (const std::string& args :
+       {"calibrate --model " + dir / "M.json" + " --data --plugin=" + kMisbehaving,
+        "calibrate --model " + dir / "M.json" + " --data D.csv --out --plugin=" + kMisbehaving,
+        "list -- --plugin=" + kMisbehaving}) {
+    const auto run = run_cli(args, env);
+    EXPECT_EQ(run.exit_code, 2) << args;
+    EXPECT_TRUE(exactly_one_line(run.err)) << args << ": " << run.err;
+    EXPECT_FALSE(std::filesystem::exists(marker)) << args << " ran the plug-in's code";
+  }
+  // A real option, wherever it stands among the options.
+  const auto real = run_cli("list models --plugin=" + kMisbehaving, env);
+  EXPECT_EQ(real.exit_code, 0) << real.err;
+  EXPECT_TRUE(contains(real.out, "misbehaving-null")) << real.out;
+  EXPECT_TRUE(std::filesystem::exists(marker));
+}
+
+TEST(Plugins, WhatAPluginRegistersFollowsTheNamePolicy) {
+  for (const auto& [mode, message] : std::vector<std::pair<std::string, std::string>>{
+           {"escape-description",
+            "the description of preset 'misbehaving-escape' contains the control character "
+            "U+001B"},
+           {"formula-preset", "preset '=cmd|"},
+           {"formula-solver", "solver '=cmd|"}}) {
+    const auto run =
+        run_cli("list --plugin " + kMisbehaving, "KINCAL_TEST_PLUGIN_MODE=" + mode + " ");
+    EXPECT_EQ(run.exit_code, 2) << mode;
+    EXPECT_TRUE(exactly_one_line(run.err)) << mode << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, "registers a name kincal does not accept")) << run.err;
+    EXPECT_TRUE(contains(run.err, "misbehaving")) << run.err;
+    EXPECT_FALSE(contains(run.out + run.err, "\x1b")) << mode;
+  }
+  // A preset whose model names its columns like formulas: refused when made, nothing written.
+  TempDir dir("plugin-names");
+  const auto sim = run_cli(
+      "simulate --preset misbehaving-formula-columns --validation 1 "
+      "--write-data " +
+      dir / "F.csv" + " --plugin " + kMisbehaving);
+  EXPECT_EQ(sim.exit_code, 2);
+  EXPECT_TRUE(exactly_one_line(sim.err)) << sim.err;
+  EXPECT_TRUE(contains(sim.err,
+                       "preset 'misbehaving-formula-columns' makes a model whose sensor "
+                       "'=cmd|"))
+      << sim.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "F.csv"));
+}
+
+TEST(Plugins, WhatAPluginThrowsOrReturnsNullIsOneLineNamingIt) {
+  const std::string p = " --plugin " + kMisbehaving;
+  struct Case {
+    std::string environment, args, message;
+  };
+  const std::vector<Case> cases = {
+      {"KINCAL_TEST_PLUGIN_MODE=throw-int ", "list" + p,
+       "its registration threw an exception that is not a std::exception"},
+      {"", "simulate --preset misbehaving-throws --validation 1" + p,
+       "preset 'misbehaving-throws' threw an exception that is not a std::exception"},
+      {"", "simulate --preset misbehaving-null --validation 1" + p,
+       "preset 'misbehaving-null' returned null"},
+      {"", "simulate --preset puma560 --validation 1 --solver misbehaving-null-solver" + p,
+       "solver 'misbehaving-null-solver''s factory returned null"},
+      {"", "simulate --preset puma560 --validation 1 --solver misbehaving-throwing-solver" + p,
+       "solver 'misbehaving-throwing-solver' threw an exception that is not a std::exception"},
+      {"", "simulate --preset misbehaving-throwing-sensor --validation 1" + p,
+       "a plug-in threw an exception that is not a std::exception (loaded: '"},
+      {"", "simulate --preset misbehaving-nan-jacobian --validation 1" + p,
+       "is nan at configuration 1, reading 'tracker.x' of sensor 'tracker'"}};
+  for (const Case& c : cases) {
+    const auto run = run_cli(c.args, c.environment);
+    EXPECT_EQ(run.exit_code, 2) << c.args << ": " << run.err;
+    EXPECT_TRUE(exactly_one_line(run.err)) << c.args << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, c.message)) << c.args << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, "misbehaving")) << c.args << ": " << run.err;
+  }
+}
+
+// Every built-in preset's model follows the name policy that a plug-in preset's is held to.
+TEST(PluginLibrary, BuiltInPresetsAndNamesPassThePolicyPluginsAreHeldTo) {
+  for (const auto& preset : ModelRegistry::global().presets()) {
+    EXPECT_EQ(model_name_problem(*preset.make()), "") << preset.name;
+    EXPECT_EQ(name_problem(preset.name), "") << preset.name;
+    EXPECT_EQ(text_problem(preset.description), "") << preset.name;
+  }
+  for (const auto& type : ModelRegistry::global().mechanisms())
+    EXPECT_EQ(text_problem(type.description), "") << type.type;
+  for (const auto& type : ModelRegistry::global().sensors())
+    EXPECT_EQ(text_problem(type.description), "") << type.type;
 }
 
 TEST(Plugins, CheckAllPassesOnEveryBuiltInPresetAndNeedsASubject) {

@@ -46,6 +46,20 @@ TEST(Names, RefusesWhatWouldNotReadBackOrWouldHarm) {
   EXPECT_NE(name_problem("=x.y", NameKind::kColumn), "");
 }
 
+// A description or label (a plug-in's preset description, a constraint's label): spaces and
+// punctuation are fine, what drives a terminal or breaks the line is not.
+TEST(Names, TextIsOnePrintableLine) {
+  EXPECT_EQ(text_problem("Puma 560 (Corke & Armstrong-Helouvry, 1994); x, y: 5 mm"), "");
+  EXPECT_EQ(text_problem("=a formula is text here"), "");
+  EXPECT_EQ(text_problem("clears \x1b[2J"), "contains the control character U+001B");
+  EXPECT_EQ(text_problem("two\nlines"), "contains the control character U+000A");
+  EXPECT_EQ(text_problem("csi \xc2\x9b"), "contains the control character U+009B");
+  EXPECT_EQ(text_problem("\xe9t\xe9"), "is not valid UTF-8");
+  EXPECT_EQ(text_problem(""), "is empty");
+  EXPECT_NE(text_problem(std::string(kMaxTextBytes + 1, 'a')), "");
+  EXPECT_EQ(text_problem(std::string(kMaxTextBytes, 'a')), "");
+}
+
 TEST(Names, Utf8) {
   EXPECT_TRUE(is_valid_utf8("plain.csv"));
   EXPECT_TRUE(is_valid_utf8("données.csv"));

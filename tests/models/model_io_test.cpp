@@ -83,14 +83,23 @@ TEST(ModelIo, PriorStdIsPerParameterAndRoundTrips) {
       model_from_json(model_to_json(*model, model->parameters().nominal_values()), "M2.json");
   for (int i = 0; i < model->parameters().size(); ++i)
     EXPECT_EQ(back->parameters()[i].prior_std, model->parameters()[i].prior_std);
-  j["prior_std"] = {{"gauge.offset", 0.0}};
-  EXPECT_THROW(model_from_json(j, "M.json"), std::invalid_argument);
-  try {
-    model_from_json(j, "M.json");
-  } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "M.json: prior_std.gauge.offset: expected a prior std > 0 (omit it for no prior)");
+  // 0, and a subnormal std whose precision 1/std^2 is infinite, are refused where they stand.
+  for (const double bad : {0.0, 1e-320, 1e-151, 1e151}) {
+    j["prior_std"] = {{"gauge.offset", bad}};
+    EXPECT_THROW(model_from_json(j, "M.json"), std::invalid_argument) << bad;
+    try {
+      model_from_json(j, "M.json");
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "M.json: prior_std.gauge.offset: expected a prior std between 1e-150 and 1e150 "
+                "(omit it for no prior)");
+    }
   }
+  j["prior_std"] = {{"gauge.offset", 1e-150}};
+  EXPECT_EQ(model_from_json(j, "M.json")
+                ->parameters()[model->parameters().index_of("gauge.offset")]
+                .prior_std,
+            1e-150);
 }
 
 TEST(ModelIo, MalformedFilesNameFileFieldAndExpectation) {
