@@ -25,6 +25,7 @@
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
 #include "kincal/framework/calibration/equivalent_solutions.hpp"
+#include "kincal/framework/calibration/frame_turns.hpp"
 #include "kincal/framework/calibration/prior_problem.hpp"
 #include "kincal/framework/least_squares/robust_loss.hpp"
 #include "kincal/models/model_io.hpp"
@@ -123,7 +124,10 @@ void add_baselines(CalibrationReport& report, const std::shared_ptr<const Measur
     MatrixXd J;
     if (!probe.evaluate(probe.initial_free_parameters(), nullptr, &J)) return subset;
     std::vector<int> kept;
-    for (int i : identifiable_subset(J, id_options)) kept.push_back(subset[i]);
+    // Nor a turn of the whole setup, which changes no fit (sockets; J has no constraint rows).
+    MatrixXd turns = measurement_frame_turns(probe, probe.initial_free_parameters());
+    if (turns.cols()) turns = turns.topRows(J.rows()).eval();
+    for (int i : identifiable_subset(J, id_options, turns)) kept.push_back(subset[i]);
     return kept;
   };
   // The nominal geometry with the measured point located: "before" as a user means it when

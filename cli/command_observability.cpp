@@ -17,6 +17,7 @@
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
+#include "kincal/framework/calibration/frame_turns.hpp"
 #include "kincal/framework/calibration/prior_problem.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 
@@ -112,24 +113,33 @@ int run_observability(const Args& args) {
   const std::vector<int> present = problem.data().present_rows();
   J = J(present, Eigen::all).eval();
   residuals = residuals(present).eval();
+  // Turns of the measurement frame that change no fit (sockets measured as 0), as calibrate
+  // counts them: a gauge freedom the Jacobian does not show.
+  MatrixXd turns = measurement_frame_turns(problem, problem.initial_free_parameters());
+  if (turns.cols()) {
+    std::vector<int> rows = present;
+    for (Eigen::Index i = problem.data().readings.size(); i < turns.rows(); ++i)
+      rows.push_back(static_cast<int>(i));
+    turns = turns(rows, Eigen::all).eval();
+  }
   // The model's parameter-only constraints (a known distance between fixtures) determine
   // what the readings may not, as they do in calibrate.
   append_constraint_rows(problem, problem.initial_free_parameters(), J, &residuals);
-  Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options);
+  Identifiability a = analyze_identifiability(J, problem.parameter_names(), id_options, turns);
   if (with_prior) {
     // Before measuring, the noise is as the model states it (sigma = 1 in whitened units).
     const VectorXd precision = model_prior(problem).precision();
-    add_prior(a, J, precision, data_share(J, precision), id_options);
+    add_prior(a, J, precision, data_share(J, precision), id_options, turns);
   }
   // An imported arm's calibration chooses its free set from the data (calibrate): say here
   // what it would keep and why it would fix the rest.
   std::vector<std::string> kept_names, null_directions;
   if (a.rank_deficient() && !with_prior && !vm.count("free") && !vm.count("fix") &&
       model->mechanism().type() == "urdf-arm") {
-    const std::vector<int> keep = choose_identifiable(*model, free, J, id_options);
+    const std::vector<int> keep = choose_identifiable(*model, free, J, id_options, turns);
     for (int k : keep) kept_names.push_back(problem.parameter_names()[static_cast<std::size_t>(k)]);
     for (const DependentParameter& d :
-         dependent_parameters(J, problem.parameter_names(), keep, id_options))
+         dependent_parameters(J, problem.parameter_names(), keep, id_options, turns))
       null_directions.push_back(describe_dependent(d, *model));
   }
   const std::optional<SensitivityResult> sensitivity =

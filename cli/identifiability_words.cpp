@@ -50,7 +50,10 @@ std::string describe_dependent(const DependentParameter& d, const MeasurementMod
       text += " (it turns the measured point about itself)";
     return text;
   }
-  if (d.equivalent.empty()) return text + ": not determined";
+  // A turn of the measurement frame changes no fit: a gauge freedom (docs/theory.md).
+  const std::string turn = " a turn of the whole setup, which changes no fit (a gauge freedom)";
+  if (d.equivalent.empty())
+    return text + (d.turn ? " moves the readings only as" + turn : ": not determined");
   text += " moves the readings as";
   char buf[32];
   for (std::size_t k = 0; k < d.equivalent.size() && k < 4; ++k) {
@@ -58,17 +61,19 @@ std::string describe_dependent(const DependentParameter& d, const MeasurementMod
     text += std::string(k ? " and" : "") + " " + buf + " x " + d.equivalent[k].first;
   }
   if (d.equivalent.size() > 4) text += " and " + std::to_string(d.equivalent.size() - 4) + " more";
+  if (d.turn) text += " and" + turn;
   return text;
 }
 
 std::vector<int> choose_identifiable(const MeasurementModel& model, const std::vector<int>& free,
-                                     const MatrixXd& J, const IdentifiabilityOptions& options) {
+                                     const MatrixXd& J, const IdentifiabilityOptions& options,
+                                     const MatrixXd& turns) {
   std::vector<int> priority;
   if (model.mechanism().type() == "urdf-arm") {
     const std::vector<int> all = urdf_arm_parameter_priority(model);
     for (int index : free) priority.push_back(all[static_cast<std::size_t>(index)]);
   }
-  return identifiable_subset(J, priority, options);
+  return identifiable_subset(J, priority, options, turns);
 }
 
 }  // namespace kincal::cli

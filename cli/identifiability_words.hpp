@@ -17,12 +17,15 @@ std::string parameter_words(const std::string& name);
 
 /// A parameter the data cannot tell from the others, in one sentence: what it duplicates, or
 /// that no reading depends on it (and why, where the name says: a joint's offset whose axis
-/// passes through the measured point, a rotation of the measured point about itself).
+/// passes through the measured point, a rotation of the measured point about itself), and
+/// when it takes a turn of the measurement frame to duplicate them, that too.
 std::string describe_dependent(const DependentParameter& d, const MeasurementModel& model);
 
 /// The columns of J (the free parameters `free` of `model`) to keep: identifiable_subset, with
-/// urdf_arm_parameter_priority for an arm imported from a URDF.
+/// urdf_arm_parameter_priority for an arm imported from a URDF, and the turns of the
+/// measurement frame (measurement_frame_turns, rows as J's) that change no fit.
 std::vector<int> choose_identifiable(const MeasurementModel& model, const std::vector<int>& free,
-                                     const MatrixXd& J, const IdentifiabilityOptions& options);
+                                     const MatrixXd& J, const IdentifiabilityOptions& options,
+                                     const MatrixXd& turns = MatrixXd());
 
 }  // namespace kincal::cli

@@ -30,6 +30,9 @@ class Socket final : public Sensor {
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   /// The readings are the tool point's position relative to the socket.
   int position_reading_index() const override { return 0; }
+  /// ... in the measurement frame (base coordinates), measured as 0: turning the whole setup
+  /// changes no fit (a gauge freedom, docs/theory.md).
+  int frame_vector_reading_index() const override { return 0; }
 
   void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,

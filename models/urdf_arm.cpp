@@ -343,6 +343,13 @@ std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {
     for (int k = 0; k < 6; ++k) priority[UrdfArm::joint_index(j) + k] = 2;
     priority[UrdfArm::joint_index(j) + UrdfArm::kOffset] = 1;
   }
+  // A sensor that is only a point in the measurement frame (a socket) has no frame of its
+  // own to hold that frame: the base does, and the sockets are estimated in its coordinates.
+  for (std::size_t s = 0; s < model.sensors().size(); ++s)
+    if (model.sensors()[s]->frame_vector_reading_index() >= 0) {
+      const int first = model.sensor_parameter_offset(static_cast<int>(s));
+      for (int i = 0; i < model.sensors()[s]->num_parameters(); ++i) priority[first + i] = -1;
+    }
   return priority;
 }
 

@@ -140,11 +140,14 @@ VectorXd urdf_arm_parameters(const UrdfArmGeometry& geometry);
 Pose urdf_joint_motion(const UrdfArmJoint& joint, double value);
 
 /// For each parameter of a model with an urdf-arm mechanism, which to keep when the data
-/// cannot tell parameters apart (lower first; identifiable_subset with priorities): 0 the
-/// frames whose correction the URDF's link frames do not feel (base, tool, the sensors' own
-/// parameters: tracker frame, target, marker), 1 the joints' zero offsets, 2 their origin
-/// errors. So a reflector's offset stays in the tool and tcp rather than moving the last
-/// link's frame along its axis.
+/// cannot tell parameters apart (lower first; identifiable_subset with priorities): -1 the
+/// parameters of sensors that are only a point in the measurement frame (a socket's centre:
+/// Sensor::frame_vector_reading_index), 0 the frames whose correction the URDF's link frames
+/// do not feel (base, tool, the other sensors' own parameters: tracker frame, target, marker),
+/// 1 the joints' zero offsets, 2 their origin errors. So a reflector's offset stays in the
+/// tool and tcp rather than moving the last link's frame along its axis, and where nothing
+/// measured fixes the measurement frame (sockets alone) the base frame holds it: the sockets
+/// are estimated in the arm's base coordinates.
 std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model);
 
 /// Frees the parameters of `model` (an urdf-arm mechanism) that its identification Jacobian at

@@ -60,12 +60,14 @@ class Robot:
                      if p not in not_identifiable] + ["s_*"]
 
 
-# What joint angles alone determine: not the base frame nor the first joint (its origin and
-# offset are the base's), nor a joint's translation along or rotation about its own axis
-# (they duplicate the next origin and the offset); the ball's position on the flange, not its
-# rotation. Of the rest (Robot.free before the exclusions), kincal's identifiability check
-# (calibrate with an explicit --free, which stops on a rank deficiency and names each null
-# direction) finds on each arm the parameters listed below, which stay at the URDF's values.
+# What joint angles alone determine: not the base frame (nothing measured fixes where the
+# whole setup stands: kincal holds it at the base, the sockets in the base's coordinates) nor
+# the first joint (its origin and offset are the base's), nor a joint's translation along or
+# rotation about its own axis (they duplicate the next origin and the offset); the ball's
+# position on the flange, not its rotation. Of the rest (Robot.free before the exclusions),
+# kincal's identifiability check (calibrate with an explicit --free, which stops on a rank
+# deficiency and names each null direction) finds on each arm the parameters listed below,
+# which stay at the URDF's values, but for the two marked as weak.
 PANDA = Robot(
     "Panda", "panda_2", "panda.urdf", os.path.join("panda_2", "panda.urdf"),
     ["panda_joint%d" % i for i in range(1, 8)], "zzzzzzz",
@@ -77,9 +79,8 @@ PANDA = Robot(
     {
         # a shift along joint 1's axis: the base's
         "panda_joint2.origin.y",
-        # a turn about joint 1's axis: the base's; it moves the ball only as far as the ball
-        # misses its socket, so at the start it looks determined (8 mm misses) and at the
-        # solution it is not
+        # a turn about joint 1's axis: with the sockets, a turn of the whole setup, which
+        # changes no fit (a gauge freedom; the check names it so)
         "panda_joint2.origin.ry",
         "panda_joint3.origin.ry",  # duplicates panda_joint3.origin.x (the 316 mm link turns)
         "panda_joint4.origin.ry",  # duplicates panda_joint5.origin.y (the 82.5 mm offset turns)
@@ -87,19 +88,19 @@ PANDA = Robot(
         "panda_joint6.origin.ry",  # duplicates panda_joint5.offset
         "panda_joint7.origin.ry",  # duplicates tool.z
         "panda_joint7.offset",  # the ball sits on joint 7's axis (0.09 mm off): tool.x, tool.y
-        # for the same reason a tilt of joint 7 moves the ball as panda_joint7.origin.y does
-        # (correlation 1.000 at the solution)
+        # weak (the check accepts it): for the same reason a tilt of joint 7 moves the ball as
+        # panda_joint7.origin.y does (correlation 1.000 at the solution)
         "panda_joint7.origin.rx",
-        # one the check accepts but the data hardly determine: the ball's distance along the
-        # flange's axis, std 3 mm from every session (75 mm from one), condition number 2600
-        # against 220 without it, and the cost 0.02 % lower with it
+        # weak (the check accepts it): the ball's distance along the flange's axis, std 3 mm
+        # from every session (75 mm from one), condition number 2600 against 220 without it,
+        # and the cost 0.02 % lower with it
         "tool.z",
     })
 IIWA14 = Robot("KUKA iiwa14", "kuka_14", "iiwa14.urdf", None,
                ["joint_a%d" % i for i in range(1, 8)], "zyzyzyz", {}, {
                    "joint_a2.origin.z",  # a shift along joint 1's axis: the base's
-                   # a turn about joint 1's axis: the base's (correlation 1.000 with a socket
-                   # at the solution, as panda_joint2.origin.ry on the Panda)
+                   # a turn about joint 1's axis: with the sockets, a turn of the whole setup
+                   # (a gauge freedom), as panda_joint2.origin.ry on the Panda
                    "joint_a2.origin.rz",
                    # Joints 2-3, 4-5 and 6-7 share an origin (the URDF's shifts between them
                    # are zero), so turning a joint's origin about its predecessor's axis is

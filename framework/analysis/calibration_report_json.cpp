@@ -38,6 +38,7 @@ Json to_json(const Identifiability& a) {
   out["O4"] = a.o4;
   out["O5"] = a.o5;
   out["unseen_parameters"] = a.unseen;
+  if (a.frame_turns > 0) out["measurement_frame_turns"] = a.frame_turns;
   if (a.has_prior()) {
     out["numerical_rank_with_prior"] = a.numerical_rank_with_prior;
     Json shares = Json::array();

@@ -58,6 +58,11 @@ std::string to_text(const Identifiability& a) {
   out << "  O1 " << format("%.4g", a.o1) << "  O2 " << format("%.4g", a.o2) << "  O3 "
       << format("%.4g", a.o3) << "  O4 " << format("%.4g", a.o4) << "  O5 " << format("%.4g", a.o5)
       << "\n";
+  if (a.frame_turns > 0)
+    out << "  " << a.frame_turns
+        << " turn(s) of the whole setup change no fit (a gauge freedom: nothing measured fixes "
+           "the measurement frame's orientation): projected out, each a direction not "
+           "determined\n";
   const bool pinned = a.has_prior() && !a.undetermined();
   if (a.has_prior())
     out << "  with the prior: numerical rank " << a.numerical_rank_with_prior << " of "

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace kincal {
 
@@ -42,6 +44,79 @@ MatrixXd scaled_by(MatrixXd A, const VectorXd& norms) {
 MatrixXd scale_columns(const MatrixXd& J, VectorXd& norms) {
   norms = column_norms(J);
   return scaled_by(J, norms);
+}
+
+// The scaled Jacobian with the turns of the measurement frame its columns reproduce
+// projected out (identifiability.hpp). Built on the triangular factor of [J turns], which
+// has the same inner products as J and the turns with n + k rows, so that a calibration with
+// 10^6 readings is not copied. Empty `matrix` when no turn is reproduced: the caller then
+// analyses J as it always did.
+struct WithoutTurns {
+  MatrixXd matrix;       ///< scaled, the reproduced turns projected out
+  MatrixXd unprojected;  ///< scaled, before projecting them out
+  VectorXd norms;        ///< the scaling D
+  int turns = 0;         ///< how many were reproduced
+};
+
+// `scaled`'s columns span (its singular vectors above rcond of the largest) reproduces which
+// of `turns`' directions to within rcond of their length? An orthonormal basis of those.
+MatrixXd reproduced_turns(const MatrixXd& scaled, const MatrixXd& turns, double rcond) {
+  if (scaled.cols() == 0 || turns.cols() == 0) return MatrixXd(scaled.rows(), 0);
+  // The turns' own span (a turn of residuals that are all 0 is no direction).
+  const Eigen::ColPivHouseholderQR<MatrixXd> tq(turns);
+  const double largest = tq.matrixQR().rows() ? std::abs(tq.matrixQR()(0, 0)) : 0.0;
+  int k = 0;
+  while (k < std::min(tq.matrixQR().rows(), tq.matrixQR().cols()) &&
+         std::abs(tq.matrixQR()(k, k)) > kZeroColumn * largest && largest > 0)
+    ++k;
+  if (k == 0) return MatrixXd(scaled.rows(), 0);
+  const MatrixXd Q = tq.householderQ() * MatrixXd::Identity(turns.rows(), k);
+  const Eigen::JacobiSVD<MatrixXd> svd(scaled, Eigen::ComputeThinU);
+  const VectorXd& s = svd.singularValues();
+  int r = 0;
+  while (r < s.size() && s[r] > rcond * s[0]) ++r;
+  // The parts of the turns outside that span: their singular values are the sines of the
+  // angles between the two spans, small ones accurately (1 - cos^2 would lose them).
+  const MatrixXd U = svd.matrixU().leftCols(r);
+  const MatrixXd outside = Q - U * (U.transpose() * Q);
+  const Eigen::JacobiSVD<MatrixXd> angles(outside, Eigen::ComputeFullV);
+  const VectorXd& sines = angles.singularValues();
+  int d = 0;
+  while (d < k && sines[k - 1 - d] <= rcond) ++d;
+  return Q * angles.matrixV().rightCols(d);
+}
+
+// `prior_sqrt_precision` (when non-null) stacks a prior's rows below J, with zero turns.
+WithoutTurns without_reproduced_turns(const MatrixXd& J, const MatrixXd& turns, double rcond,
+                                      const VectorXd* prior_sqrt_precision = nullptr) {
+  WithoutTurns out;
+  const Eigen::Index n = J.cols(), k = turns.cols();
+  if (k == 0 || n == 0 || J.rows() == 0) return out;
+  if (turns.rows() != J.rows())
+    throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
+                                " rows, the Jacobian " + std::to_string(J.rows()));
+  TriangularFactor factor(n + k);
+  MatrixXd block;
+  for (Eigen::Index row = 0; row < J.rows(); row += 1024) {
+    const Eigen::Index rows = std::min<Eigen::Index>(1024, J.rows() - row);
+    block.resize(rows, n + k);
+    block << J.middleRows(row, rows), turns.middleRows(row, rows);
+    factor.add_rows(block);
+  }
+  MatrixXd compact = factor.R().leftCols(n), compact_turns = factor.R().rightCols(k);
+  if (prior_sqrt_precision) {
+    compact.conservativeResize(n + k + n, n);
+    compact.bottomRows(n) = prior_sqrt_precision->asDiagonal();
+    compact_turns.conservativeResize(n + k + n, k);
+    compact_turns.bottomRows(n).setZero();
+  }
+  out.norms = prior_sqrt_precision ? column_norms(compact) : column_norms(J);
+  out.unprojected = scaled_by(compact, out.norms);
+  const MatrixXd basis = reproduced_turns(out.unprojected, compact_turns, rcond);
+  out.turns = static_cast<int>(basis.cols());
+  if (out.turns == 0) return out;
+  out.matrix = out.unprojected - basis * (basis.transpose() * out.unprojected);
+  return out;
 }
 
 ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& norms,
@@ -81,7 +156,8 @@ std::string ParameterCombination::describe() const {
 }
 
 Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std::string>& names,
-                                        const IdentifiabilityOptions& options) {
+                                        const IdentifiabilityOptions& options,
+                                        const MatrixXd& turns) {
   Identifiability a;
   a.num_residuals = static_cast<int>(J.rows());
   a.num_parameters = static_cast<int>(J.cols());
@@ -99,7 +175,10 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
   // The SVDs below see only J^T J, so J's triangular factor stands in for it: a calibration
   // with 10^6 readings would otherwise copy its Jacobian several times over here.
   a.column_norms = column_norms(J);
-  const MatrixXd scaled = scaled_by(triangular_factor(J), a.column_norms);
+  const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
+  a.frame_turns = without.turns;
+  const MatrixXd scaled =
+      without.turns ? without.matrix : scaled_by(triangular_factor(J), a.column_norms);
   for (int i = 0; i < n; ++i)
     if (a.column_norms[i] == 0) a.unseen.push_back(names[i]);
 
@@ -165,29 +244,40 @@ Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std
 }
 
 void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
-               const VectorXd& data_share, const IdentifiabilityOptions& options) {
+               const VectorXd& data_share, const IdentifiabilityOptions& options,
+               const MatrixXd& turns) {
   const int n = static_cast<int>(J.cols());
   a.data_share = data_share;
   a.numerical_rank_with_prior = 0;
   if (n == 0) return;  // Eigen's SVD of a matrix without columns is not defined
-  const MatrixXd R = triangular_factor(J);  // as in analyze_identifiability
-  MatrixXd stacked = MatrixXd::Zero(R.rows() + n, n);
-  stacked.topRows(R.rows()) = R;
-  stacked.bottomRows(n).diagonal() = precision.cwiseSqrt();
-  VectorXd norms;
-  const MatrixXd scaled = scale_columns(stacked, norms);
+  // A turn the prior's rows do not see is still reproduced; one they pin is not.
+  const VectorXd sqrt_precision = precision.cwiseSqrt();
+  const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond, &sqrt_precision);
+  MatrixXd scaled;
+  if (without.turns) {
+    scaled = without.matrix;
+  } else {
+    const MatrixXd R = triangular_factor(J);  // as in analyze_identifiability
+    MatrixXd stacked = MatrixXd::Zero(R.rows() + n, n);
+    stacked.topRows(R.rows()) = R;
+    stacked.bottomRows(n).diagonal() = sqrt_precision;
+    VectorXd norms;
+    scaled = scale_columns(stacked, norms);
+  }
   const Eigen::JacobiSVD<MatrixXd> svd(scaled);
   const VectorXd& s = svd.singularValues();
   for (int i = 0; i < s.size(); ++i)
     a.numerical_rank_with_prior += s.size() && s[i] > options.rcond * s[0];
 }
 
-std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options) {
+std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options,
+                                     const MatrixXd& turns) {
   if (J.cols() == 0 || J.rows() == 0) return {};
   std::vector<std::string> names(J.cols());
-  const Identifiability a = analyze_identifiability(J, names, options);
+  const Identifiability a = analyze_identifiability(J, names, options, turns);
+  const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
   VectorXd norms;
-  const MatrixXd scaled = scale_columns(J, norms);
+  const MatrixXd scaled = without.turns ? without.matrix : scale_columns(J, norms);
   const Eigen::ColPivHouseholderQR<MatrixXd> qr(scaled);
   std::vector<int> keep;
   for (int k = 0; k < a.numerical_rank; ++k) keep.push_back(qr.colsPermutation().indices()[k]);
@@ -196,13 +286,14 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOpt
 }
 
 std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
-                                     const IdentifiabilityOptions& options) {
+                                     const IdentifiabilityOptions& options, const MatrixXd& turns) {
   const int n = static_cast<int>(J.cols());
-  if (priority.empty()) return identifiable_subset(J, options);
+  if (priority.empty()) return identifiable_subset(J, options, turns);
   std::vector<std::string> names(n);
-  const int rank = analyze_identifiability(J, names, options).numerical_rank;
+  const int rank = analyze_identifiability(J, names, options, turns).numerical_rank;
+  const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
   VectorXd norms;
-  MatrixXd residual = scale_columns(J, norms);
+  MatrixXd residual = without.turns ? without.matrix : scale_columns(J, norms);
   std::vector<bool> chosen(n, false);
   std::vector<int> keep;
   while (static_cast<int>(keep.size()) < rank) {
@@ -233,10 +324,12 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& 
 std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
                                                      const std::vector<std::string>& names,
                                                      const std::vector<int>& keep,
-                                                     const IdentifiabilityOptions& options) {
-  VectorXd norms;
-  const MatrixXd scaled = scale_columns(J, norms);
-  MatrixXd kept(J.rows(), static_cast<Eigen::Index>(keep.size()));
+                                                     const IdentifiabilityOptions& options,
+                                                     const MatrixXd& turns) {
+  const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
+  VectorXd norms = without.norms;
+  const MatrixXd scaled = without.turns ? without.matrix : scale_columns(J, norms);
+  MatrixXd kept(scaled.rows(), static_cast<Eigen::Index>(keep.size()));
   for (std::size_t k = 0; k < keep.size(); ++k)
     kept.col(static_cast<Eigen::Index>(k)) = scaled.col(keep[k]);
   // Eigen's decompositions do not take a matrix without columns: nothing kept, nothing to
@@ -256,6 +349,12 @@ std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
     if (!d.unseen && !keep.empty()) {
       // Scaled: column_i = sum_k c_k kept_k; in parameter units p_k = c_k D_i / D_k.
       const VectorXd c = qr.solve(VectorXd(scaled.col(i)));
+      if (without.turns) {
+        // What the kept columns leave of it before the turns were projected out: a turn.
+        VectorXd left = without.unprojected.col(i);
+        for (int k = 0; k < c.size(); ++k) left -= c[k] * without.unprojected.col(keep[k]);
+        d.turn = left.norm() > options.rcond;
+      }
       VectorXd coefficient(c.size());
       for (int k = 0; k < c.size(); ++k) coefficient[k] = c[k] * norms[i] / norms[keep[k]];
       const double largest = coefficient.cwiseAbs().maxCoeff();

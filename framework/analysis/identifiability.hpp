@@ -15,6 +15,16 @@
 // For each index larger is better. When J is rank deficient (numerical rank or rank below n,
 // e.g. s_n = 1e-17, zero up to rounding), the condition number is infinite and all five
 // indices are 0, whatever the SVD left in s_n.
+//
+// Turns of the measurement frame. Every function below also takes `turns` (m x k, rows as
+// J's; empty: none): the residuals' change under motions of the whole setup that leave the
+// cost as it is although J sees them (framework/calibration/frame_turns.hpp: a turn of a
+// setup of sockets turns each socket's residual). Those of them the free parameters
+// reproduce (their change of the residuals lies in the span of J's scaled columns to within
+// rcond of its length) are a gauge freedom: their residual directions are projected out of
+// the scaled Jacobian before anything is computed from it, so that the figures, the rank and
+// the parameters kept are those of the Jacobian without them. When none is reproduced the
+// analyses are exactly those without `turns`.
 
 #include <string>
 #include <vector>
@@ -61,6 +71,9 @@ struct Identifiability {
   double o1 = 0, o2 = 0, o3 = 0, o4 = 0, o5 = 0;
   /// Parameters whose column is zero: no reading depends on them.
   std::vector<std::string> unseen;
+  /// How many of `turns` the free parameters reproduce (a gauge freedom), projected out of
+  /// every figure above: each is one direction the data cannot determine.
+  int frame_turns = 0;
   /// Null-space directions, then weak ones, weakest first.
   std::vector<ParameterCombination> combinations;
 
@@ -82,20 +95,23 @@ struct Identifiability {
 
 /// Analysis of J; `names` names its columns.
 Identifiability analyze_identifiability(const MatrixXd& J, const std::vector<std::string>& names,
-                                        const IdentifiabilityOptions& options = {});
+                                        const IdentifiabilityOptions& options = {},
+                                        const MatrixXd& turns = MatrixXd());
 
 /// Adds what a Gaussian prior of information diag(precision) (0 = none) changes: the rank of
 /// [J; diag(sqrt(precision))] (J whitened) and `data_share` (e.g. from the posterior,
 /// ParameterUncertainty::data_share, or data_share() at the stated noise). A direction the
 /// data cannot see but the prior pins is then determined, by the prior.
 void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
-               const VectorXd& data_share, const IdentifiabilityOptions& options = {});
+               const VectorXd& data_share, const IdentifiabilityOptions& options = {},
+               const MatrixXd& turns = MatrixXd());
 
 /// Columns of J that together are well determined: a column-pivoted QR of the scaled
 /// Jacobian picks them greedily, most independent first, and stops at the numerical rank.
 /// Returns the indices of the columns to keep, ascending. Fixing the others at their
 /// current values solves the problem in an identifiable subspace.
-std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options = {});
+std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options = {},
+                                     const MatrixXd& turns = MatrixXd());
 
 /// The same number of columns (the numerical rank), chosen class by class: `priority[i]` is
 /// column i's class, lower first. Greedy Gram-Schmidt on the scaled columns: at each step the
@@ -104,7 +120,8 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOpt
 /// that duplicate each other the preferred one is kept), else from all. Empty `priority` =
 /// one class. Returns the indices, ascending.
 std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
-                                     const IdentifiabilityOptions& options = {});
+                                     const IdentifiabilityOptions& options = {},
+                                     const MatrixXd& turns = MatrixXd());
 /// A column whose part outside the chosen span is below this (unit-norm columns) counts as a
 /// duplicate when classes are compared.
 inline constexpr double kPreferredPart = 1e-3;
@@ -116,6 +133,9 @@ inline constexpr double kPreferredPart = 1e-3;
 struct DependentParameter {
   std::string name;
   bool unseen = false;  ///< no reading depends on it at all (its column is zero)
+  /// It duplicates `equivalent` only together with a turn of the measurement frame (a gauge
+  /// freedom): its column less the equivalent's has a part above rcond that is such a turn.
+  bool turn = false;
   /// (name, coefficient) in parameter units, significant terms only (options.term_cutoff of
   /// the largest), largest first.
   std::vector<std::pair<std::string, double>> equivalent;
@@ -126,6 +146,7 @@ struct DependentParameter {
 std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
                                                      const std::vector<std::string>& names,
                                                      const std::vector<int>& keep,
-                                                     const IdentifiabilityOptions& options = {});
+                                                     const IdentifiabilityOptions& options = {},
+                                                     const MatrixXd& turns = MatrixXd());
 
 }  // namespace kincal

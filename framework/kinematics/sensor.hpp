@@ -57,6 +57,14 @@ class Sensor {
   /// mm, in the sensor's own Cartesian frame), or -1 when the sensor measures no point (a
   /// length gauge). Accuracy in the field's terms (3-D position error) is computed from them.
   virtual int position_reading_index() const { return -1; }
+  /// Index of the first of three readings that are a vector in the measurement frame itself
+  /// (the frame the mechanism's base and the sensors' own placements are given in), or -1
+  /// (the default) for readings in a frame of the sensor's own (a tracker's) or no vector at
+  /// all (a length). Turning the whole setup by R turns such readings by R; measured as 0 (a
+  /// socket's: the tool point minus the socket's centre), they then leave the cost as it is,
+  /// so nothing measured fixes the frame's orientation: a gauge freedom that the Jacobian
+  /// does not show as a null direction (framework/calibration/frame_turns.hpp).
+  virtual int frame_vector_reading_index() const { return -1; }
   /// Parameter layout with nominal values and units; all fixed (a model's mask frees them).
   virtual const std::vector<Parameter>& parameters() const = 0;
   int num_parameters() const { return static_cast<int>(parameters().size()); }

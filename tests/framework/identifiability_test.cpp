@@ -152,6 +152,59 @@ TEST(Identifiability, PrioritiesChooseAmongDuplicatesAndTheDroppedAreExplained) 
   EXPECT_TRUE(dependent[2].unseen);
 }
 
+// Issue 35, item A7: a motion of the whole setup that changes no fit but shows in J (a turn
+// of a setup of sockets turns their residuals) is a direction the data cannot determine when
+// the free parameters reproduce it; when they do not, the analyses are those without it.
+TEST(Identifiability, TurnsTheParametersReproduceAreNotDetermined) {
+  Random rng(7);
+  const int m = 40;
+  MatrixXd J(m, 4), turn(m, 1);
+  for (int i = 0; i < m; ++i) {
+    J(i, 0) = rng.symmetric(1);
+    J(i, 1) = rng.symmetric(1);
+    turn(i, 0) = 0.01 * rng.symmetric(1);  // small, as the residuals it turns
+    J(i, 2) = 2 * J(i, 0) + turn(i, 0);    // c moves the readings as 2 a and the turn
+    J(i, 3) = rng.symmetric(1);
+  }
+  const std::vector<std::string> names = {"a", "b", "c", "d"};
+  const Identifiability without = analyze_identifiability(J, names);
+  EXPECT_EQ(without.numerical_rank, 4);  // the turn looks like information
+  const Identifiability a = analyze_identifiability(J, names, {}, turn);
+  EXPECT_EQ(a.frame_turns, 1);
+  EXPECT_EQ(a.numerical_rank, 3);
+  EXPECT_TRUE(a.rank_deficient());
+  EXPECT_EQ(identifiable_subset(J, {}, turn), (std::vector<int>{0, 1, 3}));
+  EXPECT_EQ(identifiable_subset(J, std::vector<int>{0, 0, 0, 0}, {}, turn),
+            (std::vector<int>{0, 1, 3}));
+  const auto dependent = dependent_parameters(J, names, {0, 1, 3}, {}, turn);
+  ASSERT_EQ(dependent.size(), 1u);
+  EXPECT_EQ(dependent[0].name, "c");
+  EXPECT_TRUE(dependent[0].turn);
+  ASSERT_EQ(dependent[0].equivalent.size(), 1u);
+  EXPECT_EQ(dependent[0].equivalent[0].first, "a");
+  EXPECT_NEAR(dependent[0].equivalent[0].second, 2.0, 1e-9);
+  // A prior on every parameter pins the turn; one on b and d only does not (it takes c - 2 a).
+  Identifiability pinned = a;
+  add_prior(pinned, J, VectorXd::Ones(4), VectorXd::Ones(4), {}, turn);
+  EXPECT_EQ(pinned.numerical_rank_with_prior, 4);
+  Identifiability unpinned = a;
+  add_prior(unpinned, J, (VectorXd(4) << 0, 1, 0, 1).finished(), VectorXd::Ones(4), {}, turn);
+  EXPECT_EQ(unpinned.numerical_rank_with_prior, 3);
+
+  // A turn the parameters do not reproduce changes nothing, to the last bit.
+  MatrixXd other(m, 1);
+  for (int i = 0; i < m; ++i) other(i, 0) = rng.symmetric(1);
+  const Identifiability b = analyze_identifiability(J, names, {}, other);
+  EXPECT_EQ(b.frame_turns, 0);
+  EXPECT_EQ(b.numerical_rank, 4);
+  EXPECT_EQ(b.singular_values, without.singular_values);
+  EXPECT_EQ(identifiable_subset(J, std::vector<int>{0, 0, 1, 1}, {}, other),
+            identifiable_subset(J, std::vector<int>{0, 0, 1, 1}));
+  // Nor does a turn of residuals that are all zero (it is no direction).
+  EXPECT_EQ(analyze_identifiability(J, names, {}, MatrixXd::Zero(m, 3)).singular_values,
+            without.singular_values);
+}
+
 TEST(Uncertainty, SigmaHatUsesTheDegreesOfFreedom) {
   MatrixXd J(4, 1);
   J << 1, 1, 1, 1;
