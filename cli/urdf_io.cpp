@@ -250,14 +250,15 @@ UrdfArmGeometry import_read(const ReadUrdf& r, const std::string& text, const st
   for (const auto& joint : chain) {
     pending = compose(pending, from_urdf(joint->parent_to_joint_origin_transform));
     if (joint->type == urdf::Joint::FIXED) continue;
-    const std::string where = element_at(text, r.xml, "joint", joint->name);
+    // "line N: <joint name=...>", for messages only (finding the line reads the text).
+    auto where = [&] { return element_at(text, r.xml, "joint", joint->name); };
     if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::CONTINUOUS &&
         joint->type != urdf::Joint::PRISMATIC)
-      throw UrdfError(where + " is " + joint_type_name(joint->type) +
+      throw UrdfError(where() + " is " + joint_type_name(joint->type) +
                       "; expected revolute, continuous, prismatic or fixed joints between " +
                       "base and tip");
     if (joint->mimic)
-      throw UrdfError(where +
+      throw UrdfError(where() +
                       " mimics another joint; kincal needs every moving joint as an actuator");
     check_name(text, r.xml, "joint", joint->name,
                "names a measurement column and parameters after each moving joint");
@@ -269,24 +270,24 @@ UrdfArmGeometry import_read(const ReadUrdf& r, const std::string& text, const st
     j.origin = frame_parameters(pending);
     pending = Pose{};
     j.axis = Vector3d(joint->axis.x, joint->axis.y, joint->axis.z);
-    if (!(j.axis.norm() > 1e-9)) throw UrdfError(where + " has a zero axis");
+    if (!(j.axis.norm() > 1e-9)) throw UrdfError(where() + " has a zero axis");
     j.axis.normalize();
     const bool prismatic = j.type == UrdfJointType::kPrismatic;
     const double unit = prismatic ? kMillimetresPerMetre : 1.0;
     if (j.type == UrdfJointType::kContinuous) {
       j.lower = j.upper = NAN;
     } else {
-      if (!joint->limits) throw UrdfError(where + " has no <limit> (required for its type)");
+      if (!joint->limits) throw UrdfError(where() + " has no <limit> (required for its type)");
       const double lower = joint->limits->lower, upper = joint->limits->upper;
       const std::string limit =
           "<limit lower=\"" + full(lower) + "\" upper=\"" + full(upper) + "\">";
-      if (!(lower <= upper)) throw UrdfError(where + ": " + limit + ": lower is above upper");
+      if (!(lower <= upper)) throw UrdfError(where() + ": " + limit + ": lower is above upper");
       j.lower = lower * unit;
       j.upper = upper * unit;
       // The model file holds the limits in mm or degrees.
       const double file_unit = prismatic ? 1.0 : kDegreesPerRadian;
       if (!std::isfinite(j.lower * file_unit) || !std::isfinite(j.upper * file_unit))
-        throw UrdfError(where + ": " + limit + " is beyond the largest number of " +
+        throw UrdfError(where() + ": " + limit + " is beyond the largest number of " +
                         (prismatic ? "mm" : "degrees") + " a model file holds");
       if (!(j.lower <= 0 && 0 <= j.upper)) j.home = 0.5 * j.lower + 0.5 * j.upper;
     }

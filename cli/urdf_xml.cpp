@@ -165,9 +165,10 @@ class Scanner {
         fail(at, "a malformed character reference '" +
                      excerpt(s_.substr(at, std::min<std::size_t>(12, n_ - at))) +
                      "' (expected &#DDD; or &#xHHH;; write &amp; for a '&')");
-      if (too_large || (code >= 0xD800 && code <= 0xDFFF))
+      // U+0000 would end the value urdfdom gets (a C string) where kincal's does not.
+      if (code == 0 || too_large || (code >= 0xD800 && code <= 0xDFFF))
         fail(at, "the character reference '" + excerpt(s_.substr(at, q + 1 - at)) +
-                     "' is not a Unicode character");
+                     "' is not a character XML allows");
       if (value) append_utf8(*value, code);
       return q + 1;
     }

@@ -117,11 +117,14 @@ TEST(UrdfXml, RefusesWithTheLineWhatTinyXmlWouldMisreadOrCrashOn) {
   attributes += "/>";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"<robot>\n<![CDATA[ never closed </robot>", "line 2: a CDATA section is not closed"},
+      {"<robot>\n<!-- never closed </robot>", "line 2: a comment is not closed"},
       // TinyXML looks for the reference's ';' further on: "&#x" would swallow the <a>.
       {"<robot>\n\n&#x<a name=\"b\"/>x;</robot>", "line 3: a malformed character reference"},
       {"<robot name=\"&#X41;\"/>", "line 1: a malformed character reference"},
-      {"<robot name=\"&#xD800;\"/>", "is not a Unicode character"},
-      {"<robot name=\"&#x110000;\"/>", "is not a Unicode character"},
+      {"<robot name=\"&#xD800;\"/>", "is not a character XML allows"},
+      {"<robot name=\"&#x110000;\"/>", "is not a character XML allows"},
+      // urdfdom reads values as C strings: a NUL would end its name and not kincal's.
+      {"<robot name=\"a&#0;b\"/>", "is not a character XML allows"},
       {"<robot name=\"a\n\nb", "line 1: the value of attribute 'name' in <robot> is not closed"},
       {std::string("<robot>\n\0</robot>", 18), "line 2: a NUL byte"},
       {"<robot>\n<joint name=\"j\xE9\"/></robot>",

@@ -131,12 +131,15 @@ lacks e.txt "type_error|json" "a Latin-1 joint name: a raw JSON library message"
 # The same name written as a character reference, with no XML declaration: UTF-8 (TinyXML
 # alone gives the byte 0xE9 there).
 urdf_arm reference.urdf "" "j&#xE9;"
-urdf_imports "a character reference in a joint name" reference.urdf
-py - <<'EOF' || bad "a character reference in a joint name: the actuator is not 'jé'"
+{ echo '<?xml version="1.0" encoding="ISO-8859-1"?>'; cat reference.urdf; } >reference_latin1.urdf
+for file in reference.urdf reference_latin1.urdf; do
+  urdf_imports "a character reference in a joint name ($file)" $file
+  py - <<'EOF' || bad "a character reference in a joint name ($file): the actuator is not 'jé'"
 import json, sys
 names = [a["name"] for a in json.load(open("m.json"))["mechanism"]["joints"]]
 sys.exit(0 if names == ["j1", "j\u00e9", "j3"] else print(names) or 1)
 EOF
+done
 
 urdf_arm swapped.urdf "" "" '<limit lower="2" upper="-2" effort="1" velocity="1"/>'
 urdf_refused "limits with lower above upper" \
