@@ -1,11 +1,11 @@
 // kincal model: writes a built-in model, or a robot imported from its URDF, as a model file
 // for users to edit.
 
-#include <fstream>
-#include <sstream>
-
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/urdf_io.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
@@ -15,13 +15,30 @@ namespace kincal::cli {
 
 namespace {
 
+// At most a model file's size (the model file keeps the text), the reading stopping one byte
+// past it, so that --urdf /dev/zero fails at once.
 std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CliError("--urdf " + path + ": cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw CliError("--urdf " + path + ": read error");
-  return text.str();
+  try {
+    return read_file_text(path, "URDF", kMaxUrdfBytes);
+  } catch (const std::invalid_argument& e) {
+    throw CliError(std::string("--urdf ") + e.what());
+  }
+}
+
+// The model file written from a URDF is one kincal reads: within a model file's size (the
+// URDF's text grows when escaped as JSON) and accepted by the model reader. import_urdf
+// refuses what it knows the reader would; this catches the rest before anything is written.
+void check_reads_back(const std::string& model_text, const std::string& urdf_path) {
+  const JsonLimits limits;
+  if (model_text.size() > limits.max_bytes)
+    throw CliError(urdf_path + ": the model file would be " + std::to_string(model_text.size()) +
+                   " bytes (the URDF's text, escaped as JSON, and the model), more than the " +
+                   std::to_string(limits.max_bytes >> 20) + " MiB a model file may have");
+  try {
+    model_from_json(parse_json_text(model_text, "the model file"), "the model file");
+  } catch (const std::invalid_argument& e) {
+    throw CliError(urdf_path + ": the model imported from it would not read back: " + e.what());
+  }
 }
 
 // A model of the arm in a URDF with one tracker: every parameter free (calibrate keeps the
@@ -43,7 +60,9 @@ std::shared_ptr<MeasurementModel> import_model(const po::variables_map& vm) {
   }
   UrdfArmGeometry g;
   try {
-    g = import_urdf(read_text(path), path, vm.count("base") ? vm["base"].as<std::string>() : "",
+    // The file's name is recorded in the model file (JSON: UTF-8).
+    g = import_urdf(read_text(path), is_valid_utf8(path) ? path : printable(path),
+                    vm.count("base") ? vm["base"].as<std::string>() : "",
                     vm["tip"].as<std::string>());
   } catch (const UrdfError& e) {
     throw CliError(path + ": " + e.what());
@@ -103,8 +122,10 @@ int run_model(const Args& args) {
     plan.check();
   }
   apply_free_fix(vm, *model);
-  plan.write(
-      {{"--out", model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n"}});
+  const std::string text =
+      model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n";
+  if (vm.count("urdf")) check_reads_back(text, vm["urdf"].as<std::string>());
+  plan.write({{"--out", text}});
   return 0;
 }
 

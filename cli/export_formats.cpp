@@ -5,9 +5,10 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "kincal/cli/svg_plot.hpp"
 #include "kincal/cli/urdf_io.hpp"
 #include "kincal/framework/base/angles.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/model_io.hpp"
@@ -123,16 +124,6 @@ const char* kLegConvention =
     "actuator value L - offset; an encoder that reads 0 at a reference mark has as offset the "
     "leg length at that mark";
 
-// Text for an XML comment: shown as written (a comment expands no entities, so escaping
-// would show "&amp;"), except that it may not contain "--" nor end with "-".
-std::string comment_text(const std::string& text) {
-  std::string out = text;
-  for (std::size_t at = out.find("--"); at != std::string::npos; at = out.find("--", at))
-    out.insert(at + 1, " ");
-  if (!out.empty() && out.back() == '-') out += ' ';
-  return out;
-}
-
 // The measurement frame and the measured point, from the model's one tracker or its sockets;
 // none when it has neither (nothing the export could drop moves a tcp then).
 bool tracker_frames(const MeasurementModel& model, MeasuredFrames& frames) {
@@ -154,8 +145,7 @@ bool tracker_frames(const MeasurementModel& model, MeasuredFrames& frames) {
 std::string export_urdf(const MeasurementModel& model, const ExportSource& source) {
   if (dynamic_cast<const UrdfArm*>(&model.mechanism())) {
     const std::string header =
-        " kincal export: calibrated from " + comment_text(source.model_file) + " (sha256 " +
-        source.sha256 +
+        " kincal export: calibrated from " + source.model_file + " (sha256 " + source.sha256 +
         "). The robot's own URDF with the calibrated joint origins (origin * origin error * "
         "offset) and two fixed joints added: from the root link `world` (the frame the "
         "measurements were taken in) to the robot, and from the tip link to `tcp` (the "
@@ -176,7 +166,7 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
   const bool with_tracker = tracker_frames(model, frames);
   const double m = metres_per(kMillimetre);
   std::string out = "<?xml version=\"1.0\"?>\n<!-- kincal export: calibrated serial arm from " +
-                    comment_text(source.model_file) + " (sha256 " + source.sha256 +
+                    xml_comment_text(source.model_file) + " (sha256 " + source.sha256 +
                     ").\n     Lengths in metres, angles in radians. Joint i's origin is the "
                     "calibrated constant part of link i-1\n     (DH: Rz(theta) Tz(d) Tx(a) "
                     "Rx(alpha); Hayati: Rz(theta) Tx(a) Rx(alpha) Ry(beta)), the base frame "
@@ -185,7 +175,7 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
                     "calibration range, not the machine's hard limits; effort and velocity are "
                     "not known to kincal (0).";
   out += with_tracker ? "\n     world: the frame the measurements were taken in (" +
-                            comment_text(frames.sensor) +
+                            xml_comment_text(frames.sensor) +
                             "); tcp: the\n     measured point or frame (tool frame, and a "
                             "tracker's target or marker). -->\n"
                       : "\n     The model has no tracker or socket: no world or tcp link. -->\n";
@@ -204,18 +194,18 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
     const double range = model.actuator_ranges()[static_cast<int>(i)];
     const double scale = revolute ? 1.0 : m;
     const std::string child = j.name + "_link";
-    out += "  <link name=\"" + xml_escape(child) + "\"/>\n";
-    out += "  <joint name=\"" + xml_escape(j.name) + "\" type=\"" +
-           (revolute ? "revolute" : "prismatic") + "\">\n    <parent link=\"" + xml_escape(parent) +
-           "\"/>\n    <child link=\"" + xml_escape(child) + "\"/>\n    " + origin(previous, m) +
-           "\n    <axis xyz=\"0 0 1\"/>\n    <limit lower=\"" + full((j.home - range) * scale) +
-           "\" upper=\"" + full((j.home + range) * scale) +
+    out += "  <link name=\"" + xml_attribute_text(child) + "\"/>\n";
+    out += "  <joint name=\"" + xml_attribute_text(j.name) + "\" type=\"" +
+           (revolute ? "revolute" : "prismatic") + "\">\n    <parent link=\"" +
+           xml_attribute_text(parent) + "\"/>\n    <child link=\"" + xml_attribute_text(child) +
+           "\"/>\n    " + origin(previous, m) + "\n    <axis xyz=\"0 0 1\"/>\n    <limit lower=\"" +
+           full((j.home - range) * scale) + "\" upper=\"" + full((j.home + range) * scale) +
            "\" effort=\"0\" velocity=\"0\"/>\n  </joint>\n";
     previous = link_constant(j);
     parent = child;
   }
   out += "  <link name=\"tool0\"/>\n  <joint name=\"tool\" type=\"fixed\">\n    <parent link=\"" +
-         xml_escape(parent) + "\"/>\n    <child link=\"tool0\"/>\n    " +
+         xml_attribute_text(parent) + "\"/>\n    <child link=\"tool0\"/>\n    " +
          origin(compose(previous, frame_from_parameters(g.tool)), m) + "\n  </joint>\n";
   if (with_tracker)
     out +=
@@ -227,9 +217,9 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
 }
 
 std::string export_csv(const MeasurementModel& model, const ExportSource& source) {
-  std::string file = source.model_file;  // one comment line, whatever the name holds
-  std::replace_if(
-      file.begin(), file.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  // One comment line, whatever the name holds: control characters and bytes that are not
+  // UTF-8 as \xNN (docs/reliability.md, "Names").
+  const std::string file = printable(source.model_file);
   std::string out = "# kincal export: calibrated " + model.mechanism().type() + " from " + file +
                     " (sha256 " + source.sha256 + ")\n";
   if (dynamic_cast<const UrdfArm*>(&model.mechanism()))
@@ -288,7 +278,10 @@ std::string export_json(const MeasurementModel& model, const ExportSource& sourc
   Json out;
   out["format"] = "kincal-export";
   out["version"] = 1;
-  out["source"] = {{"model", source.model_file}, {"sha256", source.sha256}};
+  // JSON holds UTF-8 only: a file name that is not is written as printable() shows it.
+  out["source"] = {{"model", is_valid_utf8(source.model_file) ? source.model_file
+                                                              : printable(source.model_file)},
+                   {"sha256", source.sha256}};
   out["mechanism"] = model.mechanism().type();
   out["units"] = {{"length", "mm"}, {"angle", "rad"}};
   if (const auto* urdf_arm = dynamic_cast<const UrdfArm*>(&model.mechanism())) {

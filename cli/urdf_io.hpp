@@ -6,24 +6,23 @@
 //   export_urdf_arm  the user's own URDF with the calibrated joint origins and offsets, a
 //                  root link `world` (the measurement frame) and a link `tcp` (the measured
 //                  point or frame) on the tip
-// Each throws UrdfError with one sentence on input it cannot take.
+// Each throws UrdfError (cli/urdf_xml.hpp) with one sentence on input it cannot take.
 
-#include <stdexcept>
 #include <string>
 
+#include "kincal/cli/urdf_xml.hpp"
 #include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
 namespace kincal::cli {
 
-class UrdfError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 /// The moving joints (revolute, continuous, prismatic) from `base_link` (empty: the URDF's
 /// root link) down to `tip_link`, fixed joints folded into the next origin; limits kept; home
 /// 0 where the limits allow it, else mid-range. Lengths converted to mm. `file` is recorded.
+/// Refused, with the line and the element: what scan_urdf_xml refuses, what urdfdom cannot
+/// parse, a link with two parent joints, a cycle of joints, a moving joint or the base or tip
+/// link whose name breaks the names policy (framework/kinematics/names.hpp), limits with lower
+/// above upper or beyond what a model file holds.
 UrdfArmGeometry import_urdf(const std::string& text, const std::string& file,
                             const std::string& base_link, const std::string& tip_link);
 
@@ -40,10 +39,12 @@ struct MeasuredFrames {
 };
 MeasuredFrames measured_frames(const MeasurementModel& model, const VectorXd& values);
 
-/// The URDF of an urdf-arm model with parameter values `values`: its own URDF text with every
-/// moving joint's origin replaced by origin * origin_error * motion(offset), a fixed joint
-/// from a new root link `world` to the URDF's root and one from the tip link to a new link
-/// `tcp`. `header` goes into a comment at the top.
+/// The URDF of an urdf-arm model with parameter values `values`: its own URDF text, byte for
+/// byte, except that every moving joint's origin (its xyz and rpy values) becomes origin *
+/// origin_error * motion(offset), a fixed joint from a new root link `world` to the URDF's
+/// root and one from the tip link to a new link `tcp` are inserted before </robot>, and
+/// `header` (plain text, escaped here) goes into a comment at the top. The result is read
+/// back through urdfdom and checked against what was meant before it is returned.
 std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& values,
                             const std::string& header);
 

@@ -106,8 +106,8 @@ std::shared_ptr<const Mechanism> read_urdf_arm(const Json& j, const JsonPath& wh
     if (const Json* f = optional(*u, "file")) g.urdf_file = string(*f, at / "file");
     if (const Json* t = optional(*u, "text")) g.urdf_text = string(*t, at / "text");
   }
-  g.base_link = string(member(j, "base_link", where), where / "base_link");
-  g.tip_link = string(member(j, "tip_link", where), where / "tip_link");
+  g.base_link = name(member(j, "base_link", where), where / "base_link");
+  g.tip_link = name(member(j, "tip_link", where), where / "tip_link");
   if (const Json* base = optional(j, "base")) g.base = frame(*base, where / "base");
   if (const Json* tip = optional(j, "tip")) g.tip = frame(*tip, where / "tip");
   if (const Json* tool = optional(j, "tool")) g.tool = frame(*tool, where / "tool");

@@ -103,7 +103,7 @@ for stage in "${stages[@]}"; do
       ;;
     fuzz)
       [ -x build-asan-clang/fuzz/fuzz_cli_options ] || timed "clang sanitizer build" build_clang
-      for target in measurement_file model_file cli_options command_inputs; do
+      for target in measurement_file model_file cli_options command_inputs urdf_file; do
         timed "fuzz $target (${FUZZ_SECONDS:-60} s)" fuzz "$target" "${FUZZ_SECONDS:-60}"
       done
       ;;
