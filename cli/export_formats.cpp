@@ -60,13 +60,6 @@ Pose link_constant(const SerialJoint& j) {
   return p;
 }
 
-Pose compose(const Pose& a, const Pose& b) {
-  Pose c;
-  c.rotation = a.rotation * b.rotation;
-  c.translation = a.translation + a.rotation * b.translation;
-  return c;
-}
-
 std::string origin(const Pose& p, double metres) {
   const Vector6d f = frame_parameters(p);
   return "<origin xyz=\"" + full(f[0] * metres) + " " + full(f[1] * metres) + " " +

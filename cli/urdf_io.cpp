@@ -22,20 +22,6 @@ namespace {
 
 constexpr double kMillimetresPerMetre = 1000.0;
 
-Pose compose(const Pose& a, const Pose& b) {
-  Pose c;
-  c.rotation = a.rotation * b.rotation;
-  c.translation = a.translation + a.rotation * b.translation;
-  return c;
-}
-
-Pose inverse(const Pose& p) {
-  Pose i;
-  i.rotation = p.rotation.transpose();
-  i.translation = -(i.rotation * p.translation);
-  return i;
-}
-
 // A urdfdom pose (metres, quaternion) in kincal's units (mm).
 Pose from_urdf(const urdf::Pose& p) {
   Pose out;

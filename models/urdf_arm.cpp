@@ -33,13 +33,6 @@ void add_frame_parameters(std::vector<Parameter>& out, const std::string& prefix
     out.push_back({prefix + "." + kFrameSuffixes[k], values[k], k < 3 ? "mm" : "rad", false});
 }
 
-Pose compose(const Pose& a, const Pose& b) {
-  Pose c;
-  c.rotation = a.rotation * b.rotation;
-  c.translation = a.translation + a.rotation * b.translation;
-  return c;
-}
-
 bool finite(const Pose& p) { return p.rotation.allFinite() && p.translation.allFinite(); }
 
 // A column of J_pose for a rotation about the unit axis w through o, in the moment form

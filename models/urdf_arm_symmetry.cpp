@@ -27,20 +27,6 @@ namespace kincal {
 
 namespace {
 
-Pose compose(const Pose& a, const Pose& b) {
-  Pose c;
-  c.rotation = a.rotation * b.rotation;
-  c.translation = a.translation + a.rotation * b.translation;
-  return c;
-}
-
-Pose inverse_of(const Pose& a) {
-  Pose i;
-  i.rotation = a.rotation.transpose();
-  i.translation = -(i.rotation * a.translation);
-  return i;
-}
-
 Pose rotation_about(const Vector3d& axis, double angle) {
   Pose r;
   r.rotation = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
@@ -182,7 +168,7 @@ bool UrdfArm::nearer_equivalent(const ParamsRef& params, const ParamsRef& nomina
           // (d) the tool frame takes the turn.
           VectorXd p = st.p;
           const Pose tool = frame_from_parameters(p.segment<6>(tool_index()));
-          const Pose moved = compose(inverse_of(tip_), compose(st.pending, compose(tip_, tool)));
+          const Pose moved = compose(inverse(tip_), compose(st.pending, compose(tip_, tool)));
           p.segment<6>(tool_index()) = frame_parameters_near(moved, p.segment<6>(tool_index()));
           consider(p, st.words + ", the tool frame turned with it");
           continue;
@@ -190,7 +176,7 @@ bool UrdfArm::nearer_equivalent(const ParamsRef& params, const ParamsRef& nomina
         const int j = st.j;
         const Pose& C = origins_[j];
         const Pose E = origin_error(st.p, j);
-        const Pose turned = compose(inverse_of(C), compose(st.pending, compose(C, E)));
+        const Pose turned = compose(inverse(C), compose(st.pending, compose(C, E)));
         const std::string origin = geometry_.joints[j].name + "'s origin";
         {  // (a)
           VectorXd p = st.p;

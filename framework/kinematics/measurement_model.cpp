@@ -44,8 +44,12 @@ void MeasurementModel::add_constraint(std::shared_ptr<const ParameterConstraint>
 }
 
 int MeasurementModel::set_reading_std(const std::string& pattern, double std) {
-  if (!(std > 0) || !std::isfinite(std))
-    throw std::invalid_argument("reading std for '" + pattern + "' must be a finite number > 0");
+  // The same bounds as a prior's std: beyond them the whitened residuals r / std and the
+  // weights 1 / std^2 overflow or vanish (a reading_std of 1e-300 made the cost overflow and
+  // was blamed on the readings).
+  if (!(std >= kMinPriorStd && std <= kMaxPriorStd))
+    throw std::invalid_argument("reading std for '" + pattern +
+                                "' must be between 1e-150 and 1e150");
   int count = 0;
   const auto names = reading_names();
   for (int i = 0; i < num_readings_; ++i) {

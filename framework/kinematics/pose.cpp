@@ -87,6 +87,20 @@ Pose perturb(const Pose& pose, const Vector6d& delta) {
   return out;
 }
 
+Pose compose(const Pose& a, const Pose& b) {
+  Pose c;
+  c.rotation = a.rotation * b.rotation;
+  c.translation = a.translation + a.rotation * b.translation;
+  return c;
+}
+
+Pose inverse(const Pose& p) {
+  Pose i;
+  i.rotation = p.rotation.transpose();
+  i.translation = -(i.rotation * p.translation);
+  return i;
+}
+
 Vector3d euler_zyx(const Matrix3d& R) {
   // R = Rz(a) Ry(b) Rx(g): R(2,0) = -sin b, R(1,0)/R(0,0) = tan a, R(2,1)/R(2,2) = tan g.
   const double beta = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));

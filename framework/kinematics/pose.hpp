@@ -41,6 +41,11 @@ Matrix3d left_jacobian_inverse_so3(const Vector3d& w);
 /// The pose perturbed by delta = [dt; dw] under the convention above.
 Pose perturb(const Pose& pose, const Vector6d& delta);
 
+/// a * b: the frame b given in a's coordinates, in a's parent's.
+Pose compose(const Pose& a, const Pose& b);
+/// The inverse rigid motion: compose(p, inverse(p)) is the identity.
+Pose inverse(const Pose& p);
+
 /// Z-Y-X Euler angles (alpha, beta, gamma) with R = Rz(alpha) Ry(beta) Rx(gamma).
 Vector3d euler_zyx(const Matrix3d& R);
 

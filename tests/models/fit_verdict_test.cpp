@@ -198,17 +198,8 @@ TEST(FitVerdict, AnOffBranchEstimateIsMappedBackExactly) {
     const Pose E = frame_from_parameters(full.segment<6>(elbow_origin));
     Pose turn;
     turn.rotation = Eigen::AngleAxisd(kPi, lift_joint.axis).toRotationMatrix();
-    const auto compose = [](const Pose& a, const Pose& b) {
-      Pose c;
-      c.rotation = a.rotation * b.rotation;
-      c.translation = a.translation + a.rotation * b.translation;
-      return c;
-    };
-    Pose C_inverse;
-    C_inverse.rotation = C.rotation.transpose();
-    C_inverse.translation = -(C_inverse.rotation * C.translation);
     full.segment<6>(elbow_origin) =
-        frame_parameters(compose(C_inverse, compose(turn, compose(C, compose(E, turn)))));
+        frame_parameters(compose(inverse(C), compose(turn, compose(C, compose(E, turn)))));
     full[s.model->parameters().index_of("elbow_joint.offset")] += kPi;
   }
   // What is fixed keeps its exact value (the frame conversions round it).

@@ -11,28 +11,14 @@
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/urdf_arm.hpp"
+#include "urdf_chain.hpp"
 
 namespace kincal {
 namespace {
 
-Vector6d frame6(double x, double y, double z, double rx, double ry, double rz) {
-  Vector6d f;
-  f << x, y, z, rx, ry, rz;
-  return f;
-}
-
-UrdfArmJoint joint(const std::string& name, UrdfJointType type, const Vector6d& origin,
-                   const Vector3d& axis) {
-  UrdfArmJoint j;
-  j.name = name;
-  j.type = type;
-  j.origin = origin;
-  j.axis = axis.normalized();
-  j.lower = -3;
-  j.upper = 3;
-  if (type == UrdfJointType::kPrismatic) j.lower = -200, j.upper = 200;
-  return j;
-}
+using kincal::testing::frame6;
+using kincal::testing::independent_fk;
+using kincal::testing::joint;
 
 // A UR-like chain (three parallel axes, where the solver's flips happen) with a skewed and a
 // prismatic joint after it.
@@ -53,32 +39,6 @@ UrdfArmGeometry arm_geometry() {
   g.tip = frame6(0, 0, 20, 0, 0, 0);
   g.tool = frame6(3, -2, 31, 0, 0, 0);
   return g;
-}
-
-// Forward kinematics as the URDF defines it, independently of UrdfArm.
-Eigen::Isometry3d independent_fk(const UrdfArmGeometry& g, const VectorXd& q) {
-  auto iso = [](const Vector6d& f) {
-    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.translation() = f.head<3>();
-    t.linear() =
-        (Eigen::AngleAxisd(f[5], Vector3d::UnitZ()) * Eigen::AngleAxisd(f[4], Vector3d::UnitY()) *
-         Eigen::AngleAxisd(f[3], Vector3d::UnitX()))
-            .toRotationMatrix();
-    return t;
-  };
-  Eigen::Isometry3d t = iso(g.base);
-  for (std::size_t i = 0; i < g.joints.size(); ++i) {
-    const UrdfArmJoint& j = g.joints[i];
-    t = t * iso(j.origin) * iso(j.origin_error);
-    Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
-    const double v = q[static_cast<int>(i)] + j.offset;
-    if (j.type == UrdfJointType::kPrismatic)
-      m.translation() = v * j.axis;
-    else
-      m.linear() = Eigen::AngleAxisd(v, j.axis).toRotationMatrix();
-    t = t * m;
-  }
-  return t * iso(g.tip) * iso(g.tool);
 }
 
 double largest_pose_difference(const UrdfArm& arm, const VectorXd& a, const VectorXd& b) {

@@ -15,36 +15,21 @@
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/point_tracker.hpp"
+#include "urdf_chain.hpp"
 
 namespace kincal {
 namespace {
 
+using kincal::testing::frame6;
+using kincal::testing::independent_fk;
 using kincal::testing::jacobians_match;
+using kincal::testing::joint;
 using kincal::testing::numerical_jacobian;
 
 Vector6d pose_difference(const Pose& from, const Pose& to) {
   Vector6d d;
   d << to.translation - from.translation, log_so3(to.rotation * from.rotation.transpose());
   return d;
-}
-
-Vector6d frame6(double x, double y, double z, double rx, double ry, double rz) {
-  Vector6d f;
-  f << x, y, z, rx, ry, rz;
-  return f;
-}
-
-UrdfArmJoint joint(const std::string& name, UrdfJointType type, const Vector6d& origin,
-                   const Vector3d& axis) {
-  UrdfArmJoint j;
-  j.name = name;
-  j.type = type;
-  j.origin = origin;
-  j.axis = axis;
-  j.lower = type == UrdfJointType::kPrismatic ? -200 : -3;
-  j.upper = -j.lower;
-  if (type == UrdfJointType::kContinuous) j.lower = j.upper = NAN;
-  return j;
 }
 
 // Skewed, parallel (j2, j3: both about y, the DH-singular case), continuous and prismatic
@@ -73,30 +58,6 @@ VectorXd moved_parameters(const UrdfArm& arm) {
   for (int i = 0; i < p.size(); ++i)
     p[i] += (arm.parameters()[i].unit == "rad" ? 0.02 : 1.5) * std::sin(1.3 * i + 0.4);
   return p;
-}
-
-// FK as the URDF defines it, independently of UrdfArm::walk_chain: a product of Isometry3d.
-Eigen::Isometry3d independent_fk(const UrdfArmGeometry& g, const VectorXd& q) {
-  auto iso = [](const Vector6d& f) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = f.head<3>();
-    T.linear() =
-        (Eigen::AngleAxisd(f[5], Vector3d::UnitZ()) * Eigen::AngleAxisd(f[4], Vector3d::UnitY()) *
-         Eigen::AngleAxisd(f[3], Vector3d::UnitX()))
-            .toRotationMatrix();
-    return T;
-  };
-  Eigen::Isometry3d T = iso(g.base);
-  for (std::size_t i = 0; i < g.joints.size(); ++i) {
-    const UrdfArmJoint& j = g.joints[i];
-    T = T * iso(j.origin) * iso(j.origin_error);
-    const double v = q[static_cast<int>(i)] + j.offset;
-    if (j.type == UrdfJointType::kPrismatic)
-      T = T * Eigen::Translation3d(v * j.axis.normalized());
-    else
-      T = T * Eigen::AngleAxisd(v, j.axis.normalized());
-  }
-  return T * iso(g.tip) * iso(g.tool);
 }
 
 TEST(UrdfArm, ForwardKinematicsIsTheProductOfTheUrdfTransforms) {

@@ -280,3 +280,14 @@ python3 -c 'import json,sys; n=[p["name"] for p in json.load(open("rep-o2.json")
 "$kincal" calibrate --model ur5.json --data grid.csv --target 0.0001mm --out T.json >/dev/null 2>e.txt
 check "A8: calibrate --target that the calibration does not meet: exit 3" 3 $? e.txt "do not load"
 [ -e T.json ] && ok || bad "A8: --target: the calibrated model is written all the same"
+
+# ---- a reading_std the weights cannot hold: one line naming it --------------------------------
+python3 - <<'PY'
+import json
+m = json.load(open("ur5.json"))
+m["reading_std"] = {"tracker": 1e-300}
+json.dump(m, open("tiny-std.json", "w"), indent=1)
+PY
+"$kincal" calibrate --model tiny-std.json --data grid.csv --out S.json >/dev/null 2>e.txt
+check "a reading_std of 1e-300 is refused, naming it" 2 $? e.txt "reading_std.*between 1e-150 and 1e150"
+[ -e S.json ] && bad "a model was written with a reading_std of 1e-300" || ok
