@@ -148,6 +148,13 @@ std::map<std::string, std::string> parse_key_values(const std::vector<std::strin
   return out;
 }
 
+void check_max_iterations(int value) {
+  // 0 would "solve" nothing and report the start as the result (issue 35: calibrate wrote the
+  // nominal model as a calibration and exited 0).
+  if (value < 1)
+    throw CliError("--max-iterations must be at least 1 (got " + std::to_string(value) + ")");
+}
+
 std::string default_solver_name() { return SolverRegistry::global().contains("lm") ? "lm" : "gn"; }
 
 void add_solver_options(po::options_description& options) {
@@ -195,7 +202,7 @@ SolverChoice make_solver_choice(const po::variables_map& vm) {
       choice.options.backend_options =
           parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option");
     choice.options.max_iterations = vm["max-iterations"].as<int>();
-    if (choice.options.max_iterations < 0) throw CliError("--max-iterations must be >= 0");
+    check_max_iterations(choice.options.max_iterations);
     choice.options.verbosity = vm["verbose"].as<int>();
     if (choice.options.verbosity < 0 || choice.options.verbosity > 2)
       throw CliError("--verbose must be 0, 1 or 2");

@@ -76,6 +76,9 @@ std::string default_solver_name();
 /// key=value), --max-iterations, --verbose.
 void add_solver_options(po::options_description& options);
 
+/// Throws CliError unless a --max-iterations value is at least 1.
+void check_max_iterations(int value);
+
 /// The solver chosen by those options, with its SolverOptions; validates the solver name
 /// and backend options up front (throws CliError with the backend's message).
 struct SolverChoice {

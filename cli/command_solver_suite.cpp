@@ -109,8 +109,7 @@ int run_solver_suite(const Args& args) {
     overrides.backend_options =
         parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option");
   }
-  if (vm.count("max-iterations") && vm["max-iterations"].as<int>() < 0)
-    throw CliError("--max-iterations must be >= 0");
+  if (vm.count("max-iterations")) check_max_iterations(vm["max-iterations"].as<int>());
   // Names and options are checked before any work.
   for (const auto& name : solvers) {
     try {

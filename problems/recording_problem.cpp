@@ -6,7 +6,8 @@ namespace kincal::problems {
 
 bool RecordingProblem::evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
                                       Eigen::Ref<MatrixXd>* jacobian, std::string* why) const {
-  return record(block, x, inner_.evaluate_block(block, x, residuals, jacobian, why), residuals);
+  return record(block, x, inner_.evaluate_block(block, x, residuals, jacobian, why), residuals,
+                jacobian);
 }
 
 bool RecordingProblem::evaluate_block_warm(int block, const VectorXd& x,
@@ -14,16 +15,19 @@ bool RecordingProblem::evaluate_block_warm(int block, const VectorXd& x,
                                            Eigen::Ref<MatrixXd>* jacobian, std::string* why,
                                            WarmStart& warm) const {
   return record(block, x, inner_.evaluate_block_warm(block, x, residuals, jacobian, why, warm),
-                residuals);
+                residuals, jacobian);
 }
 
 bool RecordingProblem::record(int block, const VectorXd& x, bool ok,
-                              const Eigen::Ref<VectorXd>& residuals) const {
+                              const Eigen::Ref<VectorXd>& residuals,
+                              const Eigen::Ref<MatrixXd>* jacobian) const {
   std::lock_guard<std::mutex> lock(mutex_);
   ++block_evaluations_;
   Point& point = points_[std::vector<double>(x.data(), x.data() + x.size())];
   if (point.done.empty()) point.done.assign(static_cast<std::size_t>(num_residual_blocks()), 0);
-  if (!ok) {
+  // A non-finite value fails the evaluation as much as a false return: no backend can use it
+  // (a point whose Jacobian came out NaN is no point to return, whatever its cost).
+  if (!ok || !residuals.allFinite() || (jacobian && !jacobian->allFinite())) {
     point.failed = true;
   } else if (!point.done[static_cast<std::size_t>(block)]) {
     point.done[static_cast<std::size_t>(block)] = 1;

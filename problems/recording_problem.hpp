@@ -1,7 +1,8 @@
 #pragma once
 // A LeastSquaresProblem that forwards to another and remembers every point evaluated at, with
-// its cost when every residual block could be computed there: what the contract checker uses
-// to know the best point a backend ever saw.
+// its cost when every residual block could be computed there, with finite values (and a finite
+// Jacobian, where one was asked for): what the contract checker uses to know the best point a
+// backend ever saw.
 
 #include <map>
 #include <mutex>
@@ -38,7 +39,8 @@ class RecordingProblem final : public LeastSquaresProblem {
   long block_evaluations() const;
 
  private:
-  bool record(int block, const VectorXd& x, bool ok, const Eigen::Ref<VectorXd>& residuals) const;
+  bool record(int block, const VectorXd& x, bool ok, const Eigen::Ref<VectorXd>& residuals,
+              const Eigen::Ref<MatrixXd>* jacobian) const;
 
   struct Point {
     std::vector<char> done;  // per block

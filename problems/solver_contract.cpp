@@ -47,15 +47,22 @@ ContractCheck check_contract(const LeastSquaresProblem& problem, const VectorXd&
 
   VectorXd r;
   MatrixXd J;
-  check.start_computable = x0.allFinite() && problem.evaluate(x0, &r, nullptr);
+  check.start_computable = x0.allFinite() && problem.evaluate(x0, &r, &J);
+  // 0. A start whose residuals or Jacobian have a non-finite entry is no start either: no step
+  // can be computed from it and no test can hold there.
+  check.start_finite = check.start_computable && r.allFinite() && J.allFinite();
   check.start_cost =
-      check.start_computable ? 0.5 * r.squaredNorm() : std::numeric_limits<double>::infinity();
-  if (!check.start_computable) {
+      check.start_finite ? 0.5 * r.squaredNorm() : std::numeric_limits<double>::infinity();
+  if (!check.start_finite) {
     // Nothing could be done: the backend must say so and leave x alone.
+    const std::string what = check.start_computable
+                                 ? "the residuals or Jacobian at the start are not finite"
+                                 : "the start is not computable";
     if (summary.termination != TerminationType::kFailed)
-      violate(std::string("the start is not computable, yet the termination is ") +
-              to_string(summary.termination));
-    if (x != start && x != x0) violate("the start is not computable, yet x was changed");
+      violate(what + ", yet the termination is " + to_string(summary.termination));
+    if (x != start && x != x0) violate(what + ", yet x was changed");
+    if (check.start_computable && summary.message.find("non-finite") == std::string::npos)
+      violate(what + ", yet the message does not say so: '" + summary.message.substr(0, 80) + "'");
     check.cost_at_x = check.start_cost;
     return check;
   }
@@ -69,6 +76,11 @@ ContractCheck check_contract(const LeastSquaresProblem& problem, const VectorXd&
   std::string why;
   if (!problem.evaluate(x, &r, &J, &why)) {
     violate("the residuals cannot be computed at the returned x: " + why);
+    check.cost_at_x = std::numeric_limits<double>::infinity();
+    return check;
+  }
+  if (!r.allFinite()) {
+    violate("the residuals at the returned x are not finite");
     check.cost_at_x = std::numeric_limits<double>::infinity();
     return check;
   }
@@ -104,12 +116,14 @@ ContractCheck check_contract(const LeastSquaresProblem& problem, const VectorXd&
   // 4. and 5. A convergence claim holds at x, and names a plateau.
   if (summary.converged()) {
     const Stationarity& s = check.at_x;
-    const std::string measures = "max|J^T r| " + number(s.gradient_norm) + ", " +
+    const std::string measures = "relative gradient " + number(s.relative_gradient) + ", " +
                                  (s.gauss_newton_trusted ? "Gauss-Newton" : "steepest-descent") +
                                  " predicted relative decrease " +
                                  number(s.predicted_relative_decrease) + ", relative step " +
                                  number(s.relative_step);
-    if (s.on_plateau()) {
+    if (!s.finite) {
+      violate("converged at a point whose Jacobian has a non-finite entry");
+    } else if (s.on_plateau()) {
       violate("converged on a plateau: no free parameter affects the residuals at x");
     } else if (starts_with_gradient(summary.message)) {
       if (!s.gradient_test(options))

@@ -3,15 +3,20 @@
 // contract"), checked from the outside: everything is recomputed at the point the backend
 // returned, independently of what its Summary claims.
 //
-//  1. x is finite and the residuals can be computed there (unless the start could not be);
+//  0. a start whose residuals cannot be computed, or whose residuals or Jacobian have a
+//     non-finite entry, ends `failed` with x untouched (and, for a non-finite entry, a message
+//     that says "non-finite");
+//  1. x is finite and the residuals can be computed there, finite (unless the start could not
+//     be);
 //  2. x costs no more than the start, and no more than any point the backend evaluated, to
 //     within the cost's rounding error at x (framework/least_squares/stationarity.hpp,
 //     cost_rounding) and kCostSlack relative (the same sums in another order);
 //  3. final_cost is the cost at x (to kCostSlack, or to the cost's rounding error at x: a
 //     backend's evaluation may start forward kinematics elsewhere, lm's from its last poses,
 //     and end a few ulp of the lengths away), initial_cost the cost at the start;
-//  4. `converged` only where the test the message names holds at x: a message starting with
-//     "gradient" needs max|P(J^T r)| <= gradient_tolerance (+ its rounding bound) at x; any
+//  4. `converged` only where the test the message names holds at x, whose Jacobian must be
+//     finite: a message starting with "gradient" needs every live parameter's
+//     |P(J^T r)_j| <= gradient_tolerance |J_j| |r| (+ its rounding bound) at x; any
 //     other claim (relative step, relative cost change, ...) is about the last step, which the
 //     checker cannot repeat, and needs x to pass one of the three tests of
 //     framework/least_squares/stationarity.hpp: gradient, the relative decrease the Gauss-Newton
@@ -33,6 +38,7 @@ constexpr double kCostSlack = 1e-12;
 struct ContractCheck {
   std::vector<std::string> violations;  ///< empty when the backend kept the contract
   bool start_computable = true;
+  bool start_finite = true;        ///< computable, with finite residuals and Jacobian
   double start_cost = 0;           ///< recomputed
   double cost_at_x = 0;            ///< recomputed; +inf when not computable
   double best_evaluated_cost = 0;  ///< lowest cost among the points the backend evaluated

@@ -178,13 +178,53 @@ class BlockCost final : public ceres::CostFunction {
   EvaluationLog& evaluations_;
 };
 
+// The loss Ceres sees: scale * rho (rho the robust loss, or s without one), a scale that
+// the backend sets before each run of Ceres (detail::objective_scale). What ceres::ScaledLoss
+// does, with a scale that can change between runs.
+class NormalizedLoss final : public ceres::LossFunction {
+ public:
+  explicit NormalizedLoss(const ceres::LossFunction* robust) : robust_(robust) {}
+  void set_scale(double scale) { scale_ = scale; }
+  double scale() const { return scale_; }
+  void Evaluate(double s, double rho[3]) const override {
+    if (robust_) {
+      robust_->Evaluate(s, rho);
+    } else {
+      rho[0] = s;
+      rho[1] = 1;
+      rho[2] = 0;
+    }
+    for (int i = 0; i < 3; ++i) rho[i] *= scale_;
+  }
+
+ private:
+  const ceres::LossFunction* robust_;
+  double scale_ = 1;
+};
+
 // Records accepted iterates in our trace and forwards them to the user's callback. Ceres
 // calls it after every iteration, so it also counts the trailing run of trial points whose
-// residuals could not be computed (Ceres treats them as rejected steps).
+// residuals could not be computed (Ceres treats them as rejected steps). It also runs kincal's
+// gradient test at every iterate (stationarity.hpp), in place of Ceres' own, which compares
+// max|J^T r| with an absolute number: that scales with the square of the residuals' unit, and
+// with a model's reading_std of 1e8 it fired at the start (issue 35).
 class TraceCallback final : public ceres::IterationCallback {
  public:
-  TraceCallback(detail::SolveMonitor& monitor, FailureLog& failures, const double* x, int n)
-      : monitor_(monitor), failures_(failures), x_(x), n_(n) {}
+  TraceCallback(detail::SolveMonitor& monitor, FailureLog& failures, const EvaluationLog& log,
+                const RobustLoss& loss, const NormalizedLoss& normalized,
+                const SolverOptions& options, const double* x, int n)
+      : monitor_(monitor),
+        failures_(failures),
+        log_(log),
+        loss_(loss),
+        normalized_(normalized),
+        options_(options),
+        x_(x),
+        n_(n) {}
+
+  /// A later run of Ceres continues the trace: its iterations are numbered after `iterations`
+  /// and its iteration 0, the last iterate of the run before, is already recorded.
+  void continue_after(int iterations) { offset_ = iterations; }
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     const int failed = failures_.total();
@@ -192,19 +232,33 @@ class TraceCallback final : public ceres::IterationCallback {
         failed > failures_seen_ && !s.step_is_successful ? uncomputable_trials_ + 1 : 0;
     failures_seen_ = failed;
     if (s.iteration > 0 && !s.step_is_successful) return ceres::SOLVER_CONTINUE;
+    if (s.iteration == 0 && offset_ > 0) return ceres::SOLVER_CONTINUE;
     IterationRecord record;
-    record.iteration = s.iteration;
-    record.cost = s.cost;
-    record.gradient_norm = s.gradient_max_norm;
+    record.iteration = s.iteration + offset_;
+    record.cost = s.cost / normalized_.scale();  // Ceres' are of scale * cost
+    record.gradient_norm = s.gradient_max_norm / normalized_.scale();
     record.step_norm = s.step_norm;
     record.damping = s.trust_region_radius;
     // update_state_every_iteration makes x the current iterate here.
     current_ = Eigen::Map<const VectorXd>(x_, n_);
-    if (monitor_.record(record, current_)) return ceres::SOLVER_CONTINUE;
-    stopped_ = true;
-    return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    if (!monitor_.record(record, current_)) {
+      stopped_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    // Ceres evaluates the Jacobian at an accepted iterate before it calls back.
+    if (log_.jacobian_at(current_, r_, J_)) {
+      row_scale_.resize(r_.size());
+      loss_.correct(r_, J_, row_scale_);
+      if (relative_gradient(current_, r_, J_, options_) <= options_.gradient_tolerance) {
+        stationary_ = true;
+        return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+      }
+    }
+    return ceres::SOLVER_CONTINUE;
   }
   bool stopped() const { return stopped_; }
+  /// The iterate passed kincal's gradient test (the solve ends USER_SUCCESS).
+  bool stationary() const { return stationary_; }
   /// Trial points at the end of the solve whose residuals could not be computed, including
   /// a last one Ceres evaluated without reporting the iteration (its step tests end the
   /// solve before the callbacks run).
@@ -215,12 +269,18 @@ class TraceCallback final : public ceres::IterationCallback {
  private:
   detail::SolveMonitor& monitor_;
   FailureLog& failures_;
+  const EvaluationLog& log_;
+  const RobustLoss& loss_;
+  const NormalizedLoss& normalized_;
+  const SolverOptions& options_;
+  int offset_ = 0;
   int failures_seen_ = 0;
   int uncomputable_trials_ = 0;
   const double* x_;
   int n_;
-  VectorXd current_;
-  bool stopped_ = false;
+  VectorXd current_, r_, row_scale_;
+  MatrixXd J_;
+  bool stopped_ = false, stationary_ = false;
 };
 
 const std::vector<std::string> kTrustRegions = {"levenberg_marquardt", "dogleg"};
@@ -263,34 +323,57 @@ class CeresSolver final : public Solver {
     if (options.lower_bounds && options.upper_bounds)
       x = x.cwiseMax(*options.lower_bounds).cwiseMin(*options.upper_bounds);
 
-    // Residuals that cannot be computed at the start are our failure, reported with our
-    // reason, before Ceres sees the problem.
-    std::string why;
-    ++summary.residual_evaluations;
-    const double start_cost = problem.cost(x, &why);
-    if (!std::isfinite(start_cost)) {
-      summary.initial_cost = summary.final_cost = start_cost;
-      monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " +
-                                                   (why.empty() ? "not finite" : why));
-      return summary;
+    // Residuals or a Jacobian that cannot be computed at the start are our failure, reported
+    // with our reason, before Ceres sees the problem (Ceres would only say that an evaluation
+    // failed).
+    const RobustLoss loss = RobustLoss::parse(backend_value(options, "loss", "none"));
+    // The scale of what Ceres sees at `at` (r, J there): detail::objective_scale of the
+    // robust-corrected Jacobian, every column of norm >= 1. Ceres' Jacobi scaling
+    // 1 / (1 + |J_j|), its bounds on the LM diagonal and its projected gradient then meet the
+    // same numbers whatever the common scale of the residuals.
+    auto scale_at = [&](VectorXd r, MatrixXd J) {
+      VectorXd row_scale(r.size());
+      loss.correct(r, J, row_scale);
+      return detail::objective_scale(J, detail::ScaleBy::kSmallestColumn);
+    };
+    double scale = 1;
+    {
+      std::string why;
+      VectorXd r;
+      MatrixXd J;
+      ++summary.residual_evaluations;
+      ++summary.jacobian_evaluations;
+      std::string failure;
+      if (!problem.evaluate(x, &r, &J, &why, options.num_threads))
+        failure = "residuals not computable at the start: " + why;
+      else
+        failure = detail::non_finite_start(r, &J, problem.parameter_names());
+      if (!failure.empty()) {
+        summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+        monitor.finish(TerminationType::kFailed, failure);
+        return summary;
+      }
+      scale = scale_at(r, J);
     }
 
-    const RobustLoss loss = RobustLoss::parse(backend_value(options, "loss", "none"));
     ceres::Problem::Options problem_options;
     // One loss object serves every block; the problem must not delete it per block.
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem ceres_problem(problem_options);
-    std::unique_ptr<ceres::LossFunction> loss_function;
+    std::unique_ptr<ceres::LossFunction> robust;
     if (loss.kind == RobustLoss::Kind::kHuber)
-      loss_function = std::make_unique<ceres::HuberLoss>(loss.delta);
+      robust = std::make_unique<ceres::HuberLoss>(loss.delta);
     else if (loss.kind == RobustLoss::Kind::kCauchy)
-      loss_function = std::make_unique<ceres::CauchyLoss>(loss.delta);
+      robust = std::make_unique<ceres::CauchyLoss>(loss.delta);
+    // Ceres sees scale * rho: the same minimum, at a scale that does not depend on the
+    // residuals' unit or the loss's delta (a power of two: exact).
+    NormalizedLoss normalized(robust.get());
 
     FailureLog failures;
     EvaluationLog evaluations(problem.num_residual_blocks(), problem.residuals_per_block(), n);
     for (int b = 0; b < problem.num_residual_blocks(); ++b)
-      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures, evaluations),
-                                     loss_function.get(), x.data());
+      ceres_problem.AddResidualBlock(new BlockCost(problem, b, failures, evaluations), &normalized,
+                                     x.data());
     if (options.lower_bounds && options.upper_bounds) {
       for (int i = 0; i < n; ++i) {
         ceres_problem.SetParameterLowerBound(x.data(), i, (*options.lower_bounds)[i]);
@@ -304,21 +387,50 @@ class CeresSolver final : public Solver {
     const int threads =
         std::min(options.num_threads, problem.num_residual_blocks() / kMinBlocksPerCeresThread);
     ceres::Solver::Options ceres_opts = ceres_options(options, threads);
-    TraceCallback trace(monitor, failures, x.data(), n);
+    TraceCallback trace(monitor, failures, evaluations, loss, normalized, options, x.data(), n);
     ceres_opts.callbacks.push_back(&trace);
     ceres_opts.update_state_every_iteration = true;
     ceres::Solver::Summary ceres_summary;
-    ceres::Solve(ceres_opts, &ceres_problem, &ceres_summary);
-
+    // Ceres' own gradient test (tolerance 0) fires only when its projected gradient
+    // x - (x - g) rounds to 0, i.e. when g is below the rounding of x. That happens before a
+    // minimum when the scale set at the start no longer fits, the Jacobian having shrunk by
+    // orders of magnitude on the way (the test suite's far starts): when the point is not
+    // stationary, Ceres goes on from there at the scale of that point, while iterations remain
+    // (a few times at most).
+    constexpr int kMaxRuns = 4;
+    for (int run = 0;; ++run) {
+      normalized.set_scale(scale);
+      ceres_opts.max_num_iterations = options.max_iterations - summary.iterations;
+      trace.continue_after(summary.iterations);
+      ceres::Solve(ceres_opts, &ceres_problem, &ceres_summary);
+      if (run == 0) summary.initial_cost = ceres_summary.initial_cost / scale;
+      // Like lm: every trial step counts as an iteration, accepted or not.
+      summary.iterations += std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
+      summary.residual_evaluations += std::max(0, ceres_summary.num_residual_evaluations);
+      summary.jacobian_evaluations += std::max(0, ceres_summary.num_jacobian_evaluations);
+      VectorXd r;
+      MatrixXd J;
+      if (run + 1 >= kMaxRuns || summary.iterations >= options.max_iterations || trace.stopped() ||
+          trace.stationary() || ceres_summary.termination_type != ceres::CONVERGENCE ||
+          ceres_summary.message.rfind("Gradient tolerance", 0) != 0 ||
+          !evaluations.jacobian_at(x, r, J))
+        break;
+      const double next = scale_at(r, J);
+      VectorXd row_scale(r.size());
+      loss.correct(r, J, row_scale);
+      if (next == scale || measure_stationarity(x, r, J, options).claim_holds(options, false))
+        break;
+      scale = next;
+    }
     summary.backend_code = static_cast<int>(ceres_summary.termination_type);
-    summary.initial_cost = ceres_summary.initial_cost;
-    summary.final_cost = ceres_summary.final_cost;
-    // Like lm: every trial step counts as an iteration, accepted or not.
-    summary.iterations = std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
-    summary.residual_evaluations += std::max(0, ceres_summary.num_residual_evaluations);
-    summary.jacobian_evaluations = std::max(0, ceres_summary.num_jacobian_evaluations);
+    summary.final_cost = ceres_summary.final_cost / scale;
     TerminationType type = termination(ceres_summary, trace.stopped());
     std::string message = ceres_summary.message;
+    if (trace.stationary()) {
+      type = TerminationType::kConverged;
+      message = std::string(detail::kGradientTestMessage) +
+                " (kincal's test, at Ceres' iterate: Ceres' own gradient test is absolute)";
+    }
     if (failures.count > 0) {
       message += " (residuals failed at " + std::to_string(failures.count) +
                  " block evaluations; first: " + failures.first + ")";
@@ -386,7 +498,9 @@ class CeresSolver final : public Solver {
     o.max_num_iterations = options.max_iterations;
     o.function_tolerance = options.function_tolerance;
     o.parameter_tolerance = options.parameter_tolerance;
-    o.gradient_tolerance = options.gradient_tolerance;
+    // Ceres' gradient test compares max|J^T r| with an absolute number; kincal's, relative to
+    // |J_j| |r|, runs in the iteration callback instead (TraceCallback).
+    o.gradient_tolerance = 0;
     o.num_threads = std::max(1, threads);
     o.logging_type = ceres::SILENT;
     o.minimizer_progress_to_stdout = false;

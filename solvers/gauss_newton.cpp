@@ -47,6 +47,13 @@ class GaussNewtonSolver final : public Solver {
       monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " + why);
       return summary;
     }
+    const std::string non_finite = detail::non_finite_start(r, &J, problem.parameter_names());
+    if (!non_finite.empty() || !std::isfinite(0.5 * r.squaredNorm())) {
+      summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+      monitor.finish(TerminationType::kFailed,
+                     non_finite.empty() ? "the cost at the start is not finite" : non_finite);
+      return summary;
+    }
     const VectorXd x0 = x;
     const double runaway = runaway_factor * (1.0 + x0.lpNorm<Eigen::Infinity>());
     double cost = 0.5 * r.squaredNorm();
@@ -81,8 +88,10 @@ class GaussNewtonSolver final : public Solver {
     };
 
     for (int iteration = 1;; ++iteration) {
-      if (gradient.lpNorm<Eigen::Infinity>() <= options.gradient_tolerance)
-        return done(TerminationType::kConverged, "gradient max-norm below tolerance");
+      // Relative to |J_j| |r| (stationarity.hpp), so that a common scale of the residuals does
+      // not decide when to stop.
+      if (relative_gradient(x, r, J, options) <= options.gradient_tolerance)
+        return done(TerminationType::kConverged, detail::kGradientTestMessage);
       if (iteration > options.max_iterations)
         return done(TerminationType::kMaxIterations, "reached max_iterations");
       summary.iterations = iteration;  // attempted, as lm counts its trials

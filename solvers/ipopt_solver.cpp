@@ -142,9 +142,14 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
     if (with_jacobian) ++summary_.jacobian_evaluations;
     cache_ok_ =
         problem_.evaluate(x, &r_, with_jacobian ? &J_ : nullptr, &why_, options_.num_threads);
-    if (cache_ok_ && !r_.allFinite()) {
-      cache_ok_ = false;
-      why_ = "residuals are not finite";
+    non_finite_ = false;
+    if (cache_ok_) {
+      // A non-finite value is no cost and no gradient for Ipopt, and our tests cannot judge a
+      // point with one (issue 35: a NaN Jacobian at the start was reported converged).
+      const MatrixXd* J = with_jacobian ? &J_ : nullptr;
+      non_finite_ = !r_.allFinite() || (J && !J->allFinite());
+      if (non_finite_) why_ = detail::non_finite_entry(r_, J, problem_.parameter_names());
+      cache_ok_ = !non_finite_;
     }
     if (cache_ok_ && with_jacobian) gradient_.noalias() = J_.transpose() * r_;
     if (cache_ok_) offer_best(x, with_jacobian);
@@ -156,6 +161,8 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   double cost() const { return 0.5 * r_.squaredNorm(); }
   const VectorXd& gradient() const { return gradient_; }
   const std::string& why() const { return why_; }
+  /// The last evaluation computed a non-finite residual or Jacobian entry.
+  bool non_finite() const { return non_finite_; }
   /// Points (trial points included) where the residuals could not be computed, the first
   /// reason, and whether the most recent evaluation was one of them.
   int failures() const { return failures_; }
@@ -163,8 +170,9 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   bool last_failed() const { return last_failed_; }
 
   bool stopped_by_callback() const { return stopped_by_callback_; }
-  /// A continued run ended because its iterate passed one of kincal's tests.
+  /// The run ended because an iterate passed one of kincal's tests, named by passed_test().
   bool stopped_stationary() const { return stopped_stationary_; }
+  const std::string& passed_test() const { return passed_test_; }
   /// Ipopt was stopped because its iterates had stalled against uncomputable trial points.
   bool stuck() const { return stuck_iterations_ >= kMaxStuckIterations; }
   int last_iteration() const { return last_iteration_; }
@@ -189,13 +197,6 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
     return x == best_x_ && best_jacobian(r, J);
   }
   bool finalized() const { return finalized_; }
-  /// Prepares a continued run from `x`, its iterations numbered after `iterations`.
-  void continue_from(const VectorXd& x, int iterations) {
-    x0_ = x;
-    iteration_offset_ = iterations;
-    finalized_ = false;
-    stop_when_stationary_ = true;
-  }
   const VectorXd& final_x() const { return final_x_; }
   double final_cost() const { return final_cost_; }
 
@@ -271,10 +272,6 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
     // Restoration-phase iterates belong to another problem; there are no constraints to
     // restore here anyway.
     if (mode != Ipopt::RegularMode || !current_x(ip_data, ip_cq)) return true;
-    // A continued run (see solve) numbers its iterations after the first run's, and its
-    // iteration 0 is the first run's best point, already in the trace.
-    if (iteration_offset_ > 0 && iter == 0) return true;
-    iter += iteration_offset_;
     last_iteration_ = iter;
     const bool have_gradient = cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x_;
     const double gradient_norm = have_gradient ? gradient_.lpNorm<Eigen::Infinity>() : 0.0;
@@ -285,11 +282,17 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
       return false;
     }
     if (stuck_at_the_edge(iter, obj_value)) return false;
-    // In a continued run, stop as soon as the iterate passes one of our tests.
-    if (stop_when_stationary_ && cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x_ &&
-        measure_stationarity(x_, r_, J_, options_).claim_holds(options_, false)) {
-      stopped_stationary_ = true;
-      return false;
+    // Stop once the iterate passes one of our tests without their rounding allowances (Ipopt's
+    // own are absolute; Stationarity::settled): with them, the cost test holds near a noisy
+    // minimum while the Gauss-Newton step still moves the parameters by ~1e-5 mm, and Ipopt's
+    // next steps, Newton's on J^T J, are that step. The claim is then judged with them.
+    if (cache_valid_ && cache_ok_ && has_jacobian_ && cached_x_ == x_) {
+      measure_stationarity(x_, r_, J_, options_, scratch_, at_x_);
+      if (at_x_.settled(options_) && at_x_.claim_holds(options_, false)) {
+        passed_test_ = detail::passing_test(at_x_, options_);
+        stopped_stationary_ = true;
+        return false;
+      }
     }
     return true;
   }
@@ -338,7 +341,6 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   Summary& summary_;
   detail::SolveMonitor& monitor_;
   VectorXd x0_;
-  int iteration_offset_ = 0;
   const bool exact_hessian_;
   const int n_;
 
@@ -360,6 +362,7 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   VectorXd cached_x_, r_, gradient_;
   MatrixXd J_, jtj_;
   std::string why_;
+  bool non_finite_ = false;
   int failures_ = 0;
   std::string first_failure_;
   bool last_failed_ = false;
@@ -367,7 +370,10 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
   VectorXd x_, previous_x_;
   int last_iteration_ = 0;
   bool stopped_by_callback_ = false;
-  bool stop_when_stationary_ = false, stopped_stationary_ = false;
+  bool stopped_stationary_ = false;
+  std::string passed_test_;
+  StationarityScratch scratch_{problem_.num_residuals(), problem_.num_parameters()};
+  Stationarity at_x_;
   double best_cost_ = std::numeric_limits<double>::infinity();
   VectorXd best_x_, best_r_;
   MatrixXd best_J_;
@@ -410,7 +416,8 @@ class IpoptSolver final : public Solver {
     if (!nlp->evaluate(x, true)) {
       summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
       monitor.finish(TerminationType::kFailed,
-                     "residuals not computable at the start: " + nlp->why());
+                     nlp->non_finite() ? detail::non_finite_start(nlp->why())
+                                       : "residuals not computable at the start: " + nlp->why());
       return summary;
     }
     summary.initial_cost = summary.final_cost = nlp->cost();
@@ -422,16 +429,27 @@ class IpoptSolver final : public Solver {
     o.SetStringValue("sb", "yes");  // the banner
     o.SetIntegerValue("print_level", ipopt_output ? 5 : 0);
     o.SetIntegerValue("max_iter", options.max_iterations);
-    // Unscaled, Ipopt's optimality error on an unconstrained, unbounded problem is max|J^T r|:
-    // the same test as the other backends.
+    // kincal's tests decide convergence, at every iterate (LeastSquaresNlp's callback stops
+    // Ipopt as soon as one holds). Ipopt's own are absolute: its optimality error is max|J^T r|
+    // unscaled (it fired at the start with a model's reading_std of 1e8, issue 35), and its
+    // acceptable level compares the cost change with max(1, |f|), an absolute test below
+    // f = 1 that stopped well short of ours (penalty functions, Powell singular: measured).
+    // So its tolerance is set below anything a gradient reaches and its acceptable level off;
+    // it still stops on an exactly zero gradient, its iteration limit and its failures, which
+    // are judged at the point returned.
     o.SetStringValue("nlp_scaling_method", "none");
-    o.SetNumericValue("tol", std::max(options.gradient_tolerance, 1e-300));
-    // tol can be below the roundoff floor of J^T r on noisy data. Ipopt's "acceptable"
-    // termination then plays the part of our relative cost-change test: |f_old - f_new| <=
-    // function_tolerance * max(1, |f|) with max|J^T r| <= acceptable_tol (1e-6), for 3
-    // iterations in a row (Ipopt's default of 15 wastes a dozen line searches).
-    o.SetNumericValue("acceptable_obj_change_tol", std::max(options.function_tolerance, 0.0));
-    o.SetIntegerValue("acceptable_iter", 3);
+    // Ipopt minimises objective_scale * cost: its absolute constants (the first Hessian
+    // perturbation, the barrier parameter) then meet the same problem whatever the residuals'
+    // unit (detail::objective_scale).
+    {
+      VectorXd r;
+      MatrixXd J;
+      if (nlp->jacobian_at(x, r, J))
+        o.SetNumericValue("obj_scaling_factor",
+                          detail::objective_scale(J, detail::ScaleBy::kSmallestColumn));
+    }
+    o.SetNumericValue("tol", 1e-300);
+    o.SetIntegerValue("acceptable_iter", 0);
     // Ipopt relaxes the bounds by 1e-8 by default, so its iterates may lie just outside them,
     // where we may not return: keep them inside (no effect without bounds).
     o.SetNumericValue("bound_relax_factor", 0);
@@ -443,22 +461,6 @@ class IpoptSolver final : public Solver {
     Ipopt::ApplicationReturnStatus status = app->Initialize("");
     if (status == Ipopt::Solve_Succeeded)
       status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
-    // Ipopt's acceptable-level stop measures the cost change against max(1, |f|): below
-    // f = 1 it is an absolute test, which stops well short of our relative one (penalty
-    // functions, Powell singular: measured). When the point it stopped at is not stationary
-    // by our tests, Ipopt goes on from there once, with that stop disabled, until its iterate
-    // passes one of our tests (tol itself can lie below the round-off floor of J^T r).
-    if (status == Ipopt::Solved_To_Acceptable_Level && !nlp->stopped_by_callback() &&
-        nlp->last_iteration() < options.max_iterations) {
-      Endpoint end = endpoint(problem, *nlp, options, summary);
-      if (end.known &&
-          !measure_stationarity(end.x, end.r, end.J, options).claim_holds(options, false)) {
-        nlp->continue_from(end.x, nlp->last_iteration());
-        o.SetIntegerValue("acceptable_iter", 0);
-        o.SetIntegerValue("max_iter", options.max_iterations - nlp->last_iteration());
-        status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(Ipopt::GetRawPtr(nlp)));
-      }
-    }
 
     summary.backend_code = static_cast<int>(status);
     summary.iterations = nlp->last_iteration();
@@ -471,10 +473,7 @@ class IpoptSolver final : public Solver {
     auto [type, message] = termination(status, nlp->stopped_by_callback());
     if (status == Ipopt::User_Requested_Stop && nlp->stopped_stationary()) {
       type = TerminationType::kConverged;
-      message =
-          "relative cost change below tolerance (kincal's test, at Ipopt's iterate: Ipopt "
-          "went on after its acceptable-level stop, which measures the change against "
-          "max(1, |f|))";
+      message = nlp->passed_test() + " (kincal's test, at Ipopt's iterate)";
     }
     if (nlp->stuck()) {
       type = TerminationType::kDiverged;
@@ -579,9 +578,9 @@ class IpoptSolver final : public Solver {
     const std::string what = std::string("Ipopt ") + status_name(status);
     switch (status) {
       case Ipopt::Solve_Succeeded:
-        return {T::kConverged, "gradient max-norm below tolerance (" + what +
+        return {T::kConverged, std::string(detail::kGradientTestMessage) + " (" + what +
                                    ": optimality error below tol, max|J^T r| for an unbounded "
-                                   "problem)"};
+                                   "problem, and tol is 1e-300)"};
       case Ipopt::Solved_To_Acceptable_Level:
         return {T::kConverged, "relative cost change below tolerance (" + what +
                                    ": acceptable_tol held for acceptable_iter iterations and "

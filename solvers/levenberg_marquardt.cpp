@@ -181,6 +181,7 @@ class LmWorkspace {
         H(n, n),
         M(n, n),
         gradient(n),
+        column_norm(n),
         column_scale(n),
         velocity(n),
         acceleration(n),
@@ -211,6 +212,7 @@ class LmWorkspace {
   MatrixXd B;             // robust-corrected Jacobian in scaled variables, active columns zeroed
   MatrixXd H, M;          // B^T B, and B^T B + lambda I
   VectorXd gradient;      // J~^T r~ in x units
+  VectorXd column_norm;   // |J~_j| at the iterate
   VectorXd column_scale;  // running max of the column norms of J~ (Marquardt diagonal)
   VectorXd velocity, acceleration, y;  // in scaled variables
   VectorXd dx, dx_velocity, x_trial;
@@ -224,38 +226,6 @@ class LmWorkspace {
   Stationarity at_x;
   detail::BestPoint best;  // over every point evaluated: iterates, trials, probes
 };
-
-// 1/2 sum rho(r_i^2): the robustified cost.
-double robust_cost(const RobustLoss& loss, const VectorXd& r) {
-  if (loss.kind == RobustLoss::Kind::kNone) return 0.5 * r.squaredNorm();
-  double sum = 0;
-  for (Eigen::Index i = 0; i < r.size(); ++i) sum += loss.evaluate(r[i] * r[i])[0];
-  return 0.5 * sum;
-}
-
-// Ceres' Corrector, per scalar residual: rescales r and its Jacobian row so that the plain
-// Gauss-Newton model of the rescaled problem matches the robust cost to second order
-// (Triggs et al.). Where rho'' <= 0 (Huber, Cauchy: always) this is IRLS, sqrt(rho').
-void apply_loss_correction(const RobustLoss& loss, VectorXd& r, MatrixXd& J, VectorXd& row_scale) {
-  if (loss.kind == RobustLoss::Kind::kNone) {
-    row_scale.setOnes();
-    return;
-  }
-  for (Eigen::Index i = 0; i < r.size(); ++i) {
-    const double s = r[i] * r[i];
-    const auto rho = loss.evaluate(s);
-    const double sqrt_rho1 = std::sqrt(rho[1]);
-    double residual_scale = sqrt_rho1, jacobian_scale = sqrt_rho1;
-    if (s > 0 && rho[2] > 0) {
-      const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
-      residual_scale = sqrt_rho1 / (1.0 - alpha);
-      jacobian_scale = sqrt_rho1 * (1.0 - alpha);
-    }
-    r[i] *= residual_scale;
-    J.row(i) *= jacobian_scale;
-    row_scale[i] = jacobian_scale;
-  }
-}
 
 Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, VectorXd& x,
                                         const SolverOptions& options) const {
@@ -293,10 +263,12 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     monitor.finish(TerminationType::kFailed, "residuals not computable at the start: " + why);
     return summary;
   }
-  double cost = robust_cost(loss, ws.r);
-  if (!std::isfinite(cost) || !ws.J.allFinite()) {
+  double cost = loss.cost(ws.r);
+  const std::string non_finite = detail::non_finite_start(ws.r, &ws.J, problem.parameter_names());
+  if (!non_finite.empty() || !std::isfinite(cost)) {
     summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
-    monitor.finish(TerminationType::kFailed, "residuals or Jacobian not finite at the start point");
+    monitor.finish(TerminationType::kFailed,
+                   non_finite.empty() ? "the cost at the start is not finite" : non_finite);
     return summary;
   }
   summary.initial_cost = summary.final_cost = cost;
@@ -305,30 +277,42 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
 
   // Prepares the linear model at the current (accepted) iterate: robust correction,
   // gradient, Marquardt scaling, active bounds, and what the trials factorise.
-  // Returns the projected-gradient max-norm (Ceres' gradient test quantity).
+  // Returns the projected-gradient max-norm (Ceres' quantity, for the trace) and sets
+  // relative_gradient, the gradient test's measure (stationarity.hpp) before rounding.
+  double relative_gradient = 0;
   auto prepare_iterate = [&]() {
     ws.r_raw = ws.r;
-    apply_loss_correction(loss, ws.r, ws.J, ws.row_scale);
+    loss.correct(ws.r, ws.J, ws.row_scale);
     ws.gradient.noalias() = ws.J.transpose() * ws.r;
     for (int j = 0; j < n; ++j) {
-      const double norm = ws.J.col(j).norm();
+      const double norm = ws.column_norm[j] = ws.J.col(j).norm();
       ws.column_scale[j] =
           ws.column_scale[j] > kStaleScaleRatio * norm ? norm : std::max(ws.column_scale[j], norm);
     }
     // A column that never moved the residuals gets a tiny positive scale: its damping row
-    // then pins that parameter (y_j = 0) instead of dividing by zero.
-    const double floor = 1e-12 * std::max(1.0, max_norm(ws.column_scale));
+    // then pins that parameter (y_j = 0) instead of dividing by zero. Relative to the largest
+    // column, so that a common scale of the residuals changes nothing (1 when all vanished).
+    const double largest = max_norm(ws.column_scale);
+    const double floor = largest > 0 ? 1e-12 * largest : 1.0;
+    const double residual_norm = ws.r.norm();
     double gradient_norm = 0;
+    relative_gradient = 0;
     for (int j = 0; j < n; ++j) {
       ws.column_scale[j] = std::max(ws.column_scale[j], floor);
       double projected = ws.gradient[j];
+      double lo = -HUGE_VAL, hi = HUGE_VAL;
       ws.active[j] = 0;
       if (bounded) {
-        const double lo = (*options.lower_bounds)[j], hi = (*options.upper_bounds)[j];
+        lo = (*options.lower_bounds)[j];
+        hi = (*options.upper_bounds)[j];
         projected = x[j] - std::min(hi, std::max(lo, x[j] - ws.gradient[j]));
         ws.active[j] = (x[j] <= lo && ws.gradient[j] > 0) || (x[j] >= hi && ws.gradient[j] < 0);
       }
       gradient_norm = std::max(gradient_norm, std::abs(projected));
+      if (!dead_column(ws.column_norm[j], x[j], residual_norm))
+        relative_gradient =
+            std::max(relative_gradient, relative_gradient_entry(ws.gradient[j], ws.column_norm[j],
+                                                                residual_norm, x[j], lo, hi));
     }
     // Scaled variables y = D^(1/2) dx: B's columns have norm <= 1, which keeps the damped
     // system well conditioned even when cond(J) is ~1e5.
@@ -402,7 +386,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
         ++summary.residual_evaluations;
         ++summary.jacobian_evaluations;
         if (problem.evaluate(x, &ws.r, &ws.J, &why, options.num_threads, warm.get())) {
-          apply_loss_correction(loss, ws.r, ws.J, ws.row_scale);
+          loss.correct(ws.r, ws.J, ws.row_scale);
           measure_stationarity(x, ws.r, ws.J, options, ws.scratch, ws.at_x);
           const detail::Verdict verdict =
               detail::judge_convergence(ws.at_x, options, message, problem.parameter_names());
@@ -453,9 +437,9 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   int consecutive_invalid = 0;
   for (int iteration = 1;; ++iteration) {
     // These two end the solve either way: no step can be found (the verdict may be a stall).
-    if (gradient_norm <= options.gradient_tolerance) {
+    if (relative_gradient <= options.gradient_tolerance) {
       test_holds(true);
-      return conclude("gradient max-norm below tolerance");
+      return conclude(detail::kGradientTestMessage);
     }
     if (radius < settings.min_trust_radius) {
       test_holds(false);
@@ -500,14 +484,14 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
         if (problem.evaluate(ws.x_trial, &ws.r_trial, &ws.J_trial, nullptr, options.num_threads,
                              warm.get()) &&
             ws.J_trial.allFinite()) {
-          const double cost_trial = robust_cost(loss, ws.r_trial);
+          const double cost_trial = loss.cost(ws.r_trial);
           if (cost_trial < cost) {
             x.swap(ws.x_trial);
             ws.r.swap(ws.r_trial);
             ws.J.swap(ws.J_trial);
             cost = cost_trial;
             ws.best.offer(x, cost);
-            apply_loss_correction(loss, ws.r, ws.J, ws.row_scale);
+            loss.correct(ws.r, ws.J, ws.row_scale);
             test_holds(false);  // measures the new iterate for conclude()
             if (!monitor.record(
                     {iteration, cost, gradient_norm, ws.dx_velocity.norm(), 1.0 / radius, 0}, x))
@@ -531,7 +515,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
       if (problem.evaluate(ws.x_trial, &ws.r_trial, nullptr, nullptr, options.num_threads,
                            warm.get()) &&
           ws.r_trial.allFinite()) {
-        ws.best.offer(ws.x_trial, robust_cost(loss, ws.r_trial));
+        ws.best.offer(ws.x_trial, loss.cost(ws.r_trial));
         // Directional second derivative of the corrected residuals along v.
         ws.residual_temp.noalias() = ws.J * ws.dx_velocity;
         ws.residual_temp =
@@ -565,7 +549,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     const bool evaluated = problem.evaluate(ws.x_trial, &ws.r_trial, &ws.J_trial, &why,
                                             options.num_threads, warm.get());
     const double cost_trial =
-        evaluated ? robust_cost(loss, ws.r_trial) : std::numeric_limits<double>::infinity();
+        evaluated ? loss.cost(ws.r_trial) : std::numeric_limits<double>::infinity();
     if (!std::isfinite(cost_trial) || !ws.J_trial.allFinite()) {
       // Forward kinematics failed (or produced garbage) at the trial point: a rejected step.
       if (failed_trials++ == 0) first_failure = evaluated ? "not finite" : why;

@@ -367,14 +367,37 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
                        (problem.start_failure().empty() ? why : problem.start_failure()));
     return summary;
   }
+  {
+    const std::string non_finite =
+        detail::non_finite_start(lin.rhat, &lin.R, nested.parameter_names());
+    if (!non_finite.empty() || !std::isfinite(lin.cost)) {
+      summary.initial_cost = summary.final_cost = std::numeric_limits<double>::infinity();
+      monitor.finish(TerminationType::kFailed,
+                     (non_finite.empty() ? "the cost at the start is not finite" : non_finite) +
+                         " (implicit formulation)");
+      return summary;
+    }
+  }
   summary.initial_cost = summary.final_cost = lin.cost;
 
   // Scaled normal equations of the reduced problem at the current iterate: the Schur
   // complement S = R^T R, in the variables y = D^(1/2) dx of lm's Marquardt scaling.
+  // Returns max|g| (for the trace) and sets relative_gradient, the gradient test's measure
+  // before rounding (stationarity.hpp), which a common scale of the residuals does not change.
+  double relative_gradient = 0;
   auto prepare = [&] {
     gradient.noalias() = lin.R.transpose() * lin.rhat;
-    for (int c = 0; c < n; ++c) column_scale[c] = std::max(column_scale[c], lin.R.col(c).norm());
-    const double floor = 1e-12 * std::max(1.0, n ? column_scale.maxCoeff() : 0.0);
+    const double residual_norm = lin.rhat.norm();
+    relative_gradient = 0;
+    for (int c = 0; c < n; ++c) {
+      const double column = lin.R.col(c).norm();
+      column_scale[c] = std::max(column_scale[c], column);
+      if (!dead_column(column, x[c], residual_norm))
+        relative_gradient = std::max(
+            relative_gradient, relative_gradient_entry(gradient[c], column, residual_norm, x[c]));
+    }
+    const double largest = n ? column_scale.maxCoeff() : 0.0;
+    const double floor = largest > 0 ? 1e-12 * largest : 1.0;
     column_scale = column_scale.cwiseMax(floor);
     S.setZero();
     S.selfadjointView<Eigen::Lower>().rankUpdate(lin.R.transpose());
@@ -455,8 +478,8 @@ Summary solve_with(const ImplicitCalibrationProblem& problem, VectorXd& x,
   };
   int consecutive_invalid = 0;
   for (int iteration = 1;; ++iteration) {
-    if (gradient_norm <= options.gradient_tolerance && test_holds(true))
-      return done(TerminationType::kConverged, "gradient max-norm below tolerance");
+    if (relative_gradient <= options.gradient_tolerance && test_holds(true))
+      return done(TerminationType::kConverged, detail::kGradientTestMessage);
     if (radius < kMinTrustRadius)
       return done(TerminationType::kConverged, "trust region radius below min_trust_radius");
     if (iteration > options.max_iterations)

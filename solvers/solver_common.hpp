@@ -47,6 +47,28 @@ class SolveMonitor {
   std::chrono::steady_clock::time_point start_;
 };
 
+/// What a backend says when the gradient test fires (stationarity.hpp: every live parameter's
+/// |J_j^T r| <= gradient_tolerance |J_j| |r|). Starts with "gradient", which makes it a
+/// gradient claim (claims_gradient_test).
+inline constexpr const char* kGradientTestMessage =
+    "gradient below tolerance, relative to |J_j| |r|";
+
+/// The factor a third-party library's objective is multiplied by (Ceres through a ScaledLoss,
+/// NLopt directly, Ipopt's obj_scaling_factor) so that it sees the same problem whatever the
+/// common scale of the residuals: a model's reading_std of 1e8 divides every residual by 1e8
+/// and the cost by 1e16 without moving the minimum, but the libraries compare gradients,
+/// damping and steps with absolute numbers (Ceres' projected gradient x - (x - g) rounds to 0
+/// once g < ulp(x), and it then stops "converged"; L-BFGS stopped after 5 evaluations; issue
+/// 35). 1 / sigma^2, with sigma the power of two at or below a Jacobian column norm (the
+/// smallest that is not negligible, >= 1e-8 of the largest, or the largest) divided by
+/// 2^headroom: that column of the scaled problem then has a norm in [2^headroom,
+/// 2^(headroom + 1)). With no headroom, on problems whose columns are of order one (readings in
+/// mm, unweighted: the paper's cases, the test suite) the libraries see about what they saw
+/// before. A power of two, so that scaling is exact; 1 when every column vanished. `J` is the
+/// (robust-corrected) Jacobian, at the start or where the scale is set again.
+enum class ScaleBy { kSmallestColumn, kLargestColumn };
+double objective_scale(const MatrixXd& J, ScaleBy column, int headroom = 0);
+
 /// |dx| <= tol * (|x| + tol), Ceres' relative step test.
 inline bool small_step(const VectorXd& dx, const VectorXd& x, double tol) {
   return dx.norm() <= tol * (x.norm() + tol);
@@ -83,13 +105,34 @@ struct Verdict {
   std::string message;
 };
 
+/// Empty when every residual (and Jacobian entry, when `J` is given) is finite; otherwise the
+/// first non-finite one, for a message: "residual 3 is nan", or "the Jacobian has a non-finite
+/// entry (residual 3, parameter x2: inf)" with `names` naming parameters.
+std::string non_finite_entry(const VectorXd& r, const MatrixXd* J,
+                             const std::vector<std::string>& names);
+
+/// Why a solve cannot start, when the residuals or Jacobian at the start have a non-finite
+/// entry: "the Jacobian at the start has a non-finite entry (residual 3, parameter x2: nan)";
+/// empty when all are finite. Such a start ends `failed` with this message on every backend:
+/// no step can be computed from it, and no test can say anything there (issue 35: ipopt and
+/// nlopt:LD_LBFGS called a NaN Jacobian at the start `converged`).
+std::string non_finite_start(const VectorXd& r, const MatrixXd* J,
+                             const std::vector<std::string>& names);
+/// The same from non_finite_entry's words.
+std::string non_finite_start(const std::string& entry);
+
 /// Whether `message` claims the gradient test (it then has to hold at the returned point
 /// itself); other claims (relative step, relative cost change, ...) are about the last step,
 /// and the returned point must pass any of the three tests instead.
 bool claims_gradient_test(const std::string& message);
 
+/// The first of the three tests that `s` passes, named as the messages name them; empty when
+/// none does.
+std::string passing_test(const Stationarity& s, const SolverOptions& options);
+
 /// The verdict on a convergence test that fired (`message`) at the point about to be returned,
-/// whose stationarity is `at_x`: converged when that point passes the claimed test (see
+/// whose stationarity is `at_x`: failed when its residuals or Jacobian are not finite there;
+/// converged when that point passes the claimed test (see
 /// claims_gradient_test), with any parameters that no longer affect the residuals named as a
 /// plateau; on a plateau of every free parameter, failed (the gradient vanished because the
 /// model saturated); otherwise, when trial points near the end could not be computed

@@ -59,4 +59,32 @@ std::array<double, 3> RobustLoss::evaluate(double s) const {
   return {s, 1.0, 0.0};
 }
 
+double RobustLoss::cost(const VectorXd& r) const {
+  if (kind == Kind::kNone) return 0.5 * r.squaredNorm();
+  double sum = 0;
+  for (Eigen::Index i = 0; i < r.size(); ++i) sum += evaluate(r[i] * r[i])[0];
+  return 0.5 * sum;
+}
+
+void RobustLoss::correct(VectorXd& r, MatrixXd& J, VectorXd& row_scale) const {
+  if (kind == Kind::kNone) {
+    row_scale.setOnes();
+    return;
+  }
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const double s = r[i] * r[i];
+    const auto rho = evaluate(s);
+    const double sqrt_rho1 = std::sqrt(rho[1]);
+    double residual_scale = sqrt_rho1, jacobian_scale = sqrt_rho1;
+    if (s > 0 && rho[2] > 0) {
+      const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
+      residual_scale = sqrt_rho1 / (1.0 - alpha);
+      jacobian_scale = sqrt_rho1 * (1.0 - alpha);
+    }
+    r[i] *= residual_scale;
+    J.row(i) *= jacobian_scale;
+    row_scale[i] = jacobian_scale;
+  }
+}
+
 }  // namespace kincal

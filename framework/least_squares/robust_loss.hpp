@@ -9,6 +9,8 @@
 #include <array>
 #include <string>
 
+#include "kincal/framework/base/types.hpp"
+
 namespace kincal {
 
 struct RobustLoss {
@@ -22,6 +24,16 @@ struct RobustLoss {
 
   /// {rho(s), rho'(s), rho''(s)} at s = r^2 >= 0.
   std::array<double, 3> evaluate(double s) const;
+
+  /// 1/2 sum rho(r_i^2): the robustified cost (1/2 |r|^2 without a loss).
+  double cost(const VectorXd& r) const;
+
+  /// Ceres' Corrector, per scalar residual (Triggs et al., Bundle adjustment - a modern
+  /// synthesis, 4.3): rescales r and its Jacobian row so that the plain Gauss-Newton model of
+  /// the rescaled problem matches the robust cost to second order, and J~^T r~ is the robust
+  /// cost's gradient. Where rho'' <= 0 (Huber, Cauchy: always) this is IRLS, sqrt(rho').
+  /// `row_scale` gets each row's Jacobian factor. Without a loss, nothing changes (ones).
+  void correct(VectorXd& r, MatrixXd& J, VectorXd& row_scale) const;
 };
 
 }  // namespace kincal

@@ -39,8 +39,11 @@ Summary Solver::solve_implicit(const ImplicitCalibrationProblem&, VectorXd&,
 void Solver::check_options(const SolverOptions& options) const {
   // Backend keys are checked by each backend against its own list (require_known_keys):
   // rejecting every key here broke every backend that calls the base and takes options.
-  if (options.max_iterations < 0)
-    throw InvalidSolverOptions(name() + ": max_iterations must be >= 0");
+  // 0 would return the start unsolved, and a caller could take it for a calibration (issue 35:
+  // kincal calibrate --max-iterations 0 wrote the nominal model and exited 0).
+  if (options.max_iterations < 1)
+    throw InvalidSolverOptions(name() + ": max_iterations must be >= 1, not " +
+                               std::to_string(options.max_iterations));
   if (options.lower_bounds.has_value() != options.upper_bounds.has_value())
     throw InvalidSolverOptions(name() + ": give both lower and upper bounds, or neither");
 }

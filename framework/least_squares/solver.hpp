@@ -47,14 +47,16 @@ class InvalidSolverOptions : public std::invalid_argument {
 
 struct SolverOptions {
   /// Upper bound on iterations (outer iterations for every backend; NLopt counts
-  /// objective evaluations, see docs/solvers.md). 200: lm needs up to ~100 on the paper's
+  /// objective evaluations, see docs/solvers.md); at least 1, or check_options throws
+  /// InvalidSolverOptions. 200: lm needs up to ~100 on the paper's
   /// noisiest cases (1 in ~1000 seeds), where a long curved valley leads to the minimum.
   int max_iterations = 200;
   /// Converged when |cost_old - cost_new| <= function_tolerance * cost_old.
   double function_tolerance = 1e-12;
   /// Converged when |dx| <= parameter_tolerance * (|x| + parameter_tolerance).
   double parameter_tolerance = 1e-10;
-  /// Converged when max|J^T r| <= gradient_tolerance.
+  /// Converged when every live parameter's |(J^T r)_j| <= gradient_tolerance |J_j| |r|: relative,
+  /// so that a common scale of the residuals changes nothing (docs/solvers.md, "Scale").
   double gradient_tolerance = 1e-12;
   /// 0 = silent; 1 = one line per iteration on stderr; backends may print more above 1.
   int verbosity = 0;

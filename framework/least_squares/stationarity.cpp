@@ -28,6 +28,23 @@ double cost_rounding(const VectorXd& x, const VectorXd& r, const MatrixXd& J) {
   return sum;
 }
 
+double relative_gradient(const VectorXd& x, const VectorXd& r, const MatrixXd& J,
+                         const SolverOptions& options) {
+  if (!r.allFinite() || !J.allFinite()) return HUGE_VAL;
+  const bool bounded = options.lower_bounds.has_value() && options.upper_bounds.has_value();
+  const double residual_norm = r.norm();
+  double largest = 0;
+  for (Eigen::Index j = 0; j < J.cols(); ++j) {
+    const double column = J.col(j).norm();
+    if (dead_column(column, x[j], residual_norm)) continue;
+    largest =
+        std::max(largest, relative_gradient_entry(J.col(j).dot(r), column, residual_norm, x[j],
+                                                  bounded ? (*options.lower_bounds)[j] : -HUGE_VAL,
+                                                  bounded ? (*options.upper_bounds)[j] : HUGE_VAL));
+  }
+  return largest;
+}
+
 Stationarity measure_stationarity(const VectorXd& x, const VectorXd& r, const MatrixXd& J,
                                   const SolverOptions& options) {
   StationarityScratch scratch(static_cast<int>(r.size()), static_cast<int>(x.size()));
@@ -43,9 +60,18 @@ void measure_stationarity(const VectorXd& x, const VectorXd& r, const MatrixXd& 
   const double eps = std::numeric_limits<double>::epsilon();
   s.cost = 0.5 * r.squaredNorm();
   s.gradient_norm = s.gradient_rounding = s.predicted_relative_decrease = s.relative_step = 0;
+  s.relative_gradient = s.raw_relative_gradient = 0;
   s.cost_rounding = 0;
   s.gauss_newton_trusted = true;
   s.dead_parameters.clear();
+  s.num_free = 0;
+  s.finite = r.allFinite() && J.allFinite();
+  if (!s.finite) {  // nothing to measure: every test fails (see Stationarity::finite)
+    s.gradient_norm = s.relative_gradient = s.raw_relative_gradient = s.relative_step = HUGE_VAL;
+    s.predicted_relative_decrease = 1;
+    s.gauss_newton_trusted = false;
+    return;
+  }
   const double residual_norm = std::sqrt(2 * s.cost);
   VectorXd& g = scratch.gradient;
   g.noalias() = J.transpose() * r;
@@ -79,10 +105,21 @@ void measure_stationarity(const VectorXd& x, const VectorXd& r, const MatrixXd& 
       rounding += std::abs(J(i, j)) *
                   (static_cast<double>(r.size()) * eps * std::abs(r[i]) + residual_error[i]);
     s.gradient_rounding = std::max(s.gradient_rounding, rounding);
-    if (held) continue;
     const double column = J.col(j).norm();
-    if (s.cost > 0 && (column == 0 || column * std::max(std::abs(x[j]), 1.0) <=
-                                          kDeadColumnRatio * residual_norm)) {
+    // A dead parameter's direction says nothing (the plateau test names it): left out of the
+    // gradient test as of the steps below, held or not.
+    const bool dead = dead_column(column, x[j], residual_norm);
+    if (!dead && column > 0 && residual_norm > 0) {
+      // This entry's rounding error discounted, relative to the same scale.
+      const double entry = relative_gradient_entry(g[j], column, residual_norm, x[j],
+                                                   bounded ? (*options.lower_bounds)[j] : -HUGE_VAL,
+                                                   bounded ? (*options.upper_bounds)[j] : HUGE_VAL);
+      s.relative_gradient =
+          std::max(s.relative_gradient, entry - rounding / column / residual_norm);
+      s.raw_relative_gradient = std::max(s.raw_relative_gradient, entry);
+    }
+    if (held) continue;
+    if (dead) {
       s.dead_parameters.push_back(j);
       continue;
     }

@@ -101,6 +101,74 @@ TEST(Stationarity, TheCostRoundingFollowsTheSizeOfTheTerms) {
   EXPECT_GT(s.gradient_rounding, eps * 600);
 }
 
+// Multiplying every residual by one constant (a model's reading_std, a robust loss's delta)
+// does not move the minimum, so it must not change a verdict. The gradient test compared
+// max|J^T r| with an absolute 1e-12, which a factor of 1e-8 (the cost's 1e-16) passed at once
+// (issue 35); it is now relative to |J_j| |r|.
+TEST(Stationarity, TheVerdictsDoNotDependOnACommonScaleOfTheResiduals) {
+  // Noisy, not yet at the minimum: a small step of a nonzero-residual problem remains.
+  const Eigen::Vector3d x(1, 2, 3);
+  MatrixXd J(4, 3);
+  J << 1, 0.5, 0, 0, 1, 0.2, 0.3, 0, 1, 1, 1, 1;
+  const Eigen::Vector4d r(1e-3, -2e-3, 1.5e-3, 0.3);
+  const SolverOptions options;
+  const Stationarity one = measure_stationarity(x, r, J, options);
+  for (double scale : {1e-8, 0.0072, 1e8}) {
+    SCOPED_TRACE(scale);
+    const Stationarity scaled = measure_stationarity(x, scale * r, scale * J, options);
+    EXPECT_EQ(scaled.gradient_test(options), one.gradient_test(options));
+    EXPECT_EQ(scaled.cost_test(options), one.cost_test(options));
+    EXPECT_EQ(scaled.step_test(options), one.step_test(options));
+    EXPECT_EQ(scaled.claim_holds(options, true), one.claim_holds(options, true));
+    EXPECT_EQ(scaled.claim_holds(options, false), one.claim_holds(options, false));
+    EXPECT_EQ(scaled.dead_parameters, one.dead_parameters);
+    EXPECT_NEAR(scaled.relative_gradient, one.relative_gradient, 1e-12);
+    EXPECT_NEAR(scaled.predicted_relative_decrease, one.predicted_relative_decrease, 1e-12);
+    EXPECT_NEAR(scaled.relative_step, one.relative_step, 1e-12 * one.relative_step);
+    EXPECT_NEAR(scaled.gradient_norm, scale * scale * one.gradient_norm,
+                1e-12 * scale * scale * one.gradient_norm);
+  }
+  EXPECT_FALSE(one.claim_holds(options, true));
+  EXPECT_FALSE(one.claim_holds(options, false));
+}
+
+TEST(Stationarity, TheGradientTestIsTheCosineOfResidualsAndColumns) {
+  // r = (1, 1) against the columns (1, 0) and (0, 1e-3): cosines 1/sqrt(2) each, however short
+  // the second column; at the minimum of r = (1, -1) with J = (1, 1)^T, 0.
+  const Eigen::Vector2d x(0, 0);
+  MatrixXd J(2, 2);
+  J << 1, 0, 0, 1e-3;
+  const Stationarity s = measure_stationarity(x, Eigen::Vector2d(1, 1), J, SolverOptions{});
+  EXPECT_NEAR(s.raw_relative_gradient, std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(relative_gradient(x, Eigen::Vector2d(1, 1), J, SolverOptions{}), std::sqrt(0.5),
+              1e-15);
+  const Stationarity minimum = measure_stationarity(VectorXd::Zero(1), Eigen::Vector2d(1, -1),
+                                                    MatrixXd::Ones(2, 1), SolverOptions{});
+  EXPECT_EQ(minimum.raw_relative_gradient, 0);
+  EXPECT_TRUE(minimum.gradient_test(SolverOptions{}));
+}
+
+// A NaN compares false with every tolerance and max(0, NaN) is 0: a NaN Jacobian once passed
+// the gradient test (ipopt and nlopt:LD_LBFGS called such a start `converged`, issue 35).
+TEST(Stationarity, ANonFiniteJacobianPassesNoTest) {
+  const Eigen::Vector2d x(1, 2);
+  MatrixXd J = MatrixXd::Identity(2, 2);
+  J(1, 0) = std::nan("");
+  const Eigen::Vector2d r(0.5, 0.25);
+  const SolverOptions options;
+  const Stationarity s = measure_stationarity(x, r, J, options);
+  EXPECT_FALSE(s.finite);
+  EXPECT_FALSE(s.gradient_test(options));
+  EXPECT_FALSE(s.claim_holds(options, true));
+  EXPECT_FALSE(s.claim_holds(options, false));
+  EXPECT_FALSE(s.on_plateau());
+  J(1, 0) = HUGE_VAL;
+  EXPECT_FALSE(measure_stationarity(x, r, J, options).claim_holds(options, false));
+  EXPECT_FALSE(
+      measure_stationarity(x, Eigen::Vector2d(std::nan(""), 0), MatrixXd::Identity(2, 2), options)
+          .claim_holds(options, false));
+}
+
 TEST(Stationarity, DescribesParametersByName) {
   EXPECT_EQ(describe_parameters({0, 3}), "x0, x3");
   EXPECT_EQ(describe_parameters({1}, {"a", "b"}), "b");

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/solver_contract.hpp"
@@ -157,6 +159,56 @@ TEST(SolverContract, AnUncomputableStartMustEndFailedWithXUntouched) {
   EXPECT_FALSE(run.contract.start_computable);
   EXPECT_TRUE(mentions(run.contract, "the start is not computable, yet the termination"));
   EXPECT_TRUE(mentions(run.contract, "x was changed"));
+}
+
+// y = a t at four points, whose Jacobian is NaN where a > `fence` (everywhere by default): a
+// model whose derivative divides by zero there.
+class NanJacobianLine final : public LeastSquaresProblem {
+ public:
+  explicit NanJacobianLine(double fence = -HUGE_VAL) : fence_(fence) {}
+  int num_parameters() const override { return 1; }
+  int num_residual_blocks() const override { return 4; }
+  int residuals_per_block() const override { return 1; }
+  bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                      Eigen::Ref<MatrixXd>* jacobian, std::string*) const override {
+    residuals[0] = x[0] * block - 2.0 * block;
+    if (jacobian) (*jacobian)(0, 0) = x[0] > fence_ ? std::nan("") : block;
+    return true;
+  }
+
+ private:
+  double fence_;
+};
+
+TEST(SolverContract, ANonFiniteStartMustEndFailedSayingSo) {
+  const NanJacobianLine line;
+  const VectorXd x0 = VectorXd::Constant(1, 1.0);
+  const FakeSolver fooled([&](const LeastSquaresProblem& p, VectorXd& x) {
+    return report(p, x0, x, TerminationType::kConverged, "gradient below tolerance");
+  });
+  const CheckedSolve run = solve_and_check(fooled, line, x0, SolverOptions{});
+  EXPECT_FALSE(run.contract.start_finite);
+  EXPECT_TRUE(mentions(run.contract, "not finite, yet the termination is converged"))
+      << run.contract.report();
+  const FakeSolver honest([&](const LeastSquaresProblem&, VectorXd&) {
+    Summary s;
+    s.termination = TerminationType::kFailed;
+    s.message = "the Jacobian at the start has a non-finite entry (residual 1, parameter x0: nan)";
+    return s;
+  });
+  EXPECT_TRUE(solve_and_check(honest, line, x0, SolverOptions{}).contract.ok());
+}
+
+TEST(SolverContract, ConvergenceWhereTheJacobianIsNotFiniteIsCaught) {
+  // The minimum (a = 2) lies where the Jacobian is NaN.
+  const NanJacobianLine line(1.5);
+  const VectorXd x0 = VectorXd::Constant(1, 1.0);
+  const FakeSolver fooled([&](const LeastSquaresProblem& p, VectorXd& x) {
+    x[0] = 2;
+    return report(p, x0, x, TerminationType::kConverged, "relative cost change below tolerance");
+  });
+  const CheckedSolve run = solve_and_check(fooled, line, x0, SolverOptions{});
+  EXPECT_TRUE(mentions(run.contract, "Jacobian has a non-finite entry")) << run.contract.report();
 }
 
 }  // namespace

@@ -106,6 +106,29 @@ inline bool stalled(const Summary& summary) {
          summary.message.rfind("stalled", 0) == 0;
 }
 
+/// The exponential fit with a non-finite value in every evaluation: a Jacobian entry (NaN or
+/// infinite, as a model whose derivative divides by zero) or a residual (NaN). Evaluation
+/// "succeeds": only the values say that nothing can be done with them.
+class NonFiniteFit : public ExponentialFit {
+ public:
+  enum class Where { kJacobianNan, kJacobianInfinite, kResidualNan };
+  /// Everywhere, or only where a > `fence` (the minimum, a = 2, lies beyond a fence of 1.5).
+  explicit NonFiniteFit(Where where, double fence = -HUGE_VAL) : where_(where), fence_(fence) {}
+  bool evaluate_block(int block, const VectorXd& x, Eigen::Ref<VectorXd> residuals,
+                      Eigen::Ref<MatrixXd>* jacobian, std::string* why) const override {
+    ExponentialFit::evaluate_block(block, x, residuals, jacobian, why);
+    if (block != 3 || !(x[0] > fence_)) return true;
+    if (where_ == Where::kResidualNan) residuals[0] = std::nan("");
+    if (jacobian && where_ == Where::kJacobianNan) (*jacobian)(0, 1) = std::nan("");
+    if (jacobian && where_ == Where::kJacobianInfinite) (*jacobian)(0, 1) = HUGE_VAL;
+    return true;
+  }
+
+ private:
+  Where where_;
+  double fence_;
+};
+
 /// Residuals that cannot be computed anywhere, as when forward kinematics fails.
 class NowhereComputable : public ExponentialFit {
  public:
