@@ -280,11 +280,15 @@ int run_calibrate(const Args& args) {
                    std::to_string(loaded.data.size()) + " configurations of " + data_file);
   const int readings = loaded.data.size() * model->num_readings();
   if (readings < static_cast<int>(free.size()))
-    throw CliError(data_file + ": " + std::to_string(loaded.data.size()) +
-                   " usable configurations give " + std::to_string(readings) + " readings for " +
-                   std::to_string(free.size()) +
-                   " free parameters; expected at least as many readings as free parameters "
-                   "(measure more configurations or --fix parameters)");
+    throw CliError(
+        data_file + ": " + std::to_string(loaded.data.size()) + " usable configurations" +
+        (loaded.duplicate_rows > 0 ? " (" + std::to_string(loaded.duplicate_rows) +
+                                         " more row(s) copy one exactly and count once)"
+                                   : std::string()) +
+        " give " + std::to_string(readings) + " readings for " + std::to_string(free.size()) +
+        " free parameters; expected at least as many readings as free parameters "
+        "(measure more configurations or --fix parameters)");
+  note_copied_rows("calibrate", loaded);
 
   // Identifiability at the starting point decides whether solving makes sense at all.
   std::vector<std::string> fixed_by_identifiability;

@@ -262,10 +262,12 @@ int run_design(const Args& args) {
 
   const VectorXd nominal = model->parameters().nominal_values();
   Measurements existing;
-  if (vm.count("existing"))
-    existing = load_measurements("design", vm["existing"].as<std::string>(), *model, nominal, false,
-                                 model_file, data_limits(vm))
-                   .data;
+  if (vm.count("existing")) {
+    const LoadedData loaded = load_measurements("design", vm["existing"].as<std::string>(), *model,
+                                                nominal, false, model_file, data_limits(vm));
+    note_copied_rows("design", loaded);
+    existing = loaded.data;
+  }
   DesignSetup setup = make_design_setup(*model, design, vm.count("existing") ? &existing : nullptr);
   // Progress per stage on stderr (each stage's own count and time left), and Ctrl-C: the
   // first one stops the work with the best design so far (marked partial, exit 130), the

@@ -72,10 +72,11 @@ int run_observability(const Args& args) {
 
   Measurements data;
   if (vm.count("data")) {
-    data = load_measurements("observability", vm["data"].as<std::string>(), *model, values,
-                             vm["skip-bad-rows"].as<bool>(), vm["model"].as<std::string>(),
-                             data_limits(vm))
-               .data;
+    const LoadedData loaded = load_measurements("observability", vm["data"].as<std::string>(),
+                                                *model, values, vm["skip-bad-rows"].as<bool>(),
+                                                vm["model"].as<std::string>(), data_limits(vm));
+    note_copied_rows("observability", loaded);
+    data = loaded.data;
     check_memory(vm["data"].as<std::string>(), data.size(),
                  model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
                  "configuration");

@@ -306,6 +306,7 @@ int run_validate(const Args& args) {
                         model_file, data_limits(vm));
   check_memory(data_file, loaded.data.size(),
                k * solve_bytes_per_row(static_cast<int>(input.parameters.size())), "configuration");
+  note_copied_rows("validate", loaded);
   Validation v;
   try {
     v = validate_held_out(model, loaded.data, values, input);

@@ -219,10 +219,10 @@ LoadedData load_measurements(const std::string& command, const std::string& path
               " (= line " + std::to_string(table.line_numbers[repeats.duplicate_of[i]]) + ")";
     if (repeats.duplicates.size() > 5)
       list += " and " + std::to_string(repeats.duplicates.size() - 5) + " more";
-    note(command, path + ": " + std::to_string(repeats.duplicates.size()) +
-                      " row(s) copy an earlier row exactly, readings included, and count once: "
-                      "line(s) " +
-                      list);
+    loaded.copied_rows_note = path + ": " + std::to_string(repeats.duplicates.size()) +
+                              " row(s) copy an earlier row exactly, readings included, and "
+                              "count once: line(s) " +
+                              list;
     rows.insert(rows.end(), repeats.duplicates.begin(), repeats.duplicates.end());
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
@@ -242,6 +242,10 @@ LoadedData load_measurements(const std::string& command, const std::string& path
   if (loaded.data.size() == 0)
     throw CliError(path + ": every row was skipped as unreachable; nothing left to use");
   return loaded;
+}
+
+void note_copied_rows(const std::string& command, const LoadedData& loaded) {
+  if (!loaded.copied_rows_note.empty()) note(command, loaded.copied_rows_note);
 }
 
 }  // namespace kincal::cli

@@ -60,7 +60,14 @@ struct LoadedData {
   int duplicate_rows = 0;
   int repeated_configurations = 0;
   int repeat_rows = 0;
+  /// The note naming the copied rows, empty when none: the command prints it
+  /// (note_copied_rows) once its own checks of the data passed, so that data it refuses get
+  /// one line, the refusal, which says how many rows were copies.
+  std::string copied_rows_note;
 };
+
+/// Prints `loaded.copied_rows_note` as a note of `command`, when there is one.
+void note_copied_rows(const std::string& command, const LoadedData& loaded);
 /// Reads `path` for `model` (unit suffixes converted), refuses data that look like the wrong
 /// unit (check_data_units), then checks that forward kinematics works at `params` for
 /// every row: unreachable rows are an error naming their lines, or, with `skip_bad_rows`,
@@ -68,7 +75,7 @@ struct LoadedData {
 /// dropped with a note (set to NaN, not measured) whatever `skip_bad_rows`, as long as the
 /// row keeps another reading. When no row at all is reachable the message names the model file
 /// `model_file` too: then its values are as likely to be wrong as the data. A row that copies
-/// an earlier one exactly, actuators and readings, counts once (a note names it).
+/// an earlier one exactly, actuators and readings, counts once (LoadedData::copied_rows_note).
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
                              bool skip_bad_rows, const std::string& model_file,

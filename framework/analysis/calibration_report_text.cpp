@@ -128,7 +128,9 @@ std::string to_text(const CalibrationReport& r) {
         << " % of the variance shared by neighbouring configurations"
         << (r.structure.fixed_directions > 0
                 ? ", " + format("%.0f", 100 * r.structure.fixed_fraction) +
-                      " % explained by the fixed parameters"
+                      " % explained by the fixed parameters' " +
+                      std::to_string(r.structure.fixed_directions) + " directions (noise: P " +
+                      format("%.2g", r.structure.fixed_p) + ")"
                 : std::string())
         << "\n";
   if (r.loss != "none" && std::isnan(r.uncertainty.robust_factor))

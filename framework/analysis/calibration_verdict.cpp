@@ -112,7 +112,8 @@ void fit_findings(const CalibrationReport& r, std::vector<Finding>& out) {
       unexplained = true;
       out.push_back(
           {"fit", L::kDoNotLoad,
-           "The model leaves most of what the sensor saw unexplained: the residuals' RMS is " +
+           "The model leaves most of what the sensor saw unexplained: the typical residual "
+           "(1.4826 x the median |residual|) is " +
                percent(share) + " of the readings' spread (" +
                fmt("%.4g", s.reading_spread.at(unit)) + " " + unit +
                "), where a calibration leaves a thousandth or less.",
@@ -164,6 +165,24 @@ void fit_findings(const CalibrationReport& r, std::vector<Finding>& out) {
                    "The residuals are as the stated noise predicts (sigma_hat " +
                        fmt("%.3g", sigma) + " x reading_std), and " + shape + ".",
                    ""});
+    return;
+  }
+  // Too few readings for the shape to clear the fit: then the stated noise decides, as a
+  // chi-square would (the fit check), and the shape's figures are given for what they are.
+  if (s.fixed_directions > 0 && s.fixed_test_dof < kMinShapeDegreesOfFreedom &&
+      r.fit_check.too_large()) {
+    out.push_back(
+        {"fit", L::kWarning,
+         "The readings scatter " + fmt("%.3g", sigma) + " times the stated noise (chi-square " +
+             fmt("%.4g", r.fit_check.chi_square) + " on " +
+             std::to_string(r.fit_check.degrees_of_freedom) + " degrees of freedom, " +
+             "P(larger) " + fmt("%.2g", r.fit_check.p_larger) + "), and with " +
+             std::to_string(s.fixed_test_dof) +
+             " residual degree(s) of freedom beyond the free and fixed parameters their shape "
+             "cannot tell the set-up's noise from a model error (the fixed parameters explain " +
+             percent(s.fixed_fraction) + ", as noise would with P " + fmt("%.2g", s.fixed_p) + ").",
+         "Measure more configurations, or check the fixed parameters (kincal observability "
+         "--sensitivity) and reading_std."});
     return;
   }
   const bool far = sigma > kNoiseFarAboveStated;

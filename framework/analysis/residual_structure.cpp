@@ -112,7 +112,11 @@ ResidualStructure analyze_residual_structure(const CalibrationProblem& problem, 
   // Per unit: the residuals' RMS against the readings' spread, unwhitened.
   const auto units = model.reading_units();
   const VectorXd& stds = model.reading_std();
-  std::map<std::string, double> residual_sum, spread_sum;
+  // The residuals' typical size is robust (1.4826 x the median |residual|, the RMS of Gaussian
+  // noise): a few gross outliers that a robust loss set aside must not read as a model that
+  // explains nothing, while rows shuffled between configurations move every residual.
+  std::map<std::string, std::vector<double>> residual_sizes;
+  std::map<std::string, double> spread_sum;
   std::map<std::string, long> count;
   for (int i = 0; i < k; ++i) {
     double mean = 0;
@@ -128,7 +132,7 @@ ResidualStructure analyze_residual_structure(const CalibrationProblem& problem, 
       const double v = sample.readings(c, i);
       if (std::isnan(v)) continue;
       const double residual = r[c * k + i] * stds[i];
-      residual_sum[units[i]] += residual * residual;
+      residual_sizes[units[i]].push_back(std::abs(residual));
       spread_sum[units[i]] += (v - mean) * (v - mean);
       ++count[units[i]];
     }
@@ -138,7 +142,10 @@ ResidualStructure analyze_residual_structure(const CalibrationProblem& problem, 
     // Readings that do not vary (a socket's zeros) have no spread to explain.
     if (!(spread > 0)) continue;
     out.reading_spread[unit] = spread;
-    out.unexplained_spread[unit] = std::sqrt(residual_sum[unit] / count[unit]) / spread;
+    auto& sizes = residual_sizes[unit];
+    const auto middle = sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2);
+    std::nth_element(sizes.begin(), middle, sizes.end());
+    out.unexplained_spread[unit] = 1.4826 * *middle / spread;
   }
 
   // Neighbours: each reading's residual in its unit's RMS, so that mm and rad weigh alike.
@@ -200,12 +207,15 @@ ResidualStructure analyze_residual_structure(const CalibrationProblem& problem, 
   out.fixed_directions = p;
   out.fixed_fraction = explained / rss;
   const int dof = static_cast<int>(rp.size()) - rank_free - p;
-  if (dof > 0 && rss - explained > 0) {
-    const double sigma2 = (rss - explained) / dof;
-    out.fixed_p = chi_square_upper_tail(explained / sigma2, p);
-  } else {
-    out.fixed_p = explained > 0 ? 0 : 1;
-  }
+  out.fixed_test_dof = std::max(dof, 0);
+  // The F-test: the noise's variance is estimated from the dof residual degrees of freedom
+  // left, so with few of them (40 gauge readings, 24 free and 14 fixed parameters: 2) a
+  // large share explained is what noise gives. Without any left, the fixed columns span the
+  // whole residual and explain all of it whatever it holds: nothing can be concluded.
+  if (dof > 0 && rss - explained > 0)
+    out.fixed_p = f_upper_tail((explained / p) / ((rss - explained) / dof), p, dof);
+  else
+    out.fixed_p = 1;
   for (int j = 0; j < X.cols(); ++j) {
     const double share = std::pow(X.col(j).dot(r_perp), 2) / X.col(j).squaredNorm() / rss;
     if (!(share <= out.dominant_fixed_fraction)) {

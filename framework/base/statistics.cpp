@@ -49,7 +49,46 @@ double gamma_q(double a, double x) {
   return std::exp(log_prefactor) * h;
 }
 
+// The continued fraction of the regularised incomplete beta I_x(a, b) (the even and odd
+// steps of its standard expansion), evaluated by Lentz's method; it converges fast for
+// x < (a + 1) / (a + b + 2), and incomplete_beta() uses the symmetry I_x(a, b) =
+// 1 - I_{1-x}(b, a) elsewhere.
+double beta_continued_fraction(double a, double b, double x) {
+  constexpr double kTiny = 1e-300;
+  const auto guard = [](double v) { return std::abs(v) < kTiny ? kTiny : v; };
+  double c = 1, d = 1 / guard(1 - (a + b) * x / (a + 1)), h = d;
+  for (int m = 1; m < 10000; ++m) {
+    const double even = m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m));
+    d = 1 / guard(1 + even * d);
+    c = guard(1 + even / c);
+    h *= d * c;
+    const double odd = -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1));
+    d = 1 / guard(1 + odd * d);
+    c = guard(1 + odd / c);
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1) < 1e-16) break;
+  }
+  return h;
+}
+
+double incomplete_beta(double a, double b, double x) {
+  if (x <= 0) return 0;
+  if (x >= 1) return 1;
+  const double log_prefactor =
+      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
+  if (x < (a + 1) / (a + b + 2))
+    return std::exp(log_prefactor) * beta_continued_fraction(a, b, x) / a;
+  return 1 - std::exp(log_prefactor) * beta_continued_fraction(b, a, 1 - x) / b;
+}
+
 }  // namespace
+
+double f_upper_tail(double f, double d1, double d2) {
+  if (!(f > 0)) return 1.0;
+  if (std::isinf(f)) return 0.0;
+  return std::clamp(incomplete_beta(d2 / 2, d1 / 2, d2 / (d2 + d1 * f)), 0.0, 1.0);
+}
 
 double chi_square_upper_tail(double x, double k) { return gamma_q(k / 2, x / 2); }
 

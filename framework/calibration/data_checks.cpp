@@ -195,24 +195,32 @@ std::string spread_mismatch(const MeasurementModel& model, const VectorXd& param
     predicted.push_back(p);
   }
   for (const auto& group : groups) {
-    // Spread about the centre, over the rows where the group was measured.
+    // Spread about the centre, over the rows where the group was measured: the median
+    // distance from the component-wise median, so that one wild reading (1e308) is the
+    // residual check's to name by its line, not a units verdict on the whole file.
     const auto spread = [&](const std::vector<VectorXd>& rows) {
-      VectorXd centre = VectorXd::Zero(static_cast<int>(group.size()));
-      int n = 0;
-      for (std::size_t r = 0; r < rows.size(); ++r) {
-        if (std::isnan(measured[r][group[0]])) continue;
-        for (std::size_t g = 0; g < group.size(); ++g) centre[g] += rows[r][group[g]];
-        ++n;
+      std::vector<std::size_t> present;
+      for (std::size_t r = 0; r < rows.size(); ++r)
+        if (!std::isnan(measured[r][group[0]])) present.push_back(r);
+      if (present.size() < 3) return std::numeric_limits<double>::quiet_NaN();
+      const auto median = [](std::vector<double>& values) {
+        const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+        std::nth_element(values.begin(), middle, values.end());
+        return *middle;
+      };
+      std::vector<double> values(present.size());
+      VectorXd centre(static_cast<int>(group.size()));
+      for (std::size_t g = 0; g < group.size(); ++g) {
+        for (std::size_t i = 0; i < present.size(); ++i) values[i] = rows[present[i]][group[g]];
+        centre[static_cast<int>(g)] = median(values);
       }
-      if (n < 3) return std::numeric_limits<double>::quiet_NaN();
-      centre /= n;
-      double sum = 0;
-      for (std::size_t r = 0; r < rows.size(); ++r) {
-        if (std::isnan(measured[r][group[0]])) continue;
+      for (std::size_t i = 0; i < present.size(); ++i) {
+        double sum = 0;
         for (std::size_t g = 0; g < group.size(); ++g)
-          sum += std::pow(rows[r][group[g]] - centre[g], 2);
+          sum += std::pow(rows[present[i]][group[g]] - centre[static_cast<int>(g)], 2);
+        values[i] = std::sqrt(sum);
       }
-      return std::sqrt(sum / n);
+      return median(values);
     };
     const double seen = spread(measured), expected = spread(predicted);
     // Readings that do not move, or configurations that hardly move the point (a thousandth
@@ -233,8 +241,9 @@ std::string spread_mismatch(const MeasurementModel& model, const VectorXd& param
     for (std::size_t g = 0; g < group.size(); ++g) columns += (g ? ", " : "") + names[group[g]];
     const bool metres = ratio > 1.0 / 3000 && ratio < 1.0 / 300;
     return "the readings " + columns + " spread over " + format("%.4g", seen) +
-           " mm (RMS about their centre), while the model predicts " + format("%.4g", expected) +
-           " mm at the same configurations: " + format("%.3g", ratio) + " times" +
+           " mm (median distance from their median), while the model predicts " +
+           format("%.4g", expected) + " mm at the same configurations: " + format("%.3g", ratio) +
+           " times" +
            (metres ? ", which looks like metres where the model takes millimetres; name the "
                      "columns " +
                          name_list(

@@ -25,7 +25,9 @@ trap 'rm -rf "$dir"' EXIT
 "$kincal" simulate --model "$dir/nominal.json" --case 5 --seed 7 --write-data "$dir/measured.csv" >/dev/null
 "$kincal" calibrate --model "$dir/nominal.json" --data "$dir/measured.csv" \
   --out "$dir/calibrated.json" --json "$dir/report.json" --html "$dir/report.html" \
-  --target 0.1mm --sensitivity >/dev/null
+  --target 0.1mm --sensitivity >/dev/null && status=0 || status=$?
+# The 0.1 mm target is not met: "do not load it", exit 3, every output written.
+[ "$status" = 3 ] || { echo "FAIL: calibrate --target exited $status, expected 3"; exit 1; }
 flags=(--headless --no-sandbox --disable-gpu --no-first-run --disable-extensions
        --disable-background-networking --user-data-dir="$dir/profile" --hide-scrollbars)
 fail() { echo "FAIL: $*"; exit 1; }
@@ -44,7 +46,7 @@ circles=$(grep -o '<circle' "$dir/dom.html" | wc -l)
 [ "$circles" -ge 508 ] || fail "expected at least 508 plotted points, found $circles"
 grep -q '<script' "$dir/dom.html" && fail "the page holds a script"
 grep -q '{"' "$dir/dom.html" && fail "raw JSON in the report"
-grep -q 'Does not meet the 0.1 mm target' "$dir/dom.html" || fail "no verdict against --target"
+grep -q 'does not meet the 0.1 mm target' "$dir/dom.html" || fail "no verdict against --target"
 grep -q 'measure no point of the mechanism' "$dir/dom.html" || fail "no note on what a gauge cannot show"
 
 timeout 180 "$browser" "${flags[@]}" --window-size=1200,2400 --screenshot="$dir/report.png" \

@@ -220,7 +220,7 @@ TEST(CliRankDeficient, SimulateRefusesWhatCalibrateRefuses) {
   EXPECT_FALSE(fs::exists(json));
   EXPECT_FALSE(fs::exists(data));
   // As calibrate, --allow-rank-deficient solves for what the data determine; calibrate then
-  // refuses the data it wrote with the same words.
+  // refuses the data it wrote: noise-free copies of one configuration count once.
   const auto allowed =
       run_cli("simulate --config-range 0mm --poses 40 --seed 1 --validation 10 --json " + json +
               " --write-data " + data + " --allow-rank-deficient");
@@ -235,7 +235,9 @@ TEST(CliRankDeficient, SimulateRefusesWhatCalibrateRefuses) {
   EXPECT_EQ(result["fixed_by_identifiability"].size(), 23u);
   ASSERT_EQ(run_cli("model --out " + dir / "M.json").exit_code, 0);
   const auto calibrate = run_cli("calibrate --model " + dir / "M.json" + " --data " + data);
-  expect_one_line_error(calibrate, "the data determine only 1 of 24 free parameters",
+  expect_one_line_error(calibrate,
+                        "1 usable configurations (39 more row(s) copy one exactly and count "
+                        "once) give 1 readings for 24 free parameters",
                         "calibrate on the same data");
 }
 

@@ -119,6 +119,21 @@ TEST(Validation, ChiSquareTailHasKnownValues) {
   EXPECT_EQ(chi_square_upper_tail(0, 10), 1.0);
 }
 
+// Against closed forms (d1 = d2 = 2: 1 / (1 + f)) and scipy.stats.f.sf (scipy 1.10, Debian 12),
+// on both sides of the continued fraction's switch.
+TEST(Validation, FTailHasKnownValues) {
+  for (double f : {0.01, 0.5, 1.0, 3.0, 40.0})
+    EXPECT_NEAR(f_upper_tail(f, 2, 2), 1 / (1 + f), 1e-13);
+  EXPECT_NEAR(f_upper_tail(4.6, 14, 2), 0.19271940001208432, 1e-12);
+  EXPECT_NEAR(f_upper_tail(3.0, 5, 20), 0.03520133745266662, 1e-12);
+  EXPECT_NEAR(f_upper_tail(0.5, 3, 7), 0.6940363875688136, 1e-12);
+  EXPECT_NEAR(f_upper_tail(10, 1, 100), 0.0020728725808666576, 1e-12);
+  // Many residual degrees of freedom: the chi-square tail of d1 F.
+  EXPECT_NEAR(f_upper_tail(2.0, 4, 1e7), chi_square_upper_tail(8.0, 4), 1e-5);
+  EXPECT_EQ(f_upper_tail(0, 3, 4), 1.0);
+  EXPECT_EQ(f_upper_tail(HUGE_VAL, 3, 4), 0.0);
+}
+
 // The Woodbury form against the m x m covariance, on held-out data of the cube hexapod.
 TEST(Validation, ChiSquareUsesTheFullCovariance) {
   ScenarioOptions options;

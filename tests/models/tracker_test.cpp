@@ -112,7 +112,7 @@ TEST(PoseTracker, ReadsTheMarkersPositionAndRotationVector) {
   EXPECT_LT((reading.tail<3>() - Vector3d(0, 0, -kPi / 3)).norm(), 1e-12);
   EXPECT_EQ(tracker.reading_units(),
             (std::vector<std::string>{"mm", "mm", "mm", "rad", "rad", "rad"}));
-  EXPECT_EQ(tracker.reading_names()[5], "cam.rz");
+  EXPECT_EQ(tracker.reading_names()[5], "cam.rotvec_z");
   EXPECT_TRUE(tracker.has_manifold_readings());
 }
 
