@@ -1,13 +1,16 @@
 #include "kincal/models/serial_arm.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <set>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
-
 namespace kincal {
+
+using serial_chain::add_frame_parameters;
+using serial_chain::finish_columns;
+using serial_chain::frame_block_columns;
+using serial_chain::rotation_column;
+using serial_chain::translation_column;
 
 const char* to_string(JointType type) {
   return type == JointType::kRevolute ? "revolute" : "prismatic";
@@ -18,14 +21,6 @@ const char* to_string(LinkConvention convention) {
 }
 
 namespace {
-
-const char* kFrameSuffixes[6] = {"x", "y", "z", "rx", "ry", "rz"};
-
-void add_frame_parameters(std::vector<Parameter>& out, const std::string& prefix,
-                          const Vector6d& values) {
-  for (int k = 0; k < 6; ++k)
-    out.push_back({prefix + "." + kFrameSuffixes[k], values[k], k < 3 ? "mm" : "rad", false});
-}
 
 // R * Rz(angle), R * Rx(angle), R * Ry(angle), column by column (no 3x3 product).
 void rotate_z(Matrix3d& R, double c, double s) {
@@ -42,28 +37,6 @@ void rotate_y(Matrix3d& R, double c, double s) {
   const Vector3d x = R.col(0), z = R.col(2);
   R.col(0) = c * x - s * z;
   R.col(2) = s * x + c * z;
-}
-
-// Column of J_pose for an elementary rotation about the unit axis w through point o, in the
-// "moment" form [o x w; w]: the end's translation moves by w x (t_end - o) = w x t_end + o x w,
-// and the w x t_end part is added once t_end is known (finish_columns).
-template <class Column>
-void rotation_column(Column&& column, const Vector3d& w, const Vector3d& o) {
-  column.template head<3>() = o.cross(w);
-  column.template tail<3>() = w;
-}
-
-template <class Column>
-void translation_column(Column&& column, const Vector3d& direction) {
-  column.template head<3>() = direction;
-  column.template tail<3>().setZero();
-}
-
-// Adds w x t_end to the translation rows of every column (nothing for translations, whose
-// w is zero). Column by column: a 3 x 3 times 3 x n product would go through Eigen's general
-// product, which may allocate.
-void finish_columns(Eigen::Ref<Matrix6Xd>& J, const Vector3d& t_end) {
-  for (int c = 0; c < J.cols(); ++c) J.col(c).head<3>() += J.col(c).tail<3>().cross(t_end);
 }
 
 }  // namespace
@@ -193,11 +166,7 @@ struct ParamsJacobianVisit {
   int tool_column;
 
   void base(const Pose& frame, const Vector3d& angles) {
-    J.middleCols<3>(SerialArm::base_index()).topRows<3>().setIdentity();
-    J.middleCols<3>(SerialArm::base_index()).bottomRows<3>().setZero();
-    const Matrix3d E = euler_zyx_angular_jacobian(angles);
-    for (int k = 0; k < 3; ++k)
-      rotation_column(J.col(SerialArm::base_index() + 3 + k), E.col(k), frame.translation);
+    frame_block_columns(J.middleCols<6>(SerialArm::base_index()), Pose{}, frame, angles);
   }
   void link(int i, bool, LinkConvention convention, const Vector3d& z_prev, const Vector3d& o_prev,
             const Vector3d& x_new, const Pose& frame) {
@@ -212,12 +181,8 @@ struct ParamsJacobianVisit {
     rotation_column(J.col(c + SerialArm::kTheta), z_prev, o_prev);
   }
   void tool(const Pose& frame, const Pose& end, const Vector3d& angles) {
-    J.middleCols<3>(tool_column).topRows<3>() = frame.rotation;
-    J.middleCols<3>(tool_column).bottomRows<3>().setZero();
     // The tool's rotation turns the end about its own origin: no translation.
-    const Matrix3d W = frame.rotation * euler_zyx_angular_jacobian(angles);
-    for (int k = 0; k < 3; ++k)
-      rotation_column(J.col(tool_column + 3 + k), W.col(k), end.translation);
+    frame_block_columns(J.middleCols<6>(tool_column), frame, end, angles);
   }
 };
 
@@ -275,116 +240,18 @@ InverseKinematicsResult SerialArm::inverse_kinematics(const ParamsRef& params, c
   return inverse_kinematics_from(params, pose, home_q_, q);
 }
 
-namespace {
-
-// The weighted pose error [t_target - t; w log(R_target R^T)]: the perturbation (pose.hpp)
-// that takes the current pose to the target, rotation scaled to mm.
-Vector6d pose_error(const Pose& target, const Pose& current, double rotation_weight) {
-  Vector6d e;
-  e.head<3>() = target.translation - current.translation;
-  e.tail<3>() = rotation_weight * log_so3(target.rotation * current.rotation.transpose());
-  return e;
-}
-
-std::string error_text(const Vector6d& e, double rotation_weight) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "%.3g mm and %.3g rad", e.head<3>().norm(),
-                e.tail<3>().norm() / rotation_weight);
-  return buf;
-}
-
-}  // namespace
-
 InverseKinematicsResult SerialArm::inverse_kinematics_from(
     const ParamsRef& params, const Pose& pose, const ActuatorsRef& start, Eigen::Ref<VectorXd> q,
     const SerialInverseKinematicsOptions& options) const {
-  InverseKinematicsResult result;
-  const int n = num_joints();
-  if (!params.allFinite() || !pose.rotation.allFinite() || !pose.translation.allFinite() ||
-      !start.allFinite()) {
-    result.status = InverseKinematicsStatus::kNonFinite;
+  if (!params.allFinite()) {
     q = home_q_;
+    InverseKinematicsResult result;
+    result.status = InverseKinematicsStatus::kNonFinite;
     return result;
   }
-  const double w = options.rotation_weight;
-  Matrix6Xd J(6, n);
-  VectorXd x = start, trial(n), step(n);
-  MatrixXd A(n, n);
-  VectorXd g(n);
-  Pose current = joint_jacobian(params, x, J);
-  Vector6d e = pose_error(pose, current, w);
-  double cost = e.squaredNorm();
-  double lambda = -1;  // set from the first Jacobian's scale
-  bool stationary = false;
-  for (result.iterations = 0; result.iterations < options.max_iterations; ++result.iterations) {
-    if (e.head<3>().norm() <= options.position_tolerance &&
-        e.tail<3>().norm() <= w * options.rotation_tolerance) {
-      q = x;
-      result.residual_norm = e.head<3>().norm() + e.tail<3>().norm() / w;
-      return result;
-    }
-    J.bottomRows<3>() *= w;
-    A.noalias() = J.transpose() * J;
-    g.noalias() = J.transpose() * e;
-    const double scale = A.diagonal().maxCoeff();
-    if (!(scale > 0) || !std::isfinite(scale)) {  // no joint moves the end: nothing to do
-      stationary = true;
-      break;
-    }
-    if (lambda < 0) lambda = 1e-3 * scale;
-    // Levenberg-Marquardt: grow the damping until a step lowers the cost. A cost that no
-    // step lowers, even tiny, is a stationary point of the pose error.
-    bool accepted = false;
-    while (!accepted) {
-      A.diagonal().array() += lambda;
-      step = A.ldlt().solve(g);
-      A.diagonal().array() -= lambda;
-      trial = x + step;
-      const Pose moved = walk_chain(params, trial, NoVisit{});
-      const Vector6d e_trial = pose_error(pose, moved, w);
-      const double cost_trial = e_trial.squaredNorm();
-      if (cost_trial < cost) {
-        accepted = true;
-        x = trial;
-        lambda = std::max(lambda / 3, 1e-12 * scale);
-        if (step.norm() <= 1e-15 * (1 + x.norm()) || cost - cost_trial <= 1e-15 * cost)
-          stationary = true;
-      } else {
-        lambda *= 4;
-        if (lambda > 1e12 * scale) {
-          stationary = true;
-          break;
-        }
-      }
-    }
-    current = joint_jacobian(params, x, J);
-    e = pose_error(pose, current, w);
-    cost = e.squaredNorm();
-    if (stationary && !(e.head<3>().norm() <= options.position_tolerance &&
-                        e.tail<3>().norm() <= w * options.rotation_tolerance))
-      break;
-  }
-  result.residual_norm = e.head<3>().norm() + e.tail<3>().norm() / w;
-  if (e.head<3>().norm() <= options.position_tolerance &&
-      e.tail<3>().norm() <= w * options.rotation_tolerance) {
-    q = x;
-    return result;
-  }
-  q = x;  // the closest joint values found
-  if (stationary && n < 6) {
-    result.status = InverseKinematicsStatus::kUnreachable;
-    result.reason = "the " + std::to_string(n) + "-joint arm's closest pose is " +
-                    error_text(e, w) + " away (a least-squares minimum)";
-  } else if (stationary) {
-    result.status = InverseKinematicsStatus::kNotConverged;
-    result.reason = "stopped at a stationary point " + error_text(e, w) +
-                    " from the pose: a local minimum, or the pose is out of reach";
-  } else {
-    result.status = InverseKinematicsStatus::kNotConverged;
-    result.reason = "still " + error_text(e, w) + " from the pose after " +
-                    std::to_string(result.iterations) + " iterations";
-  }
-  return result;
+  return serial_chain::inverse_kinematics(
+      pose, start, q, options, [&](const VectorXd& x) { return walk_chain(params, x, NoVisit{}); },
+      [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 
 }  // namespace kincal

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "kincal/framework/kinematics/mechanism.hpp"
+#include "kincal/models/serial_chain.hpp"
 
 namespace kincal {
 
@@ -59,18 +60,6 @@ struct SerialArmGeometry {
   Vector6d base = Vector6d::Zero();
   std::vector<SerialJoint> joints;
   Vector6d tool = Vector6d::Zero();
-};
-
-/// How inverse kinematics iterates (Levenberg-Marquardt on the 6-D pose error).
-struct SerialInverseKinematicsOptions {
-  int max_iterations = 200;
-  /// Solved when the position error is below this (mm) and the rotation error below
-  /// rotation_tolerance (rad).
-  double position_tolerance = 1e-9;
-  double rotation_tolerance = 1e-12;
-  /// Rotation errors are weighted by this length (mm per rad) against position errors, so
-  /// that 1 mrad counts like 1 mm at 1 m.
-  double rotation_weight = 1000.0;
 };
 
 class SerialArm final : public Mechanism {

@@ -1,15 +1,19 @@
 #include "kincal/models/urdf_arm.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <cmath>
-#include <cstdio>
 #include <set>
 #include <stdexcept>
 
 #include "kincal/framework/analysis/identifiability.hpp"
 
 namespace kincal {
+
+using serial_chain::add_frame_parameters;
+using serial_chain::finish_columns;
+using serial_chain::frame_block_columns;
+using serial_chain::rotation_column;
+using serial_chain::translation_column;
 
 const char* to_string(UrdfJointType type) {
   switch (type) {
@@ -25,33 +29,7 @@ const char* to_string(UrdfJointType type) {
 
 namespace {
 
-const char* kFrameSuffixes[6] = {"x", "y", "z", "rx", "ry", "rz"};
-
-void add_frame_parameters(std::vector<Parameter>& out, const std::string& prefix,
-                          const Vector6d& values) {
-  for (int k = 0; k < 6; ++k)
-    out.push_back({prefix + "." + kFrameSuffixes[k], values[k], k < 3 ? "mm" : "rad", false});
-}
-
 bool finite(const Pose& p) { return p.rotation.allFinite() && p.translation.allFinite(); }
-
-// A column of J_pose for a rotation about the unit axis w through o, in the moment form
-// [o x w; w]; finish_columns adds w x t_end once the end is known.
-template <class Column>
-void rotation_column(Column&& column, const Vector3d& w, const Vector3d& o) {
-  column.template head<3>() = o.cross(w);
-  column.template tail<3>() = w;
-}
-
-template <class Column>
-void translation_column(Column&& column, const Vector3d& direction) {
-  column.template head<3>() = direction;
-  column.template tail<3>().setZero();
-}
-
-void finish_columns(Eigen::Ref<Matrix6Xd>& J, const Vector3d& t_end) {
-  for (int c = 0; c < J.cols(); ++c) J.col(c).head<3>() += J.col(c).tail<3>().cross(t_end);
-}
 
 bool is_revolute(UrdfJointType type) { return type != UrdfJointType::kPrismatic; }
 
@@ -172,17 +150,6 @@ struct TipVisit : NoVisit {
   void tool(const Pose& frame, const Pose&, const Vector3d&) { *tip = frame; }
 };
 
-// A frame block F = (R_f, t_f) after the frame P: its translations move everything beyond it
-// along P's axes; its Euler angles turn everything beyond it about P.R E(angles) through the
-// block's own origin P t_f.
-template <class Block>
-void frame_block_columns(Block&& J, const Pose& parent, const Pose& after, const Vector3d& angles) {
-  J.template topLeftCorner<3, 3>() = parent.rotation;
-  J.template bottomLeftCorner<3, 3>().setZero();
-  const Matrix3d W = parent.rotation * euler_zyx_angular_jacobian(angles);
-  for (int k = 0; k < 3; ++k) rotation_column(J.col(3 + k), W.col(k), after.translation);
-}
-
 struct ParamsJacobianVisit {
   Eigen::Ref<Matrix6Xd>& J;
   int tool_column;
@@ -257,75 +224,21 @@ Pose UrdfArm::joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
 
 InverseKinematicsResult UrdfArm::inverse_kinematics(const ParamsRef& params, const Pose& pose,
                                                     Eigen::Ref<VectorXd> q) const {
-  InverseKinematicsResult result;
-  const int n = num_joints();
-  q = home_q_;
-  if (!params.allFinite() || !finite(pose)) {
+  return inverse_kinematics_from(params, pose, home_q_, q);
+}
+
+InverseKinematicsResult UrdfArm::inverse_kinematics_from(
+    const ParamsRef& params, const Pose& pose, const ActuatorsRef& start, Eigen::Ref<VectorXd> q,
+    const SerialInverseKinematicsOptions& options) const {
+  if (!params.allFinite()) {
+    q = home_q_;
+    InverseKinematicsResult result;
     result.status = InverseKinematicsStatus::kNonFinite;
     return result;
   }
-  // Levenberg-Marquardt on [t_target - t; w log(R_target R^T)], rotation weighted by 1 m so
-  // that 1 mrad counts like 1 mm.
-  constexpr double w = 1000.0, kPositionTolerance = 1e-9, kRotationTolerance = 1e-12;
-  auto error_of = [&](const Pose& current) {
-    Vector6d e;
-    e.head<3>() = pose.translation - current.translation;
-    e.tail<3>() = w * log_so3(pose.rotation * current.rotation.transpose());
-    return e;
-  };
-  auto solved = [&](const Vector6d& e) {
-    return e.head<3>().norm() <= kPositionTolerance && e.tail<3>().norm() <= w * kRotationTolerance;
-  };
-  Matrix6Xd J(6, n);
-  VectorXd x = home_q_, trial(n);
-  MatrixXd A(n, n);
-  VectorXd g(n);
-  Vector6d e = error_of(joint_jacobian(params, x, J));
-  double lambda = -1;
-  bool stationary = false;
-  for (result.iterations = 0; result.iterations < 200 && !solved(e) && !stationary;
-       ++result.iterations) {
-    J.bottomRows<3>() *= w;
-    A.noalias() = J.transpose() * J;
-    g.noalias() = J.transpose() * e;
-    const double scale = A.diagonal().maxCoeff();
-    if (!(scale > 0) || !std::isfinite(scale)) break;
-    if (lambda < 0) lambda = 1e-3 * scale;
-    const double cost = e.squaredNorm();
-    for (;;) {
-      A.diagonal().array() += lambda;
-      trial = x + A.ldlt().solve(g);
-      A.diagonal().array() -= lambda;
-      const double cost_trial = error_of(walk_chain(params, trial, NoVisit{})).squaredNorm();
-      if (cost_trial < cost) {
-        if (cost - cost_trial <= 1e-15 * cost) stationary = true;
-        x = trial;
-        lambda = std::max(lambda / 3, 1e-12 * scale);
-        break;
-      }
-      lambda *= 4;
-      if (lambda > 1e12 * scale) {
-        stationary = true;
-        break;
-      }
-    }
-    e = error_of(joint_jacobian(params, x, J));
-  }
-  q = x;
-  result.residual_norm = e.head<3>().norm() + e.tail<3>().norm() / w;
-  if (solved(e)) return result;
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "%.3g mm and %.3g rad", e.head<3>().norm(),
-                e.tail<3>().norm() / w);
-  if (n < 6) {
-    result.status = InverseKinematicsStatus::kUnreachable;
-    result.reason = "the " + std::to_string(n) + "-joint arm's closest pose is " + buf + " away";
-  } else {
-    result.status = InverseKinematicsStatus::kNotConverged;
-    result.reason = std::string("stopped ") + buf +
-                    " from the pose: a local minimum, or the pose is out of reach";
-  }
-  return result;
+  return serial_chain::inverse_kinematics(
+      pose, start, q, options, [&](const VectorXd& x) { return walk_chain(params, x, NoVisit{}); },
+      [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 
 std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {

@@ -32,6 +32,7 @@
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/framework/kinematics/mechanism.hpp"
+#include "kincal/models/serial_chain.hpp"
 
 namespace kincal {
 
@@ -88,8 +89,15 @@ class UrdfArm final : public Mechanism {
 
   InverseKinematicsResult home_actuators(const ParamsRef& params,
                                          Eigen::Ref<VectorXd> q) const override;
+  /// From home (serial_chain::inverse_kinematics): an unreachable pose is a status with a
+  /// reason, q the closest joint values found.
   InverseKinematicsResult inverse_kinematics(const ParamsRef& params, const Pose& pose,
                                              Eigen::Ref<VectorXd> q) const override;
+  /// The same from the joint values `start`: the solution nearest a configuration the robot
+  /// is in, where several reach the pose.
+  InverseKinematicsResult inverse_kinematics_from(
+      const ParamsRef& params, const Pose& pose, const ActuatorsRef& start, Eigen::Ref<VectorXd> q,
+      const SerialInverseKinematicsOptions& options = {}) const;
   ForwardKinematicsResult forward_kinematics(
       const ParamsRef& params, const ActuatorsRef& q, const Pose& start,
       const ForwardKinematicsOptions& options = {}) const override;

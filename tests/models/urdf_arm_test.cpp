@@ -124,6 +124,39 @@ TEST(UrdfArm, InverseKinematicsReturnsToTheJointsOfForwardKinematics) {
   EXPECT_TRUE(solved.allFinite());
 }
 
+// Inverse kinematics is the chain's shared solver (models/serial_chain.hpp) from any start: a
+// six-joint arm reaches a pose in several configurations, and a start near one of them
+// returns that one, the branch a user correcting a target wants.
+TEST(UrdfArm, InverseKinematicsFromAStartReturnsTheSolutionNearIt) {
+  const auto model = make_ur5_urdf();
+  const auto& arm = dynamic_cast<const UrdfArm&>(model->mechanism());
+  const VectorXd p = model->parameters().nominal_values();
+  VectorXd q_true(6);
+  q_true << 0.4, -1.1, 1.3, -1.6, -1.4, 0.7;
+  const Pose pose = arm.forward_kinematics(p, q_true, Pose{}).pose;
+  // Another configuration reaching the same pose, found from starts spread over the joints.
+  VectorXd other(6), solved(6), start(6);
+  bool found = false;
+  for (int k = 0; k < 40 && !found; ++k) {
+    for (int i = 0; i < 6; ++i) start[i] = 2.5 * std::sin(1.3 * k + 2.1 * i + 0.5);
+    if (arm.inverse_kinematics_from(p, pose, start, other).ok() &&
+        (other - q_true).cwiseAbs().maxCoeff() > 0.5)
+      found = true;
+  }
+  ASSERT_TRUE(found) << "no second configuration reaches the pose";
+  for (const VectorXd& target : {q_true, other}) {
+    VectorXd near = target;
+    for (int i = 0; i < 6; ++i) near[i] += 0.05 * std::cos(3.0 * i);
+    const InverseKinematicsResult ik = arm.inverse_kinematics_from(p, pose, near, solved);
+    ASSERT_TRUE(ik.ok()) << ik.describe();
+    EXPECT_LT((solved - target).cwiseAbs().maxCoeff(), 1e-6) << solved.transpose();
+  }
+  // Non-finite input is a status, never NaN.
+  start.setConstant(NAN);
+  EXPECT_EQ(arm.inverse_kinematics_from(p, pose, start, solved).status,
+            InverseKinematicsStatus::kNonFinite);
+}
+
 // Where two axes are parallel the DH parameters of the link between them jump; the origin
 // errors stay regular: with the DH-singular pair j2, j3 the identification Jacobian of a
 // point at many configurations keeps every column and has the rank the geometry allows.
