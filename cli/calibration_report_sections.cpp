@@ -1,6 +1,7 @@
 // The sections of the calibration report's page (cli/calibration_report_sections.hpp).
 
 #include "kincal/cli/calibration_report_sections.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -361,11 +362,12 @@ std::string identifiability_html(const Json& r) {
     out += "Condition number " + esc(fmt(cond, 3)) +
            ": the weakest direction is that many times less visible in the readings than the "
            "strongest, so noise along it is amplified that much. " +
-           (cond < 1e3   ? "That is a well-conditioned calibration."
-            : cond < 1e5 ? "That is ill-conditioned: expect standard deviations far above the "
-                           "sensor noise for the parameters in the weak directions."
-                         : "That is severely ill-conditioned: the weakest directions are close "
-                           "to undeterminable.");
+           (cond < kIllConditioned ? "That is a well-conditioned calibration."
+            : cond < kSeverelyIllConditioned
+                ? "That is ill-conditioned: expect standard deviations far above the "
+                  "sensor noise for the parameters in the weak directions."
+                : "That is severely ill-conditioned: the weakest directions are close "
+                  "to undeterminable.");
   out += " O1 " + esc(fmt(num(member(id, "O1")), 3)) + ", O2 " +
          esc(fmt(num(member(id, "O2")), 3)) + ", O3 " + esc(fmt(num(member(id, "O3")), 3)) +
          ", O4 " + esc(fmt(num(member(id, "O4")), 3)) + ", O5 " +

@@ -8,6 +8,7 @@
 #include "kincal/cli/html_pose_accuracy.hpp"
 #include "kincal/cli/html_report.hpp"
 #include "kincal/cli/html_values.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
 
 namespace kincal::cli {
 
@@ -78,7 +79,7 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                        " directions in parameter space.",
                    "Fix parameters you know (--fix), or measure configurations that move the "
                    "listed combinations."});
-  else if (cond > 1e5)
+  else if (cond > kSeverelyIllConditioned)
     out.push_back({L::kWarning,
                    "The identification is severely ill-conditioned (condition number " +
                        fmt(cond, 2) +
@@ -87,7 +88,7 @@ std::vector<Verdict> calibration_verdicts(const Json& r) {
                    "Measure configurations that spread further (kincal observability --poses "
                    "60 --config-range R shows the effect before you measure), or fix "
                    "parameters known from other measurements."});
-  else if (cond > 1e3)
+  else if (cond > kIllConditioned)
     out.push_back({L::kNote,
                    "The identification is ill-conditioned (condition number " + fmt(cond, 2) +
                        "): weakly determined directions amplify the sensor noise.",

@@ -8,6 +8,7 @@
 #include "kincal/cli/html_sensitivity.hpp"
 #include "kincal/cli/html_values.hpp"
 #include "kincal/cli/svg_plot.hpp"
+#include "kincal/framework/analysis/identifiability.hpp"
 
 namespace kincal::cli {
 
@@ -38,7 +39,7 @@ std::vector<Verdict> observability_verdicts(const Json& o) {
                          "such data cannot succeed.",
                      "Fix parameters you know (--fix), or measure configurations that move the "
                      "combinations listed below."});
-  } else if (cond > 1e5) {
+  } else if (cond > kSeverelyIllConditioned) {
     out.push_back({L::kWarning,
                    "All " + fmt(n, 9) +
                        " directions are determined, but the identification is "
@@ -47,7 +48,7 @@ std::vector<Verdict> observability_verdicts(const Json& o) {
                    "Spread the configurations further (--config-range) or fix parameters known "
                    "from other measurements."});
   } else if (std::isfinite(cond)) {
-    out.push_back({cond > 1e3 ? L::kNote : L::kGood,
+    out.push_back({cond > kIllConditioned ? L::kNote : L::kGood,
                    "All " + fmt(n, 9) + " free parameters are determined (condition number " +
                        fmt(cond, 3) + ").",
                    ""});

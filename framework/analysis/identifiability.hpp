@@ -122,6 +122,13 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOpt
 std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
                                      const IdentifiabilityOptions& options = {},
                                      const MatrixXd& turns = MatrixXd());
+/// The condition number's levels, the same in every report (calibrate's text, JSON and page,
+/// observability's page): above kIllConditioned the weak directions amplify the sensor noise
+/// noticeably; above kSeverelyIllConditioned (the paper's single-gauge cases, about 1e5)
+/// some parameters are hardly determined.
+inline constexpr double kIllConditioned = 1e3;
+inline constexpr double kSeverelyIllConditioned = 1e5;
+
 /// A column whose part outside the chosen span is below this (unit-norm columns) counts as a
 /// duplicate when classes are compared.
 inline constexpr double kPreferredPart = 1e-3;
