@@ -370,6 +370,8 @@ int run_calibrate(const Args& args) {
   report.repeated_configurations = loaded.repeated_configurations;
   report.repeat_rows = loaded.repeat_rows;
   if (!formulation_note.empty()) note("calibrate", formulation_note);
+  report.solver_options = choice.options;
+  report.solver_options.callback = nullptr;
   report.formulation = to_string(solved_formulation);
   report.formulation_note = formulation_note;
   report.model_file = model_file;

@@ -33,6 +33,9 @@ struct CalibrationReport {
   /// Why the formulation asked for is not the one solved (CalibrationSolve::note), or empty.
   std::string formulation_note;
   std::string loss = "none";  ///< the robust loss the fit used and the uncertainty accounts for
+  /// The solver's settings in force (limits, tolerances, threads, backend options), so that a
+  /// report says how it was obtained; the callback and bounds are not recorded.
+  SolverOptions solver_options;
   Summary summary;
   std::vector<std::string> names;  ///< free parameters, problem order
   std::vector<std::string> units;  ///< their units ("mm", "rad")

@@ -72,6 +72,17 @@ Json to_json(const CalibrationReport& r) {
   out["formulation"] = r.formulation;
   out["formulation_note"] = r.formulation_note;
   out["loss"] = r.loss;
+  {
+    const SolverOptions& o = r.solver_options;
+    Json backend = Json::object();
+    for (const auto& [key, value] : o.backend_options) backend[key] = value;
+    out["solver_options"] = {{"max_iterations", o.max_iterations},
+                             {"function_tolerance", o.function_tolerance},
+                             {"parameter_tolerance", o.parameter_tolerance},
+                             {"gradient_tolerance", o.gradient_tolerance},
+                             {"num_threads", o.num_threads},
+                             {"backend_options", backend}};
+  }
   out["termination"] = to_string(r.summary.termination);
   out["message"] = r.summary.message;
   out["iterations"] = r.summary.iterations;

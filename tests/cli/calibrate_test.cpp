@@ -167,9 +167,20 @@ TEST_F(CliCalibrate, RobustLossNeedsABackendThatTakesIt) {
   const auto lm = run_cli("list solvers");
   if (lm.out.find("lm ") == std::string::npos) GTEST_SKIP() << "lm backend not built";
   const auto ok = run_cli("calibrate --model " + m_ + " --data " + d_ +
-                          " --solver lm --loss cauchy:0.02 --report -");
+                          " --solver lm --loss cauchy:0.02 --max-iterations 150 " +
+                          "--solver-option initial_trust_radius=1e3 --threads 1 --report -");
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
-  EXPECT_EQ(Json::parse(ok.out)["loss"], "cauchy:0.02");
+  const Json with_loss = Json::parse(ok.out);
+  EXPECT_EQ(with_loss["loss"], "cauchy:0.02");
+  // Every setting in force is in the report (issue 36): limits, tolerances, threads and the
+  // backend's options, the loss among them as the backend received it.
+  const Json& settings = with_loss["solver_options"];
+  EXPECT_EQ(settings["max_iterations"], 150);
+  EXPECT_EQ(settings["function_tolerance"], 1e-12);
+  EXPECT_EQ(settings["gradient_tolerance"], 1e-12);
+  EXPECT_EQ(settings["num_threads"], 1);
+  EXPECT_EQ(settings["backend_options"]["initial_trust_radius"], "1e3");
+  EXPECT_EQ(settings["backend_options"]["loss"], "cauchy:0.02");
   // The loss has one way in, so the report always names the loss the solve used.
   for (const char* extra : {"", " --loss cauchy:0.02"}) {
     const auto backdoor =
