@@ -18,6 +18,7 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
+#include "kincal/framework/analysis/calibration_baselines.hpp"
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/analysis/calibration_verdict.hpp"
 #include "kincal/framework/analysis/cross_validation.hpp"
@@ -108,91 +109,6 @@ std::string calibrated_model_text(const std::string& path, MeasurementModel& mod
                           " estimated parameters as free (the " + std::to_string(fixed.size()) +
                           " fixed above are fixed there)");
   return model_to_json(model, values).dump(2) + "\n";
-}
-
-// The registration-only baseline and, with --folds, K-fold cross-validation of both fits
-// (framework/analysis/cross_validation.hpp), into the report.
-void add_baselines(CalibrationReport& report, const std::shared_ptr<const MeasurementModel>& model,
-                   const Measurements& data, const VectorXd& start, const std::vector<int>& free,
-                   const SolverChoice& choice, bool with_prior, int folds,
-                   const IdentifiabilityOptions& id_options) {
-  SolverOptions options = choice.options;
-  options.verbosity = 0;  // the iterations shown are the calibration's
-  // Only the parameters of `subset` the data determine (a point's orientation is unseen).
-  const auto determined = [&](std::vector<int> subset) {
-    const CalibrationProblem probe(model, data, start, subset);
-    MatrixXd J;
-    if (!probe.evaluate(probe.initial_free_parameters(), nullptr, &J)) return subset;
-    std::vector<int> kept;
-    // Nor a turn of the whole setup, which changes no fit (sockets; J has no constraint rows).
-    MatrixXd turns = measurement_frame_turns(probe, probe.initial_free_parameters());
-    if (turns.cols()) turns = turns.topRows(J.rows()).eval();
-    for (int i : identifiable_subset(J, id_options, turns)) kept.push_back(subset[i]);
-    return kept;
-  };
-  // The nominal geometry with the measured point located: "before" as a user means it when
-  // the model did not know where the reflector is (an imported arm's starts at the flange).
-  const std::vector<int> point = measured_point_indices(*model, free);
-  if (measures_position(*model) && !point.empty() && point.size() < free.size()) {
-    const std::vector<int> located = determined(point);
-    const Fit fit =
-        fit_parameters(model, data, start, located, *choice.solver, options, with_prior);
-    if (fit.ok()) {
-      try {
-        const MatrixXd r = residual_matrix(model, data, fit.values);
-        report.point_located.residual_rms = residual_rms_by_unit(*model, r);
-        report.point_located.position = summarize_position_errors(position_errors(*model, r));
-        report.point_located.termination = to_string(fit.summary.termination);
-        for (int i : located) report.point_located.names.push_back(model->parameters()[i].name);
-        report.point_located.computed = !located.empty();
-      } catch (const std::runtime_error&) {
-        // Not computable at the located point: no such line in the report.
-      }
-    }
-  }
-  std::vector<int> registration = registration_indices(*model, free);
-  auto& baseline = report.registration;
-  if (registration.empty()) {
-    baseline.why_not = "no free parameter is a frame of the sensor, the base or the tool";
-  } else if (registration.size() == free.size()) {
-    baseline.why_not = "every free parameter is a frame: the calibration is a registration";
-  } else {
-    registration = determined(registration);
-    const Fit fit =
-        fit_parameters(model, data, start, registration, *choice.solver, options, with_prior);
-    baseline.termination = to_string(fit.summary.termination);
-    if (!fit.ok()) {
-      baseline.why_not = "the registration-only fit did not converge (" + fit.summary.message + ")";
-    } else {
-      try {
-        const MatrixXd r = residual_matrix(model, data, fit.values);
-        baseline.residual_rms = residual_rms_by_unit(*model, r);
-        baseline.position = summarize_position_errors(position_errors(*model, r));
-        baseline.computed = true;
-        for (int i : registration) baseline.names.push_back(model->parameters()[i].name);
-      } catch (const std::runtime_error& e) {
-        baseline.why_not =
-            std::string("the registration-only fit cannot predict the data (") + e.what() + ")";
-      }
-    }
-  }
-  if (folds == 0) return;
-  auto& cv = report.cross_validation;
-  const CrossValidation full =
-      cross_validate(model, data, start, free, folds, *choice.solver, options, with_prior);
-  cv.folds = folds;
-  cv.failed = full.failed_folds;
-  cv.failure = full.failure;
-  cv.residual_rms = residual_rms_by_unit(*model, full.residuals);
-  cv.position = summarize_position_errors(position_errors(*model, full.residuals));
-  if (baseline.computed) {
-    const CrossValidation reg = cross_validate(model, data, start, registration, folds,
-                                               *choice.solver, options, with_prior);
-    if (reg.failed_folds && !cv.failed) cv.failure = "registration only: " + reg.failure;
-    cv.failed += reg.failed_folds;
-    cv.registration_residual_rms = residual_rms_by_unit(*model, reg.residuals);
-    cv.registration_position = summarize_position_errors(position_errors(*model, reg.residuals));
-  }
 }
 
 }  // namespace
@@ -384,7 +300,8 @@ int run_calibrate(const Args& args) {
   const bool solved = summary.termination == TerminationType::kConverged ||
                       summary.termination == TerminationType::kMaxIterations;
   if (solved)
-    add_baselines(report, model, loaded.data, nominal, free, choice, with_prior, folds, id_options);
+    add_calibration_baselines(report, model, loaded.data, nominal, free, *choice.solver,
+                              choice.options, with_prior, folds, id_options);
   const std::string report_file = json_output(vm);
   const bool report_to_stdout = (!report_file.empty() && plan.to_stdout("--json")) ||
                                 (vm.count("html") && plan.to_stdout("--html"));

@@ -10,6 +10,7 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/framework/calibration/calibration_problem.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/calibration/measurement_loading.hpp"
 
 namespace kincal::cli {
 
@@ -47,35 +48,15 @@ CsvLimits data_limits(const po::variables_map& vm);
 /// file-size limit when that is what stopped it.
 CliError measurement_file_error(const std::invalid_argument& e);
 
-/// Measurements read for a model, with unreachable rows screened.
-struct LoadedData {
-  Measurements data;
-  std::vector<int> lines;          ///< file line of each kept row
-  std::vector<int> skipped_lines;  ///< lines dropped as unreachable
-  /// Readings a sensor cannot take at the model's values (Sensor::reads_at), dropped from
-  /// rows that other readings keep: "line 12: laser: beam misses the plane".
-  std::vector<std::string> dropped_readings;
-  /// Rows that copied an earlier row exactly, dropped (find_repeats), and configurations
-  /// measured more than once with different readings (kept).
-  int duplicate_rows = 0;
-  int repeated_configurations = 0;
-  int repeat_rows = 0;
-  /// The note naming the copied rows, empty when none: the command prints it
-  /// (note_copied_rows) once its own checks of the data passed, so that data it refuses get
-  /// one line, the refusal, which says how many rows were copies.
-  std::string copied_rows_note;
-};
+/// Measurements read for a model and screened (framework/calibration/measurement_loading.hpp).
+using LoadedData = LoadedMeasurements;
 
 /// Prints `loaded.copied_rows_note` as a note of `command`, when there is one.
 void note_copied_rows(const std::string& command, const LoadedData& loaded);
-/// Reads `path` for `model` (unit suffixes converted), refuses data that look like the wrong
-/// unit (check_data_units), then checks that forward kinematics works at `params` for
-/// every row: unreachable rows are an error naming their lines, or, with `skip_bad_rows`,
-/// dropped with a note. A reading that its sensor cannot take there (a beam that misses) is
-/// dropped with a note (set to NaN, not measured) whatever `skip_bad_rows`, as long as the
-/// row keeps another reading. When no row at all is reachable the message names the model file
-/// `model_file` too: then its values are as likely to be wrong as the data. A row that copies
-/// an earlier one exactly, actuators and readings, counts once (LoadedData::copied_rows_note).
+/// kincal::load_measurements for a command: its notes printed as "kincal <command>: note:"
+/// lines once the file is accepted (a refused file gets one line, the refusal, as a CliError
+/// with measurement_file_error's hint); the copied rows' note is left to note_copied_rows.
+/// `skip_bad_rows` is --skip-bad-rows.
 LoadedData load_measurements(const std::string& command, const std::string& path,
                              const MeasurementModel& model, const VectorXd& params,
                              bool skip_bad_rows, const std::string& model_file,
