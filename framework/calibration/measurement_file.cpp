@@ -153,17 +153,27 @@ constexpr int kRowsPerChunk = 4096;
 
 }  // namespace
 
-MeasurementTable read_measurements(const std::string& path,
-                                   const std::vector<std::string>& actuator_names,
-                                   const std::vector<std::string>& reading_names,
-                                   const CsvLimits& limits) {
-  // An ifstream opens a directory and then reads nothing, which would read as "no header".
+namespace {
+
+// The file at `path` opened for reading, or std::invalid_argument naming what it is. An
+// ifstream opens a directory and then reads nothing, which would read as "no header".
+std::ifstream open_measurement_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw std::invalid_argument(path + ": is a directory, expected a measurement file (CSV)");
   std::ifstream in(path);
   if (!in)
     throw std::invalid_argument(path + ": cannot open measurement file (missing or unreadable)");
+  return in;
+}
+
+}  // namespace
+
+MeasurementTable read_measurements(const std::string& path,
+                                   const std::vector<std::string>& actuator_names,
+                                   const std::vector<std::string>& reading_names,
+                                   const CsvLimits& limits) {
+  std::ifstream in = open_measurement_file(path);
   try {
     return parse_measurements(in, path, actuator_names, reading_names, limits);
   } catch (const std::ios_base::failure& e) {
@@ -172,12 +182,7 @@ MeasurementTable read_measurements(const std::string& path,
 }
 
 CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw std::invalid_argument(path + ": is a directory, expected a measurement file (CSV)");
-  std::ifstream in(path);
-  if (!in)
-    throw std::invalid_argument(path + ": cannot open measurement file (missing or unreadable)");
+  std::ifstream in = open_measurement_file(path);
   CsvHeader header;
   try {
     LineReader reader(in, path, limits);
