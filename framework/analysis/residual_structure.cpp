@@ -180,7 +180,8 @@ ResidualStructure analyze_residual_structure(const CalibrationProblem& problem, 
   Eigen::ColPivHouseholderQR<MatrixXd> free_qr(F);
   free_qr.setThreshold(1e-10);
   const int rank_free = static_cast<int>(free_qr.rank());
-  const MatrixXd Qf = MatrixXd(free_qr.householderQ()).leftCols(rank_free);
+  // The thin Q (rows x rank): the full one would be rows x rows, 8 GB at 32 000 readings.
+  const MatrixXd Qf = free_qr.householderQ() * MatrixXd::Identity(F.rows(), rank_free);
   const VectorXd r_perp = rp - Qf * (Qf.transpose() * rp);
   const double rss = r_perp.squaredNorm();
   if (fixed_cols.empty() || !(rss > 0)) {
@@ -202,7 +203,7 @@ ResidualStructure analyze_residual_structure(const CalibrationProblem& problem, 
   Eigen::ColPivHouseholderQR<MatrixXd> fixed_qr(X);
   fixed_qr.setThreshold(1e-8);
   const int p = static_cast<int>(fixed_qr.rank());
-  const MatrixXd Qx = MatrixXd(fixed_qr.householderQ()).leftCols(p);
+  const MatrixXd Qx = fixed_qr.householderQ() * MatrixXd::Identity(X.rows(), p);
   const double explained = (Qx.transpose() * r_perp).squaredNorm();
   out.fixed_directions = p;
   out.fixed_fraction = explained / rss;
