@@ -9,8 +9,6 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/html_report.hpp"
-#include "kincal/cli/identifiability_check.hpp"
-#include "kincal/cli/identifiability_words.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sensitivity_option.hpp"
@@ -18,17 +16,7 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
-#include "kincal/framework/analysis/calibration_baselines.hpp"
-#include "kincal/framework/analysis/calibration_report.hpp"
-#include "kincal/framework/analysis/calibration_verdict.hpp"
-#include "kincal/framework/analysis/cross_validation.hpp"
-#include "kincal/framework/analysis/position_error.hpp"
-#include "kincal/framework/calibration/constrained_problem.hpp"
-#include "kincal/framework/calibration/data_checks.hpp"
-#include "kincal/framework/calibration/equivalent_solutions.hpp"
-#include "kincal/framework/calibration/frame_turns.hpp"
-#include "kincal/framework/calibration/prior_problem.hpp"
-#include "kincal/framework/least_squares/robust_loss.hpp"
+#include "kincal/framework/workflows/calibrate.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
@@ -78,25 +66,6 @@ OutputPlan plan_files(const po::variables_map& vm) {
   if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   plan.check();
   return plan;
-}
-
-// The readings at the starting values must give a finite cost: a reading such as 1e308 is a
-// number but makes ½|r|² overflow, and the solver could only say that it failed at the
-// start. Names the line with the largest residual.
-void check_cost_is_finite(const std::string& data_file, const VectorXd& r,
-                          const std::vector<int>& lines, int readings_per_row,
-                          const std::vector<std::string>& reading_names) {
-  if (std::isfinite(0.5 * r.squaredNorm())) return;
-  Eigen::Index worst = 0;
-  r.cwiseAbs().maxCoeff(&worst);
-  const int row = static_cast<int>(worst) / readings_per_row;
-  char residual[32];
-  std::snprintf(residual, sizeof residual, "%.3g", r[worst]);
-  throw CliError(data_file + ":" + std::to_string(lines[row]) + ": field '" +
-                 reading_names[worst % readings_per_row] + "': predicted - measured is " +
-                 residual +
-                 " at the model's values, which makes the sum of squares overflow; "
-                 "expected readings on the scale of the machine");
 }
 
 // The calibrated model file. It lists what this run estimated as free: a model written after
@@ -168,154 +137,54 @@ int run_calibrate(const Args& args) {
   const RobustLoss loss = loss_option(vm, choice);
   const OutputPlan plan = plan_files(vm);
 
-  const std::string model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
-  const std::string data_file = vm["data"].as<std::string>();
+  CalibrateRequest request;
+  request.model_file = vm.count("model") ? vm["model"].as<std::string>() : "";
+  request.data_file = vm["data"].as<std::string>();
   std::shared_ptr<MeasurementModel> model = load_model_option(vm);
   apply_free_fix(vm, *model);
   apply_noise_std(vm, *model);
   apply_prior_std(vm, *model);
-  const bool with_prior = check_prior_usable(*model, model_file);
-  if (with_prior && loss.kind != RobustLoss::Kind::kNone)
-    throw CliError("--loss " + loss.to_string() +
-                   " with a prior (prior_std, --prior-std): not supported (the backend would "
-                   "robustify the prior's residuals too); calibrate with one or the other");
+  check_calibration_model(*model, loss, request.model_file);
   const VectorXd nominal = model->parameters().nominal_values();
-  std::vector<int> free = model->parameters().free_indices();
-  if (free.empty()) throw CliError("no free parameters: nothing to calibrate (use --free)");
-  const LoadedData loaded =
-      load_measurements("calibrate", data_file, *model, nominal, vm["skip-bad-rows"].as<bool>(),
-                        model_file, data_limits(vm));
-  check_memory(data_file, loaded.data.size(),
-               model->num_readings() * solve_bytes_per_row(static_cast<int>(free.size())),
-               "configuration");
-  // A wrong home_pose gives other valid poses: say so when the data lands far from it.
-  const HomePoseCheck home_check = check_poses_near_home(*model, nominal, loaded.data);
-  if (home_check.far) note("calibrate", home_check.warning);
-  if (folds > loaded.data.size())
-    throw CliError("--folds " + std::to_string(folds) + ": more folds than the " +
-                   std::to_string(loaded.data.size()) + " configurations of " + data_file);
-  const int readings = loaded.data.size() * model->num_readings();
-  if (readings < static_cast<int>(free.size()))
-    throw CliError(
-        data_file + ": " + std::to_string(loaded.data.size()) + " usable configurations" +
-        (loaded.duplicate_rows > 0 ? " (" + std::to_string(loaded.duplicate_rows) +
-                                         " more row(s) copy one exactly and count once)"
-                                   : std::string()) +
-        " give " + std::to_string(readings) + " readings for " + std::to_string(free.size()) +
-        " free parameters; expected at least as many readings as free parameters "
-        "(measure more configurations or --fix parameters)");
-  note_copied_rows("calibrate", loaded);
+  const int free_count = model->parameters().num_free();
+  request.measurements =
+      load_measurements("calibrate", request.data_file, *model, nominal,
+                        vm["skip-bad-rows"].as<bool>(), request.model_file, data_limits(vm));
+  check_memory(request.data_file, request.measurements.data.size(),
+               model->num_readings() * solve_bytes_per_row(free_count), "configuration");
+  request.model = model;
+  request.solver = std::move(choice.solver);
+  request.solver_options = choice.options;
+  request.loss = loss;
+  if (vm.count("formulation")) request.formulation = formulation_choice(vm, *model);
+  request.identifiability = id_options;
+  request.when_rank_deficient = when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(),
+                                                    vm.count("free") || vm.count("fix"));
+  request.rank_deficiency_remedy = "fix parameters with --fix, or pass --allow-rank-deficient";
+  request.folds = folds;
+  request.starts = starts;
+  request.seed = vm["seed"].as<Seed>().value;
+  request.on_note = [](const std::string& text) { note("calibrate", text); };
+  CalibrateResult result = calibrate(request);
+  const Summary& summary = result.summary;
+  const CalibrationReport& report = result.report;
+  const bool solved = result.solved;
 
-  // Identifiability at the starting point decides whether solving makes sense at all.
-  std::vector<std::string> fixed_by_identifiability;
-  std::vector<std::string> null_directions;  // why each of them was fixed, in words
-  {
-    const CalibrationProblem probe(model, loaded.data, nominal, free);
-    VectorXd r;
-    MatrixXd J;
-    std::string why;
-    if (!probe.evaluate(probe.initial_free_parameters(), &r, &J, &why))
-      throw CliError(data_file + ": " + why);
-    check_cost_is_finite(data_file, r, loaded.lines, model->num_readings(), model->reading_names());
-    append_constraint_rows(probe, probe.initial_free_parameters(), J);
-    const IdentifiabilityCheck check = check_identifiability(
-        "calibrate", data_file, probe, J,
-        when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(),
-                            vm.count("free") || vm.count("fix")),
-        id_options, "fix parameters with --fix, or pass --allow-rank-deficient");
-    free = check.free;
-    fixed_by_identifiability = check.fixed;
-    null_directions = check.null_directions;
-  }
-  if (readings == static_cast<int>(free.size()))
-    note("calibrate",
-         "as many readings as free parameters: the fit is exact and the "
-         "standard deviations cannot be estimated");
-
-  const CalibrationProblem problem(model, loaded.data, nominal, free);
-  VectorXd x = problem.initial_free_parameters();
-  const Prior prior = model_prior(problem);
-  // With a prior: the MAP estimate, through the same backend (docs/theory.md). Whatever the
-  // formulation, the report below is the nested problem's at x.
-  Summary summary;
-  StartsReport starts_report;
-  Formulation solved_formulation = Formulation::kNested;
-  std::string formulation_note;
-  if (starts > 1) {
-    if (vm.count("formulation") && formulation_choice(vm, *model) == Formulation::kImplicit)
-      formulation_note = "implicit formulation not used (--starts solves the nested one)";
-    // Tolerances as the nominal-accuracy prediction assumes them (pose_accuracy.hpp). The
-    // starts solve the nested problem, with the model's constraints and the prior.
-    MultiStartOptions multi;
-    multi.starts = starts;
-    multi.threads = choice.options.num_threads;
-    multi.seed = vm["seed"].as<Seed>().value;
-    multi.spread = model_start_spread(*model, free, 5.0, 0.01);
-    with_nested_problem(problem, prior, [&](const LeastSquaresProblem& solved_problem) {
-      starts_report.result =
-          solve_multi_start(solved_problem, *choice.solver, x, choice.options, multi);
-    });
-    starts_report.seed = multi.seed;
-    starts_report.spread_from = multi.spread.assumed
-                                    ? "the tolerances (param_error, else prior_std, else an "
-                                      "assumed ±5 mm and ±0.01 rad)"
-                                    : "the tolerances (param_error, else prior_std)";
-    starts_report.spread_assumed = multi.spread.assumed;
-    x = starts_report.result.starts[starts_report.result.best_start].x;
-    summary = starts_report.result.estimate_summary();
-  } else {
-    const VectorXd start = x;
-    CalibrationSolve solution = solve_calibration(*choice.solver, problem, prior, x, choice.options,
-                                                  formulation_choice(vm, *model));
-    formulation_note = std::move(solution.note);
-    summary = std::move(solution.summary);
-    solved_formulation = solution.formulation;
-    starts_report = single_start_report(start, x, summary, vm["seed"].as<Seed>().value);
-  }
-
-  // An equivalent solution away from the nominal values (whole turns, a flipped link) is
-  // mapped back when the map is exact; what stays far from nominal is a finding below.
-  const NominalBranch branch = map_to_nominal_branch(problem, x);
-  x = branch.x;
-  CalibrationReport report =
-      make_calibration_report(problem, x, summary, loaded.lines, loss, id_options,
-                              prior.any() ? prior.precision() : VectorXd());
-  report.branch_mapped = branch.mapped;
-  report.branch_rejected = branch.rejected;
-  report.duplicate_rows = loaded.duplicate_rows;
-  report.repeated_configurations = loaded.repeated_configurations;
-  report.repeat_rows = loaded.repeat_rows;
-  if (!formulation_note.empty()) note("calibrate", formulation_note);
-  report.solver_options = choice.options;
-  report.solver_options.callback = nullptr;
-  report.formulation = to_string(solved_formulation);
-  report.formulation_note = formulation_note;
-  report.model_file = model_file;
-  report.data_file = data_file;
-  report.fixed_by_identifiability = fixed_by_identifiability;
-  report.skipped_lines = loaded.skipped_lines;
-  report.dropped_readings = loaded.dropped_readings;
-  if (home_check.far) report.warnings.push_back(home_check.warning);
-
-  const bool solved = summary.termination == TerminationType::kConverged ||
-                      summary.termination == TerminationType::kMaxIterations;
-  if (solved)
-    add_calibration_baselines(report, model, loaded.data, nominal, free, *choice.solver,
-                              choice.options, with_prior, folds, id_options);
   const std::string report_file = json_output(vm);
   const bool report_to_stdout = (!report_file.empty() && plan.to_stdout("--json")) ||
                                 (vm.count("html") && plan.to_stdout("--html"));
   // The free set as solved (identifiability may have fixed some): the others are "fixed".
   const std::optional<SensitivityResult> sensitivity =
-      solved ? sensitivity_from_options(vm, model, problem.full_parameters(x), loaded.data, free)
+      solved ? sensitivity_from_options(vm, model, result.parameters, request.measurements.data,
+                                        result.free)
              : std::nullopt;
   nlohmann::ordered_json report_json = to_json(report);
-  report_json["starts"] = starts_json(starts_report);
+  report_json["starts"] = starts_json(result.starts);
   if (target)
     report_json["target"] =
         predicted_target(*target, report_json["predicted_pose_error"], "calibrated");
   if (sensitivity) report_json["sensitivity"] = sensitivity_json(*sensitivity);
-  CalibrationVerdict verdict = judge_calibration(report);
+  CalibrationVerdict& verdict = result.verdict;
   if (target && report_json["target"]["meets"] == false)
     verdict.findings.push_back({"target", Finding::Level::kDoNotLoad,
                                 "The calibration does not meet the target: " +
@@ -325,7 +194,7 @@ int run_calibrate(const Args& args) {
   report_json["verdict"] = to_json(verdict);
   if (!report_to_stdout) {
     out() << to_text(report);
-    out() << starts_text(starts_report);
+    out() << starts_text(result.starts);
     if (sensitivity) out() << sensitivity_text(*sensitivity);
     if (target) out() << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
     out() << to_text(verdict);
@@ -333,12 +202,12 @@ int run_calibrate(const Args& args) {
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
   // report records the SHA-256 of the model written with it, and `kincal verify` tells.
-  if (!null_directions.empty()) report_json["null_directions"] = null_directions;
+  if (!result.null_directions.empty()) report_json["null_directions"] = result.null_directions;
   std::vector<std::pair<std::string, std::string>> outputs;
   std::string model_text;
   if (solved && vm.count("out")) {
-    model_text = calibrated_model_text(vm["out"].as<std::string>(), *model,
-                                       problem.full_parameters(x), fixed_by_identifiability);
+    model_text = calibrated_model_text(vm["out"].as<std::string>(), *model, result.parameters,
+                                       result.fixed_by_identifiability);
     report_json["calibrated_model"] = {{"file", vm["out"].as<std::string>()},
                                        {"sha256", sha256_hex(model_text)}};
   } else {

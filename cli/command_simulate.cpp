@@ -9,7 +9,6 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/identifiability_check.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/model_pair.hpp"
@@ -17,6 +16,7 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/cli/starts_option.hpp"
+#include "kincal/framework/analysis/identifiability_check.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/framework/design/experiment_design.hpp"
@@ -351,13 +351,13 @@ int run_simulate(const Args& args) {
     MatrixXd J;
     if (problem->evaluate(problem->initial_free_parameters(), &r, &J)) {
       const IdentifiabilityCheck check = check_identifiability(
-          "simulate",
           "the simulated data (" + std::to_string(scenario.calibration.size()) +
               " configurations, seed " + std::to_string(scenario.options.seed) + ")",
           *problem, J, when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(), false),
           IdentifiabilityOptions{},
           "widen --config-range, measure more --poses, fix parameters (the model file's "
           "\"free\" list), or pass --allow-rank-deficient");
+      for (const std::string& text : check.notes) note("simulate", text);
       scenario.free_indices = check.free;
       fixed_by_identifiability = check.fixed;
     }

@@ -17,10 +17,9 @@
 #include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/target_accuracy.hpp"
-#include "kincal/framework/analysis/position_error.hpp"
-#include "kincal/framework/analysis/validation.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/workflows/validate.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
@@ -143,49 +142,10 @@ void check_report_is_for_model(const std::string& report_file, const std::string
                    "; expected the model written with this report (kincal verify checks a pair)");
 }
 
-// validate on readings that do not measure a point (length gauges): what they cannot show.
-constexpr const char* kPoseNotShown =
-    "these held-out readings measure no point of the mechanism, so agreeing with them does not "
-    "confirm its pose accuracy (a model can fit one gauge's lengths and still be millimetres "
-    "off in pose); to check the pose, validate on configurations measured with a point or pose "
-    "tracker, or with the gauge in a second placement";
-
 std::string format(const char* fmt, double a) {
   char buf[64];
   std::snprintf(buf, sizeof buf, fmt, a);
   return buf;
-}
-
-// The 3-D position error of the measured point before and after (framework/
-// position_error.hpp): after = the model validated; before = the model the calibration
-// started from, --before's values or the report's "nominal" values of the parameters it
-// fitted. Empty figures when the model measures no point.
-struct PositionComparison {
-  bool computed = false;
-  std::string before_is;  ///< where "before" comes from; empty: no before
-  std::vector<double> before_errors, after_errors;
-  PositionErrorStats before, after;
-};
-
-PositionComparison compare_positions(const std::shared_ptr<MeasurementModel>& model,
-                                     const Measurements& data, const MatrixXd& after_residuals,
-                                     const std::optional<VectorXd>& before_values,
-                                     const std::string& before_is, const std::string& data_file) {
-  PositionComparison c;
-  if (!measures_position(*model)) return c;
-  c.computed = true;
-  c.after_errors = position_errors(*model, after_residuals);
-  c.after = summarize_position_errors(c.after_errors);
-  if (!before_values) return c;
-  try {
-    c.before_errors = position_errors(*model, residual_matrix(model, data, *before_values));
-  } catch (const std::runtime_error& e) {
-    throw CliError(data_file + ": the model before calibration (" + before_is +
-                   ") cannot predict the data: " + e.what());
-  }
-  c.before = summarize_position_errors(c.before_errors);
-  c.before_is = before_is;
-  return c;
 }
 
 }  // namespace
@@ -230,8 +190,10 @@ int run_validate(const Args& args) {
   const VectorXd values = model->parameters().nominal_values();
   const int k = model->num_readings();
 
-  ValidationInput input;
-  std::string noise_source;
+  ValidateRequest request;
+  request.model_file = model_file;
+  request.data_file = data_file;
+  ValidationPrediction& prediction = request.prediction;
   ReportPrediction report;
   if (vm.count("report")) {
     const std::string report_file = vm["report"].as<std::string>();
@@ -251,36 +213,28 @@ int run_validate(const Args& args) {
                      "model and calibrate again");
     // Weighted: sigma_hat is the ratio of the scatter to the stated std; otherwise it is the
     // std itself, in the readings' one unit.
-    input.noise_std = report.weighted ? VectorXd(report.sigma_hat * model->reading_std())
-                                      : VectorXd(VectorXd::Constant(k, report.sigma_hat));
-    noise_source = report.weighted ? "sigma_hat x reading_std" : "sigma_hat";
+    prediction.noise_std = report.weighted ? VectorXd(report.sigma_hat * model->reading_std())
+                                           : VectorXd(VectorXd::Constant(k, report.sigma_hat));
+    prediction.noise_source = report.weighted ? "sigma_hat x reading_std" : "sigma_hat";
     for (const auto& name : report.names) {
       const int index = model->parameters().find(name);
       if (index < 0)
         throw CliError(report_file + ": parameter '" + name + "' is not in " + model_file +
                        "; expected the model the report was written for");
-      input.parameters.push_back(index);
+      prediction.parameters.push_back(index);
     }
-    input.covariance = report.std.asDiagonal() * report.correlation * report.std.asDiagonal();
-  } else if (model->weighted()) {
-    input.noise_std = model->reading_std();
-    noise_source = "reading_std";
+    prediction.covariance = report.std.asDiagonal() * report.correlation * report.std.asDiagonal();
   } else {
-    // Nothing predicts the residuals (a nominal model): the errors are reported, the
-    // chi-square test is not made.
-    noise_source = "none";
+    // Without a report, the model's reading_std, if any; else nothing predicts the residuals
+    // (a nominal model): the errors are reported, the chi-square test is not made.
+    prediction = prediction_from_model(*model);
   }
   if (vm.count("noise-std")) {
-    input.noise_std = noise_std_per_reading(vm, *model);
-    noise_source = "--noise-std";
+    prediction.noise_std = noise_std_per_reading(vm, *model);
+    prediction.noise_source = "--noise-std";
   }
-  const bool tested = noise_source != "none";
-  const bool shows_pose = measures_position(*model);  // else the readings cannot speak for the pose
-  if (!tested) input.noise_std = VectorXd::Ones(k);
 
   // "Before": --before's values, or the report's starting values of what it fitted.
-  std::optional<VectorXd> before_values;
-  std::string before_is;
   if (vm.count("before")) {
     const std::string before_file = vm["before"].as<std::string>();
     const auto before = load_model(before_file);
@@ -291,46 +245,32 @@ int run_validate(const Args& args) {
     if (!same)
       throw CliError(before_file + ": not the same parameters and readings as " + model_file +
                      "; expected the model the calibration started from");
-    before_values = before->parameters().nominal_values();
-    before_is = before_file;
+    request.before_values = before->parameters().nominal_values();
+    request.before_is = before_file;
   } else if (vm.count("report") && report.nominal.allFinite()) {
     VectorXd v = values;
     for (std::size_t i = 0; i < report.names.size(); ++i)
-      v[input.parameters[i]] = report.nominal[static_cast<int>(i)];
-    before_values = v;
-    before_is = vm["report"].as<std::string>() + " (its parameters' nominal values)";
+      v[prediction.parameters[i]] = report.nominal[static_cast<int>(i)];
+    request.before_values = v;
+    request.before_is = vm["report"].as<std::string>() + " (its parameters' nominal values)";
   }
 
-  const LoadedData loaded =
+  request.measurements =
       load_measurements("validate", data_file, *model, values, vm["skip-bad-rows"].as<bool>(),
                         model_file, data_limits(vm));
+  const LoadedData& loaded = request.measurements;
   check_memory(data_file, loaded.data.size(),
-               k * solve_bytes_per_row(static_cast<int>(input.parameters.size())), "configuration");
-  note_copied_rows("validate", loaded);
-  Validation v;
-  try {
-    v = validate_held_out(model, loaded.data, values, input);
-  } catch (const NonFiniteValidation& e) {  // no verdict on NaN: name the line instead
-    char residual[40];
-    std::snprintf(residual, sizeof residual, "%.3g", e.residual);
-    throw CliError(data_file + ":" + std::to_string(loaded.lines[e.configuration]) + ": field '" +
-                   model->reading_names()[e.reading] + "': predicted - measured is " + residual +
-                   ", which makes the held-out statistics overflow (not finite: no verdict); "
-                   "expected readings on the scale of the machine");
-  } catch (const std::exception& e) {
-    throw CliError(data_file + ": " + e.what());
-  }
-  if (!tested) v.verdict = "not_tested";
-  const PositionComparison position =
-      compare_positions(model, loaded.data, v.residuals, before_values, before_is, data_file);
-
-  // Without a point, the page's before/after plot is of the readings: their residuals with
-  // the model the calibration started from (a row the starting model cannot reach: none).
-  MatrixXd before_residuals;
-  if (before_values && !shows_pose) try {
-      before_residuals = residual_matrix(model, loaded.data, *before_values);
-    } catch (const std::runtime_error&) {
-    }
+               k * solve_bytes_per_row(static_cast<int>(prediction.parameters.size())),
+               "configuration");
+  request.model = model;
+  const ValidateResult result = validate(request);
+  for (const std::string& text : result.notes) note("validate", text);
+  const Validation& v = result.validation;
+  const bool tested = result.tested;
+  const bool shows_pose = result.shows_pose;
+  const std::string& noise_source = prediction.noise_source;
+  const PositionComparison& position = result.position;
+  const MatrixXd& before_residuals = result.before_residuals;
   const Json target_result =
       target ? measured_target(
                    *target, position.computed ? Json{{"after", to_json(position.after)}} : Json(),
@@ -441,7 +381,7 @@ int run_validate(const Args& args) {
     out["standardized_rms"] = tested ? number(v.standardized_rms) : Json();
     out["p_larger"] = tested ? number(v.p_larger) : Json();
     out["p_smaller"] = tested ? number(v.p_smaller) : Json();
-    out["significance"] = input.significance;
+    out["significance"] = request.significance;
     out["verdict"] = v.verdict;
     // What the verdict is about: readings. Without a sensor that measures a point, readings
     // that agree say nothing of the pose (a gauge's length is one number of six).

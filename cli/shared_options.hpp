@@ -50,7 +50,7 @@ bool check_prior_usable(const MeasurementModel& model, const std::string& model_
 void add_config_range_option(po::options_description& options);
 
 /// Adds --allow-rank-deficient: fix what the data cannot determine instead of stopping
-/// (calibrate, simulate; cli/identifiability_check.hpp).
+/// (calibrate, simulate; framework/analysis/identifiability_check.hpp).
 void add_allow_rank_deficient_option(po::options_description& options);
 
 /// Adds --threads N (default 0 = all cores): the worker threads that evaluate the residuals

@@ -32,22 +32,6 @@ int starts_option(const po::variables_map& vm) {
   return starts;
 }
 
-StartsReport single_start_report(const VectorXd& x0, const VectorXd& x, const Summary& summary,
-                                 std::uint64_t seed) {
-  StartsReport report;
-  report.seed = seed;
-  report.spread_from = "the model's values only";
-  StartOutcome outcome{x0, x, summary, -1};
-  if (reached_solution(summary)) {
-    outcome.minimum = 0;
-    report.result.minima.push_back({summary.final_cost, x, {0}, 0.0});
-  } else {
-    report.result.unsolved = 1;
-  }
-  report.result.starts.push_back(outcome);
-  return report;
-}
-
 std::string starts_text(const StartsReport& report) {
   const MultiStartResult& m = report.result;
   const int count = static_cast<int>(m.starts.size());

@@ -20,18 +20,6 @@ void add_starts_option(po::options_description& options);
 /// --starts, checked (1 to 10000).
 int starts_option(const po::variables_map& vm);
 
-/// What the starts found, with where they were drawn from (`spread_from`, in words).
-struct StartsReport {
-  MultiStartResult result;
-  std::uint64_t seed = 1;
-  std::string spread_from;
-  bool spread_assumed = false;
-};
-
-/// The report of a single solve from x0 (--starts 1).
-StartsReport single_start_report(const VectorXd& x0, const VectorXd& x, const Summary& summary,
-                                 std::uint64_t seed);
-
 /// One to a few lines for the terminal, each ending in "\n"; empty for a single start.
 std::string starts_text(const StartsReport& report);
 /// "starts": count, seed, spread_from, spread_assumed, best_start, unsolved, verdict

@@ -5,6 +5,7 @@
 #                                        (its CLI calibrates the example arm from files)
 #   installed_package_pkg_config_example the complete example of docs/library.md, compiled
 #                                        with pkg-config's flags only, and run
+#   installed_package_workflow_example   its calibrate-workflow example, the same way
 #   installed_package_plugin             examples/plugin/ built with kincal_add_plugin
 #                                        against that prefix, used by the installed kincal
 #                                        (--plugin, KINCAL_PLUGIN_PATH): list, simulate,
@@ -40,13 +41,16 @@ add_test(NAME installed_package_cmake_example
          COMMAND bash "${KINCAL_INSTALL_TEST_SCRIPT}" cmake ${common_args})
 add_test(NAME installed_package_pkg_config_example
          COMMAND bash "${KINCAL_INSTALL_TEST_SCRIPT}" pkg-config ${common_args})
+add_test(NAME installed_package_workflow_example
+         COMMAND bash "${KINCAL_INSTALL_TEST_SCRIPT}" workflow ${common_args})
 add_test(NAME installed_package_plugin
          COMMAND bash "${KINCAL_INSTALL_TEST_SCRIPT}" plugin ${common_args})
 set_tests_properties(installed_package_install PROPERTIES FIXTURES_SETUP kincal_installed
                                                           TIMEOUT 120)
 set_tests_properties(installed_package_cmake_example installed_package_pkg_config_example
-                     installed_package_plugin PROPERTIES FIXTURES_REQUIRED kincal_installed TIMEOUT 600)
+                     installed_package_workflow_example installed_package_plugin
+                     PROPERTIES FIXTURES_REQUIRED kincal_installed TIMEOUT 600)
 set_tests_properties(
   installed_package_install installed_package_cmake_example installed_package_pkg_config_example
-  installed_package_plugin PROPERTIES ENVIRONMENT
+  installed_package_workflow_example installed_package_plugin PROPERTIES ENVIRONMENT
              "CMAKE_COMMAND=${CMAKE_COMMAND};CXX=${CMAKE_CXX_COMPILER};CMAKE_GENERATOR=${CMAKE_GENERATOR};KINCAL_LAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER};KINCAL_BUILD_TYPE=${CMAKE_BUILD_TYPE}")

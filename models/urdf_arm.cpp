@@ -241,21 +241,18 @@ InverseKinematicsResult UrdfArm::inverse_kinematics_from(
       [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 
-std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {
-  const auto* arm = dynamic_cast<const UrdfArm*>(&model.mechanism());
-  std::vector<int> priority(static_cast<std::size_t>(model.num_parameters()), 0);
-  if (!arm) return priority;
-  for (int j = 0; j < arm->num_joints(); ++j) {
-    for (int k = 0; k < 6; ++k) priority[UrdfArm::joint_index(j) + k] = 2;
-    priority[UrdfArm::joint_index(j) + UrdfArm::kOffset] = 1;
+std::vector<int> UrdfArm::identification_priority() const {
+  std::vector<int> priority(parameters().size(), 0);
+  for (int j = 0; j < num_joints(); ++j) {
+    for (int k = 0; k < 6; ++k) priority[static_cast<std::size_t>(joint_index(j) + k)] = 2;
+    priority[static_cast<std::size_t>(joint_index(j) + kOffset)] = 1;
   }
-  // A sensor that is only a point in the measurement frame (a socket) has no frame of its
-  // own to hold that frame: the base does, and the sockets are estimated in its coordinates.
-  for (std::size_t s = 0; s < model.sensors().size(); ++s)
-    if (model.sensors()[s]->frame_vector_reading_index() >= 0) {
-      const int first = model.sensor_parameter_offset(static_cast<int>(s));
-      for (int i = 0; i < model.sensors()[s]->num_parameters(); ++i) priority[first + i] = -1;
-    }
+  return priority;
+}
+
+std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {
+  std::vector<int> priority = model.identification_priority();
+  if (priority.empty()) priority.assign(static_cast<std::size_t>(model.num_parameters()), 0);
   return priority;
 }
 

@@ -110,6 +110,9 @@ class UrdfArm final : public Mechanism {
 
   /// A joint's zero turned by pi with the links after it turned back
   /// (models/urdf_arm_symmetry.cpp).
+  /// 0 for the parameters the joints do not feel (base, tool), 1 for the joints' zero
+  /// offsets, 2 for their origin errors (urdf_arm_parameter_priority).
+  std::vector<int> identification_priority() const override;
   bool nearer_equivalent(const ParamsRef& params, const ParamsRef& nominal,
                          const std::vector<bool>& changeable, const VectorXd& scale, VectorXd& out,
                          std::string* what) const override;

@@ -19,6 +19,7 @@ ALLOWED = {  # framework folder -> the framework folders it may include (besides
     "analysis": {"base", "least_squares", "kinematics", "calibration"},
     "design": {"base", "least_squares", "kinematics", "calibration", "analysis"},
     "extension": {"base", "least_squares", "kinematics", "io"},
+    "workflows": {"base", "least_squares", "kinematics", "io", "calibration", "analysis", "design"},
 }
 TOP_FORBIDDEN = {  # top-level folder -> the kincal folders it must not include
     "framework": {"models", "solvers", "problems", "cli"},

@@ -97,4 +97,17 @@ MultiStartResult solve_multi_start(const LeastSquaresProblem& problem, const Sol
                                    const VectorXd& x0, const SolverOptions& options,
                                    const MultiStartOptions& multi);
 
+/// What a calibration's starts found, with where they were drawn from (`spread_from`, in
+/// words): the "starts" of a calibration's result and report.
+struct StartsReport {
+  MultiStartResult result;
+  std::uint64_t seed = 1;
+  std::string spread_from;
+  bool spread_assumed = false;
+};
+
+/// The report of a single solve from x0 to x.
+StartsReport single_start_report(const VectorXd& x0, const VectorXd& x, const Summary& summary,
+                                 std::uint64_t seed);
+
 }  // namespace kincal

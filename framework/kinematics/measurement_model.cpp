@@ -172,6 +172,22 @@ bool MeasurementModel::sensor_reads_at(const Eigen::Ref<const VectorXd>& params,
                          pose, reason);
 }
 
+std::vector<int> MeasurementModel::identification_priority() const {
+  std::vector<int> mechanism = mechanism_->identification_priority();
+  if (mechanism.empty()) return {};
+  if (mechanism.size() != mechanism_->parameters().size())
+    throw std::logic_error("mechanism type " + mechanism_->type() +
+                           ": identification_priority has " + std::to_string(mechanism.size()) +
+                           " entries for " + std::to_string(mechanism_->parameters().size()) +
+                           " parameters");
+  mechanism.resize(static_cast<std::size_t>(num_parameters()), 0);  // the sensors' after it
+  for (std::size_t s = 0; s < sensors_.size(); ++s)
+    if (sensors_[s]->frame_vector_reading_index() >= 0)
+      for (int i = 0; i < sensors_[s]->num_parameters(); ++i)
+        mechanism[static_cast<std::size_t>(sensor_offsets_[s] + i)] = -1;
+  return mechanism;
+}
+
 int MeasurementModel::sensor_of_reading(int reading_index) const {
   int s = 0;
   while (s + 1 < static_cast<int>(sensors_.size()) && reading_offsets_[s + 1] <= reading_index) ++s;

@@ -101,6 +101,12 @@ class MeasurementModel {
   /// Index of the sensor that owns reading `reading_index`.
   int sensor_of_reading(int reading_index) const;
 
+  /// The mechanism's identification_priority over the whole parameter vector (empty when the
+  /// mechanism states none): its own entries, 0 for the sensors' parameters, and -1 (kept
+  /// first) for a sensor that is only a point in the measurement frame (a socket), which has no
+  /// frame of its own: the mechanism's base frame then holds the measurement frame.
+  std::vector<int> identification_priority() const;
+
   /// Offsets of the sensor parameter blocks in the combined vector.
   int sensor_parameter_offset(int sensor_index) const { return sensor_offsets_[sensor_index]; }
 

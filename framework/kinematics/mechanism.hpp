@@ -145,6 +145,13 @@ class Mechanism {
   virtual bool nearer_equivalent(const ParamsRef& params, const ParamsRef& nominal,
                                  const std::vector<bool>& changeable, const VectorXd& scale,
                                  VectorXd& out, std::string* what) const;
+
+  /// Which of this mechanism's parameters to keep first when the data cannot determine them
+  /// all (framework/analysis/identifiability.hpp, identifiable_subset: lower is kept first),
+  /// one entry per parameter; empty (the default) for no preference. An arm whose error model
+  /// is redundant on purpose says here which of two equivalent parameters should carry the
+  /// error (models/urdf_arm.hpp).
+  virtual std::vector<int> identification_priority() const { return {}; }
 };
 
 }  // namespace kincal

@@ -16,7 +16,7 @@
 #include <cmath>
 #include <string>
 
-#include "kincal/cli/identifiability_check.hpp"
+#include "kincal/framework/analysis/identifiability_check.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
@@ -131,9 +131,8 @@ TEST(GaugeFreedom, SocketsAloneKeepWhatTheDataDetermineAndTheBaseHoldsTheFrame) 
   MatrixXd J;
   ASSERT_TRUE(probe.evaluate(probe.initial_free_parameters(), nullptr, &J));
   append_constraint_rows(probe, probe.initial_free_parameters(), J);
-  const IdentifiabilityCheck check =
-      check_identifiability("calibrate", "sockets.csv", probe, J, WhenRankDeficient::kFixDependent,
-                            IdentifiabilityOptions{}, "");
+  const IdentifiabilityCheck check = check_identifiability(
+      "sockets.csv", probe, J, WhenRankDeficient::kFixDependent, IdentifiabilityOptions{}, "");
   // A 6R arm measured at a point off its last axis determines 4 x 6 + 6 - 3 = 27 parameters
   // (the tracker page of docs/calibrating-a-serial-arm.md), 6 of them where the arm stands in
   // the measurement frame: with sockets, no instrument has a frame, so 21, and each socket's

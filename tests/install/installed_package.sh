@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The installed kincal package, used as a project outside the tree would use it
 # (cmake/KincalInstallTest.cmake registers the three steps as ctest tests).
-#   installed_package.sh install|cmake|pkg-config|plugin WORK_DIR SOURCE_DIR BUILD_DIR
+#   installed_package.sh install|cmake|pkg-config|workflow|plugin WORK_DIR SOURCE_DIR BUILD_DIR
 # Environment (set by the test): CMAKE_COMMAND, CXX, CMAKE_GENERATOR, KINCAL_LAUNCHER
 # (the build's compiler launcher, e.g. ccache; may be empty), KINCAL_BUILD_TYPE.
 set -euo pipefail
@@ -89,16 +89,20 @@ sys.exit(0 if worst < 1e-6 else 1)
 PY
     ;;
 
-  pkg-config)
-    # The complete example of docs/library.md: the ```cpp block after the line
-    # <!-- compiled by the test installed_package_pkg_config_example -->.
-    example=$work/pkg-config-example
+  pkg-config | workflow)
+    # The complete examples of docs/library.md: the ```cpp block after the line
+    # <!-- compiled by the test installed_package_pkg_config_example --> (the steps one by
+    # one), or installed_package_workflow_example (the calibrate workflow), compiled with
+    # pkg-config's flags only and run.
+    name=$([ "$step" = workflow ] && echo workflow || echo pkg_config)
+    example=$work/$name-example
     mkdir -p "$example"
-    awk '/<!-- compiled by the test installed_package_pkg_config_example -->/ {found = 1; next}
+    awk -v marker="<!-- compiled by the test installed_package_${name}_example -->" \
+        '$0 == marker {found = 1; next}
          found == 1 && /^```cpp/ {found = 2; next}
          found == 2 && /^```/ {exit}
          found == 2 {print}' "$source/docs/library.md" >"$example/tour.cpp"
-    [ -s "$example/tour.cpp" ] || fail "no example found in docs/library.md"
+    [ -s "$example/tour.cpp" ] || fail "no example for installed_package_${name}_example in docs/library.md"
     pc_dir=$(dirname "$(compgen -G "$prefix/lib*/pkgconfig/kincal.pc" | head -n 1)")
     flags=$(PKG_CONFIG_PATH=$pc_dir pkg-config --cflags --libs kincal) ||
       fail "pkg-config --cflags --libs kincal failed"

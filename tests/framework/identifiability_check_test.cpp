@@ -6,12 +6,12 @@
 
 #include <cmath>
 
-#include "kincal/cli/identifiability_check.hpp"
+#include "kincal/framework/analysis/identifiability_check.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/model_io.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 namespace {
 
 // The ur5-urdf arm with two sockets 50 mm apart and the fixture distance between them; each
@@ -56,9 +56,8 @@ TEST(IdentifiabilityCheck, AnalysesTheReadingsPresentAndTheConstraintRows) {
   append_constraint_rows(problem, x, J);
   ASSERT_EQ(J.rows(), m * 6 + 1);
 
-  const IdentifiabilityCheck check =
-      check_identifiability("calibrate", "data.csv", problem, J, WhenRankDeficient::kStop,
-                            IdentifiabilityOptions{}, "fix parameters");
+  const IdentifiabilityCheck check = check_identifiability(
+      "data.csv", problem, J, WhenRankDeficient::kStop, IdentifiabilityOptions{}, "fix parameters");
   // 3 readings per configuration and the constraint, not the 6 m + 1 rows of J.
   EXPECT_EQ(check.analysis.num_residuals, m * 3 + 1);
   // What remains is the same analysis as on those rows alone.
@@ -73,4 +72,4 @@ TEST(IdentifiabilityCheck, AnalysesTheReadingsPresentAndTheConstraintRows) {
 }
 
 }  // namespace
-}  // namespace kincal::cli
+}  // namespace kincal

@@ -1,10 +1,8 @@
-#include "kincal/cli/identifiability_words.hpp"
+#include "kincal/framework/analysis/identifiability_words.hpp"
 
 #include <cstdio>
 
-#include "kincal/models/urdf_arm.hpp"
-
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -69,11 +67,10 @@ std::vector<int> choose_identifiable(const MeasurementModel& model, const std::v
                                      const MatrixXd& J, const IdentifiabilityOptions& options,
                                      const MatrixXd& turns) {
   std::vector<int> priority;
-  if (model.mechanism().type() == "urdf-arm") {
-    const std::vector<int> all = urdf_arm_parameter_priority(model);
+  const std::vector<int> all = model.identification_priority();
+  if (!all.empty())
     for (int index : free) priority.push_back(all[static_cast<std::size_t>(index)]);
-  }
   return identifiable_subset(J, priority, options, turns);
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

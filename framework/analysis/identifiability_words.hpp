@@ -9,7 +9,7 @@
 #include "kincal/framework/analysis/identifiability.hpp"
 #include "kincal/framework/kinematics/measurement_model.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 /// A parameter's name in words: "shoulder_pan_joint.origin.rx" -> "shoulder_pan_joint's
 /// origin, rotation about x".
@@ -22,10 +22,10 @@ std::string parameter_words(const std::string& name);
 std::string describe_dependent(const DependentParameter& d, const MeasurementModel& model);
 
 /// The columns of J (the free parameters `free` of `model`) to keep: identifiable_subset, with
-/// urdf_arm_parameter_priority for an arm imported from a URDF, and the turns of the
-/// measurement frame (measurement_frame_turns, rows as J's) that change no fit.
+/// the model's identification_priority (an arm imported from a URDF states one), and the turns of
+/// the measurement frame (measurement_frame_turns, rows as J's) that change no fit.
 std::vector<int> choose_identifiable(const MeasurementModel& model, const std::vector<int>& free,
                                      const MatrixXd& J, const IdentifiabilityOptions& options,
                                      const MatrixXd& turns = MatrixXd());
 
-}  // namespace kincal::cli
+}  // namespace kincal

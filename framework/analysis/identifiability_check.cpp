@@ -1,16 +1,15 @@
-#include "kincal/cli/identifiability_check.hpp"
+#include "kincal/framework/analysis/identifiability_check.hpp"
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
-#include "kincal/cli/cli_util.hpp"
-#include "kincal/cli/identifiability_words.hpp"
-#include "kincal/cli/model_args.hpp"
+#include "kincal/framework/analysis/identifiability_words.hpp"
 #include "kincal/framework/calibration/frame_turns.hpp"
 #include "kincal/framework/calibration/prior_problem.hpp"
 #include "kincal/framework/least_squares/uncertainty.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 std::string describe_deficiency(const Identifiability& a) {
   char rcond[32];
@@ -50,8 +49,8 @@ std::string number_text(double value) {
 }
 
 // Which residual row `row` of J is, in words, with its std: a reading of a configuration or
-// a constraint (cli/identifiability_check.hpp: the data's rows, then the constraints').
-// `fix` gets what to check.
+// a constraint (framework/analysis/identifiability_check.hpp: the data's rows, then the
+// constraints'). `fix` gets what to check.
 std::string describe_row(const CalibrationProblem& problem, Eigen::Index row, std::string& fix) {
   const MeasurementModel& model = problem.model();
   const int readings = model.num_readings();
@@ -85,9 +84,9 @@ std::string describe_row(const CalibrationProblem& problem, Eigen::Index row, st
   return "row " + std::to_string(row + 1);
 }
 
-// Throws CliError naming the first entry of J (whitened: each row divided by its std) that is
-// not finite or beyond kMaxWhitenedJacobian, with its reading or constraint and parameter: the
-// analysis would otherwise see a parameter "no reading depends on", which blames the data.
+// Throws std::invalid_argument naming the first entry of J (whitened: each row divided by its std)
+// that is not finite or beyond kMaxWhitenedJacobian, with its reading or constraint and parameter:
+// the analysis would otherwise see a parameter "no reading depends on", which blames the data.
 void check_jacobian_usable(const std::string& where, const CalibrationProblem& problem,
                            const MatrixXd& J) {
   for (Eigen::Index c = 0; c < J.cols(); ++c)
@@ -98,12 +97,14 @@ void check_jacobian_usable(const std::string& where, const CalibrationProblem& p
       const std::string row = describe_row(problem, r, fix);
       const std::string parameter = problem.parameter_names()[static_cast<std::size_t>(c)];
       if (!std::isfinite(value))
-        throw CliError(where + ": the whitened Jacobian (each derivative divided by its std) is " +
-                       number_text(value) + " at " + row + ", parameter " + parameter +
-                       ": a derivative or a std is not finite; check " + fix);
-      throw CliError(where + ": the whitened Jacobian (each derivative divided by its std) is " +
-                     number_text(value) + " at " + row + ", parameter " + parameter +
-                     ", beyond 1e100, where its squares overflow; check " + fix);
+        throw std::invalid_argument(
+            where + ": the whitened Jacobian (each derivative divided by its std) is " +
+            number_text(value) + " at " + row + ", parameter " + parameter +
+            ": a derivative or a std is not finite; check " + fix);
+      throw std::invalid_argument(
+          where + ": the whitened Jacobian (each derivative divided by its std) is " +
+          number_text(value) + " at " + row + ", parameter " + parameter +
+          ", beyond 1e100, where its squares overflow; check " + fix);
     }
 }
 
@@ -111,12 +112,12 @@ void check_jacobian_usable(const std::string& where, const CalibrationProblem& p
 
 WhenRankDeficient when_rank_deficient(const MeasurementModel& model, bool allow_rank_deficient,
                                       bool explicit_mask) {
-  const bool imported = model.mechanism().type() == "urdf-arm" && !explicit_mask;
+  const bool imported = !model.mechanism().identification_priority().empty() && !explicit_mask;
   return allow_rank_deficient || imported ? WhenRankDeficient::kFixDependent
                                           : WhenRankDeficient::kStop;
 }
 
-IdentifiabilityCheck check_identifiability(const std::string& command, const std::string& where,
+IdentifiabilityCheck check_identifiability(const std::string& where,
                                            const CalibrationProblem& problem, const MatrixXd& J_all,
                                            WhenRankDeficient when,
                                            const IdentifiabilityOptions& options,
@@ -162,9 +163,9 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
       determining_turns.bottomRows(J.cols()).setZero();
     }
     if (a.rank_deficient() && !a.undetermined())
-      note(command, "the data alone determine " + std::to_string(a.numerical_rank) + " of " +
-                        std::to_string(a.num_parameters) +
-                        " free parameters; the prior determines the rest");
+      check.notes.push_back("the data alone determine " + std::to_string(a.numerical_rank) +
+                            " of " + std::to_string(a.num_parameters) +
+                            " free parameters; the prior determines the rest");
   }
   if (!a.undetermined()) return check;
   const MeasurementModel& model = problem.model();
@@ -181,19 +182,20 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
           std::string(k ? "; " : "; null directions: ") + describe_dependent(dependent[k], model);
     if (dependent.size() > 3)
       deficiency += "; and " + std::to_string(dependent.size() - 3) + " more";
-    throw CliError(deficiency + "; " + remedy);
+    throw std::invalid_argument(deficiency + "; " + remedy);
   }
   if (keep.empty())
-    throw CliError(deficiency +
-                   "; no free parameter is identifiable from this data, so there is nothing to "
-                   "solve for (--allow-rank-deficient needs at least one)");
-  note(command, "the data determine " + std::to_string(keep.size()) + " of the " +
-                    std::to_string(check.free.size()) +
-                    " free parameters; fixing the others at their model values (each named "
-                    "with what it duplicates, a null direction of the data):");
+    throw std::invalid_argument(
+        deficiency +
+        "; no free parameter is identifiable from this data, so there is nothing to "
+        "solve for (--allow-rank-deficient needs at least one)");
+  check.notes.push_back("the data determine " + std::to_string(keep.size()) + " of the " +
+                        std::to_string(check.free.size()) +
+                        " free parameters; fixing the others at their model values (each named "
+                        "with what it duplicates, a null direction of the data):");
   for (const DependentParameter& d : dependent) {
     check.null_directions.push_back(describe_dependent(d, model));
-    note(command, "  " + check.null_directions.back());
+    check.notes.push_back("  " + check.null_directions.back());
   }
   const std::vector<int> free = check.free;
   check.free.clear();
@@ -209,4 +211,4 @@ IdentifiabilityCheck check_identifiability(const std::string& command, const std
   return check;
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal
