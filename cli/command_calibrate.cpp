@@ -16,7 +16,7 @@
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
-#include "kincal/framework/workflows/calibrate.hpp"
+#include "kincal/framework/workflows/calibrate_report.hpp"
 #include "kincal/models/model_io.hpp"
 
 namespace kincal::cli {
@@ -178,31 +178,29 @@ int run_calibrate(const Args& args) {
       solved ? sensitivity_from_options(vm, model, result.parameters, request.measurements.data,
                                         result.free)
              : std::nullopt;
-  nlohmann::ordered_json report_json = to_json(report);
-  report_json["starts"] = starts_json(result.starts);
-  if (target)
-    report_json["target"] =
-        predicted_target(*target, report_json["predicted_pose_error"], "calibrated");
-  if (sensitivity) report_json["sensitivity"] = sensitivity_json(*sensitivity);
-  CalibrationVerdict& verdict = result.verdict;
-  if (target && report_json["target"]["meets"] == false)
-    verdict.findings.push_back({"target", Finding::Level::kDoNotLoad,
-                                "The calibration does not meet the target: " +
-                                    report_json["target"]["verdict"].get<std::string>() + ".",
-                                "Measure more, or better chosen, configurations (kincal design "
-                                "--target), or state what you know as prior_std."});
-  report_json["verdict"] = to_json(verdict);
-  if (!report_to_stdout) {
-    out() << to_text(report);
-    out() << starts_text(result.starts);
-    if (sensitivity) out() << sensitivity_text(*sensitivity);
-    if (target) out() << "target: " << report_json["target"]["verdict"].get<std::string>() << "\n";
-    out() << to_text(verdict);
+  // The program's own sections, between the starts and the verdict.
+  nlohmann::ordered_json extra = nlohmann::ordered_json::object();
+  std::string extra_text;
+  if (target) {
+    extra["target"] = predicted_target(*target, to_json(report.predicted_accuracy), "calibrated");
+    if (extra["target"]["meets"] == false)
+      result.verdict.findings.push_back(
+          {"target", Finding::Level::kDoNotLoad,
+           "The calibration does not meet the target: " +
+               extra["target"]["verdict"].get<std::string>() + ".",
+           "Measure more, or better chosen, configurations (kincal design --target), or state "
+           "what you know as prior_std."});
   }
+  if (sensitivity) {
+    extra["sensitivity"] = sensitivity_json(*sensitivity);
+    extra_text += sensitivity_text(*sensitivity);
+  }
+  if (target) extra_text += "target: " + extra["target"]["verdict"].get<std::string>() + "\n";
+  if (!report_to_stdout) out() << calibration_text(result, extra_text);
+  nlohmann::ordered_json report_json = calibration_json(result, extra);
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
   // report records the SHA-256 of the model written with it, and `kincal verify` tells.
-  if (!result.null_directions.empty()) report_json["null_directions"] = result.null_directions;
   std::vector<std::pair<std::string, std::string>> outputs;
   std::string model_text;
   if (solved && vm.count("out")) {
@@ -229,8 +227,8 @@ int run_calibrate(const Args& args) {
     note("calibrate", "no --out given: the calibrated model was not saved");
   // Written, but not to be loaded: a distinct exit code, so that no script takes it for a
   // plain success.
-  if (verdict.worst() == Finding::Level::kDoNotLoad) {
-    for (const Finding& f : verdict.findings)
+  if (result.verdict.worst() == Finding::Level::kDoNotLoad) {
+    for (const Finding& f : result.verdict.findings)
       if (f.level == Finding::Level::kDoNotLoad) {
         err() << "kincal calibrate: verdict: do not load this calibration: " << f.text << "\n";
         break;

@@ -1,14 +1,14 @@
 #pragma once
 // --starts N of calibrate and simulate: the solve from N starting values drawn from the free
-// parameters' tolerances (framework/calibration/multi_start.hpp), the distinct minima they end in,
-// and the report's words for them (text, JSON "starts", the HTML verdict).
+// parameters' tolerances (framework/calibration/multi_start.hpp); the report's words for the
+// minima they end in are framework/analysis/starts_report.hpp's.
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/framework/calibration/multi_start.hpp"
+#include "kincal/framework/analysis/starts_report.hpp"
 
 namespace kincal::cli {
 
@@ -19,12 +19,5 @@ constexpr int kDefaultStarts = 1;
 void add_starts_option(po::options_description& options);
 /// --starts, checked (1 to 10000).
 int starts_option(const po::variables_map& vm);
-
-/// One to a few lines for the terminal, each ending in "\n"; empty for a single start.
-std::string starts_text(const StartsReport& report);
-/// "starts": count, seed, spread_from, spread_assumed, best_start, unsolved, verdict
-/// ("single_start", "one_minimum", "several_minima"), note, minima [{cost, starts,
-/// distance_to_best}].
-nlohmann::ordered_json starts_json(const StartsReport& report);
 
 }  // namespace kincal::cli

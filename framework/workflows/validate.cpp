@@ -12,51 +12,6 @@ const char* const kPoseNotShown =
     "off in pose); to check the pose, validate on configurations measured with a point or pose "
     "tracker, or with the gauge in a second placement";
 
-ValidationPrediction prediction_from_calibration(const CalibrationReport& report,
-                                                 const MeasurementModel& model) {
-  const double sigma = report.uncertainty.sigma;
-  if (!(sigma > 0))
-    throw std::invalid_argument(
-        "the calibration's sigma_hat is not positive (an exact fit says nothing about the "
-        "noise); expected a calibration with more readings than parameters");
-  if (report.weighted != model.weighted())
-    throw std::invalid_argument(
-        std::string("the calibration was ") + (report.weighted ? "" : "not ") +
-        "weighted (reading_std) but the model " + (model.weighted() ? "states" : "states no") +
-        " reading_std; expected the model the calibration was written for");
-  ValidationPrediction p;
-  const int k = model.num_readings();
-  if (report.weighted) {
-    p.noise_std = sigma * model.reading_std();
-    p.noise_source = "sigma_hat x reading_std";
-  } else {
-    const std::vector<std::string> units = model.reading_units();
-    for (const std::string& unit : units)
-      if (unit != units.front())
-        throw std::invalid_argument(
-            "the calibration's sigma_hat pools readings of several units (no reading_std); "
-            "state reading_std in the model and calibrate again");
-    p.noise_std = VectorXd::Constant(k, sigma);
-    p.noise_source = "sigma_hat";
-  }
-  const int n = static_cast<int>(report.names.size());
-  for (const std::string& name : report.names) {
-    const int index = model.parameters().find(name);
-    if (index < 0)
-      throw std::invalid_argument("the calibration's parameter '" + name +
-                                  "' is not in the model; expected the model the calibration "
-                                  "was written for");
-    p.parameters.push_back(index);
-  }
-  const VectorXd& std = report.uncertainty.std;
-  if (std.size() != n || !std.allFinite())
-    throw std::invalid_argument(
-        "the calibration could not estimate every parameter's std; validate without it to "
-        "compare with the noise alone");
-  p.covariance = std.asDiagonal() * report.uncertainty.correlation * std.asDiagonal();
-  return p;
-}
-
 ValidationPrediction prediction_from_model(const MeasurementModel& model) {
   ValidationPrediction p;
   if (!model.weighted()) {

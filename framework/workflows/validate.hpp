@@ -9,6 +9,7 @@
 //   request.model = calibrated;                    // its nominal values are the ones tested
 //   request.measurements.data = held_out;          // or load_measurements(path, ...)
 //   request.prediction = kincal::prediction_from_calibration(result.report, *calibrated);
+//   (report_prediction.hpp)
 //   const kincal::ValidateResult v = kincal::validate(request);
 //   // v.validation.verdict: consistent, larger_than_predicted, smaller_than_predicted
 
@@ -36,13 +37,6 @@ struct ValidationPrediction {
   std::vector<int> parameters;
   MatrixXd covariance;
 };
-
-/// The prediction of a calibration's report for `model` (the calibrated model it describes):
-/// noise sigma_hat (x reading_std when weighted), the estimated parameters' covariance.
-/// Throws std::invalid_argument when the report cannot predict (an exact fit: no sigma_hat;
-/// unweighted readings of several units; weighting or parameters not the model's).
-ValidationPrediction prediction_from_calibration(const CalibrationReport& report,
-                                                 const MeasurementModel& model);
 
 /// The model's own reading_std when it states one, else nothing.
 ValidationPrediction prediction_from_model(const MeasurementModel& model);
