@@ -233,13 +233,16 @@ std::string to_text(const CalibrationReport& r) {
         out << "registration only (" << r.registration.names.size()
             << " frame parameters): residual RMS " << format("%.4g", rms) << " " << u << "\n";
     if (r.cross_validation.folds > 0)
-      for (const auto& [u, rms] : r.cross_validation.residual_rms)
+      for (const auto& [u, rms] : r.cross_validation.residual_rms) {
+        // A mechanism without frame parameters (a hexapod measured by a gauge) has no
+        // registration-only fit to compare with.
+        const auto registration = r.cross_validation.registration_residual_rms.find(u);
         out << "held out, " << r.cross_validation.folds << "-fold: residual RMS "
-            << format("%.4g", rms) << " " << u << " (registration only "
-            << format("%.4g", r.cross_validation.registration_residual_rms.count(u)
-                                  ? r.cross_validation.registration_residual_rms.at(u)
-                                  : NAN)
-            << ")\n";
+            << format("%.4g", rms) << " " << u;
+        if (registration != r.cross_validation.registration_residual_rms.end())
+          out << " (registration only " << format("%.4g", registration->second) << ")";
+        out << "\n";
+      }
   }
   // For a point-measuring sensor the measured figures above replace the box prediction (the
   // flange, from assumed tolerances); it stays in the JSON.
