@@ -1,6 +1,5 @@
 #include "kincal/cli/starts_option.hpp"
 
-#include <cstdio>
 
 namespace kincal::cli {
 
