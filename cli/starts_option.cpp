@@ -1,6 +1,5 @@
 #include "kincal/cli/starts_option.hpp"
 
-
 namespace kincal::cli {
 
 namespace {
