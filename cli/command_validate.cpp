@@ -123,12 +123,10 @@ int run_validate(const Args& args) {
                      "; expected the model the calibration started from");
     request.before_values = before->parameters().nominal_values();
     request.before_is = before_file;
-  } else if (vm.count("report") && report.nominal.allFinite()) {
-    VectorXd v = values;
-    for (std::size_t i = 0; i < report.names.size(); ++i)
-      v[prediction.parameters[i]] = report.nominal[static_cast<int>(i)];
-    request.before_values = v;
-    request.before_is = vm["report"].as<std::string>() + " (its parameters' nominal values)";
+  } else if (vm.count("report")) {
+    request.before_values = values_before_calibration(report, prediction, values);
+    if (request.before_values)
+      request.before_is = vm["report"].as<std::string>() + " (its parameters' nominal values)";
   }
 
   request.measurements =

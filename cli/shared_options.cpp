@@ -12,58 +12,6 @@
 
 namespace kincal::cli {
 
-namespace {
-
-// Outside this range the information (spread / noise)^2 over- or underflows, or the figures
-// mean nothing: 1e-9 mm is a picometre, 1e6 mm a kilometre.
-constexpr double kNoiseStdMin = 1e-9, kNoiseStdMax = 1e6;
-
-// "0.5" (no unit: `unit` stays "") or "0.5mm", "0.01rad", "0.5deg" (one value with its unit).
-PriorStdRule parse_value(const std::string& text, bool bare_is_parameter_unit) {
-  PriorStdRule rule;
-  char* end = nullptr;
-  const double bare = std::strtod(text.c_str(), &end);
-  if (bare_is_parameter_unit && !text.empty() && end != text.c_str() && *end == '\0') {
-    rule.value = bare;
-  } else {
-    const UnitValues values = UnitValues::parse(text);
-    rule.unit = values.values().begin()->first;
-    rule.value = values.values().begin()->second;
-    if (values.values().size() != 1)
-      throw std::invalid_argument("'" + text + "' gives more than one value");
-  }
-  // A subnormal or tiny std (1e-320) makes the prior's precision 1 / std^2 infinite: refused
-  // here, naming the option, rather than found later as data that "determine only n of n".
-  if (!(rule.value >= kMinPriorStd && rule.value <= kMaxPriorStd)) {
-    char value[48] = "";
-    if (!rule.unit.empty())  // converted (deg to rad): say what was compared
-      std::snprintf(value, sizeof value, " (%g %s)", rule.value, rule.unit.c_str());
-    throw std::invalid_argument("'" + text + "'" + value +
-                                " is not a std between 1e-150 and 1e150");
-  }
-  return rule;
-}
-
-}  // namespace
-
-std::vector<PriorStdRule> parse_prior_std(const std::string& spec) {
-  std::vector<PriorStdRule> rules;
-  std::string::size_type start = 0;
-  while (true) {
-    const auto comma = spec.find(',', start);
-    const std::string item = spec.substr(start, comma - start);
-    const auto eq = item.rfind('=');
-    if (eq == 0) throw std::invalid_argument("'" + item + "' has no parameter pattern before '='");
-    PriorStdRule rule =
-        parse_value(eq == std::string::npos ? item : item.substr(eq + 1), eq != std::string::npos);
-    if (eq != std::string::npos) rule.pattern = item.substr(0, eq);
-    rules.push_back(rule);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return rules;
-}
-
 void add_prior_std_option(po::options_description& options) {
   options.add_options()(
       "prior-std", po::value<std::vector<std::string>>()->composing(),
@@ -87,32 +35,11 @@ std::vector<PriorStdRule> prior_std_rules(const po::variables_map& vm) {
   return rules;
 }
 
-bool prior_std_per_unit_only(const std::vector<PriorStdRule>& rules) {
-  for (const PriorStdRule& rule : rules)
-    if (!rule.pattern.empty()) return false;
-  return true;
-}
-
 void apply_prior_std(const po::variables_map& vm, MeasurementModel& model) {
-  for (const PriorStdRule& rule : prior_std_rules(vm)) {
-    if (rule.pattern.empty()) {
-      // "*" reaches every parameter; a fixed one's prior is never used, so only free ones.
-      model.parameters().for_each_matching("*", [&](Parameter& p) {
-        if (p.free && p.unit == rule.unit) p.prior_std = rule.value;
-      });
-      continue;
-    }
-    try {
-      model.parameters().for_each_matching(rule.pattern, [&](Parameter& p) {
-        if (!rule.unit.empty() && rule.unit != p.unit)
-          throw CliError("--prior-std: '" + rule.pattern + "' matches " + p.name + ", in " +
-                         p.unit + ", but its std is in " + rule.unit);
-        p.prior_std = rule.value;
-      });
-    } catch (const std::invalid_argument&) {
-      throw CliError("--prior-std: '" + printable(rule.pattern) +
-                     "' matches no parameter of the model");
-    }
+  try {
+    kincal::apply_prior_std(prior_std_rules(vm), model);
+  } catch (const std::invalid_argument& e) {
+    throw CliError(std::string("--prior-std: ") + e.what());
   }
 }
 
@@ -163,25 +90,13 @@ void add_noise_std_option(po::options_description& options, const std::string& m
 
 VectorXd noise_std_per_reading(const po::variables_map& vm, const MeasurementModel& model) {
   if (!vm.count("noise-std")) return model.reading_std();
-  const std::vector<std::string> units = model.reading_units();
   const UnitValues values = unit_values_option(vm, "noise-std");
-  const std::string given = "--noise-std '" + printable(vm["noise-std"].as<std::string>()) + "'";
-  VectorXd std(model.num_readings());
-  for (int i = 0; i < model.num_readings(); ++i) {
-    if (!values.has(units[i]))
-      throw CliError(given + ": no value for " + units[i] + " (reading " +
-                     model.reading_names()[i] + ")");
-    std[i] = values.get(units[i]);
-    if (!(std[i] >= kNoiseStdMin && std[i] <= kNoiseStdMax)) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    ": %g %s for reading %s; expected a noise std between %g and %g %s", std[i],
-                    units[i].c_str(), model.reading_names()[i].c_str(), kNoiseStdMin, kNoiseStdMax,
-                    units[i].c_str());
-      throw CliError(given + text);
-    }
+  try {
+    return kincal::noise_std_per_reading(values, model);
+  } catch (const std::invalid_argument& e) {
+    throw CliError("--noise-std '" + printable(vm["noise-std"].as<std::string>()) +
+                   "': " + e.what());
   }
-  return std;
 }
 
 void apply_noise_std(const po::variables_map& vm, MeasurementModel& model) {

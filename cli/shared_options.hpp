@@ -14,29 +14,15 @@
 #include <vector>
 
 #include "kincal/cli/cli_util.hpp"
+#include "kincal/framework/calibration/prior_and_noise.hpp"
 #include "kincal/framework/kinematics/measurement_model.hpp"
 
 namespace kincal::cli {
-
-/// One item of a --prior-std SPEC.
-struct PriorStdRule {
-  std::string pattern;  ///< parameters whose name matches this glob; "" = every free one in `unit`
-  double value = 0;     ///< the std, > 0, in `unit`
-  std::string unit;     ///< mm or rad; "" = the parameter's own unit (a pattern without one)
-};
-
-/// "2.887mm,0.0058rad", "leg*.base.z=0.5mm", "gauge.offset=0.1", or a mix, comma-separated:
-/// a number with a unit applies to every free parameter in that unit (a bare number is mm, as
-/// everywhere), PATTERN=STD to the parameters matching PATTERN (STD in the parameter's unit
-/// when it has none; deg is converted to rad). Throws std::invalid_argument naming the item.
-std::vector<PriorStdRule> parse_prior_std(const std::string& spec);
 
 /// Adds --prior-std SPEC (repeatable; later items win).
 void add_prior_std_option(po::options_description& options);
 /// Every --prior-std item in order, parsed; a malformed one is a CliError naming it.
 std::vector<PriorStdRule> prior_std_rules(const po::variables_map& vm);
-/// Whether every --prior-std item is per unit (no pattern).
-bool prior_std_per_unit_only(const std::vector<PriorStdRule>& rules);
 /// Sets the prior std of the parameters each rule names, replacing the model file's; a
 /// pattern matching nothing or a value in another unit than its parameter's is a CliError.
 void apply_prior_std(const po::variables_map& vm, MeasurementModel& model);

@@ -10,9 +10,24 @@ namespace kincal {
 LoadedMeasurements load_measurements(const std::string& path, const MeasurementModel& model,
                                      const VectorXd& params,
                                      const MeasurementLoadOptions& options) {
+  return screen_measurements(read_measurements(path, model, options.limits), model, params, options,
+                             path);
+}
+
+MeasurementTable table_in_memory(Measurements data) {
+  MeasurementTable table;
+  table.line_numbers.resize(static_cast<std::size_t>(data.size()));
+  for (int r = 0; r < data.size(); ++r) table.line_numbers[static_cast<std::size_t>(r)] = r + 1;
+  table.data = std::move(data);
+  return table;
+}
+
+LoadedMeasurements screen_measurements(MeasurementTable table, const MeasurementModel& model,
+                                       const VectorXd& params,
+                                       const MeasurementLoadOptions& options,
+                                       const std::string& path) {
   const bool skip_bad_rows = options.skip_unreachable_rows;
   const std::string& model_file = options.model_file;
-  MeasurementTable table = read_measurements(path, model, options.limits);
   LoadedMeasurements loaded;
   loaded.notes = table.notices;
   // Degrees given as radians, metres as millimetres: an error before anything is solved.

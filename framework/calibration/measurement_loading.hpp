@@ -52,4 +52,16 @@ LoadedMeasurements load_measurements(const std::string& path, const MeasurementM
                                      const VectorXd& params,
                                      const MeasurementLoadOptions& options = {});
 
+/// Rows already in memory (a program's own, Python's arrays) as a table whose "lines" are the
+/// rows' positions from 1, for screen_measurements.
+MeasurementTable table_in_memory(Measurements data);
+
+/// The screening of load_measurements on a table already read: `source` names it in notes
+/// and errors ("<source>:<line>: skipped, ..."), as the file's path does. options.limits is
+/// not used (the rows are read).
+LoadedMeasurements screen_measurements(MeasurementTable table, const MeasurementModel& model,
+                                       const VectorXd& params,
+                                       const MeasurementLoadOptions& options,
+                                       const std::string& source);
+
 }  // namespace kincal

@@ -34,7 +34,11 @@ constexpr double kLargest = 1e150, kSmallest = 1e-150;
 }  // namespace
 
 ReportPrediction read_report_prediction(const std::string& path) {
-  const Json report = read_json_file(path, "calibration report");
+  return parse_report_prediction(read_json_file(path, "calibration report"), path);
+}
+
+ReportPrediction parse_report_prediction(const nlohmann::ordered_json& report,
+                                         const std::string& path) {
   if (!report.is_object() || report.value("format", "") != "kincal-calibration-report")
     throw std::invalid_argument(
         path + ": expected a calibration report (format \"kincal-calibration-report\")");
@@ -148,6 +152,16 @@ ValidationPrediction prediction_from_calibration(const CalibrationReport& report
         "the calibration could not estimate every parameter's std; validate without its "
         "prediction to compare with the noise alone");
   return prediction_from_report(r, model, "the calibration", "the model");
+}
+
+std::optional<VectorXd> values_before_calibration(const ReportPrediction& report,
+                                                  const ValidationPrediction& prediction,
+                                                  const VectorXd& values) {
+  if (!report.nominal.allFinite()) return std::nullopt;
+  VectorXd v = values;
+  for (std::size_t i = 0; i < report.names.size(); ++i)
+    v[prediction.parameters[i]] = report.nominal[static_cast<int>(i)];
+  return v;
 }
 
 }  // namespace kincal

@@ -4,8 +4,11 @@
 // and the estimated parameters' std and correlation. The reader of that format for the
 // validate workflow; every number is checked to be one it can compute with.
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/workflows/validate.hpp"
@@ -28,6 +31,10 @@ struct ReportPrediction {
 /// report, a field missing or of the wrong type, a number that is not finite or out of its
 /// range (a std of 1e300, a correlation beyond [-1, 1]), a parameter whose std is null.
 ReportPrediction read_report_prediction(const std::string& path);
+/// The same for a report already parsed (Python's report, a program's own); `source` names
+/// it in messages as the path does.
+ReportPrediction parse_report_prediction(const nlohmann::ordered_json& report,
+                                         const std::string& source);
 
 /// The prediction of `report` (read from `report_file`) for `model` (from `model_file`, the
 /// calibrated model it was written with): sigma_hat, times reading_std when weighted, and
@@ -38,6 +45,14 @@ ValidationPrediction prediction_from_report(const ReportPrediction& report,
                                             const MeasurementModel& model,
                                             const std::string& report_file,
                                             const std::string& model_file);
+
+/// The values the calibration started from, as far as `report` gives them: `values` (the
+/// calibrated model's) with each of the report's parameters at its nominal value, or nothing
+/// when the report does not give every one (older reports). `prediction` is
+/// prediction_from_report's for the same report (it maps the names to indices).
+std::optional<VectorXd> values_before_calibration(const ReportPrediction& report,
+                                                  const ValidationPrediction& prediction,
+                                                  const VectorXd& values);
 
 /// The same for a calibration's report in memory (CalibrateResult::report), for the model
 /// with its estimate (model_with_values). Throws std::invalid_argument as above, and when the

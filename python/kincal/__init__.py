@@ -6,9 +6,9 @@
     report.to_dict()                                 # the program's JSON, exactly
 
 Models (``Model.preset``, ``Model.load``, ``model_from_urdf``), forward and inverse
-kinematics over arrays, ``Measurements`` in kincal's CSV format, the commands (``simulate``,
-``calibrate``, ``observability``, ``design``, ``validate``, ``compare``, ``export``,
-``html_report``), the generic least-squares layer (``LeastSquaresProblem``, ``solve``) and
+kinematics over arrays, ``Measurements`` in kincal's CSV format, the workflows ``calibrate``
+and ``validate`` (the library's, with typed keyword arguments), the commands (``simulate``,
+``observability``, ``design``, ``compare``, ``export``, ``html_report``), the generic least-squares layer (``LeastSquaresProblem``, ``solve``) and
 studies on Dask (``kincal.studies``).
 """
 
@@ -17,7 +17,6 @@ from ._commands import KincalError, KincalInterrupt
 from ._kincal import Model, __version__, load_plugin, loaded_plugins, presets
 from ._reports import Report, Table
 from .commands import (
-    calibrate,
     compare,
     design,
     export,
@@ -25,10 +24,10 @@ from .commands import (
     model_from_urdf,
     observability,
     simulate,
-    validate,
 )
 from .least_squares import LeastSquaresProblem, SolveResult, solve, solvers
 from .measurements import Measurements
+from .workflows import calibrate, validate
 
 __all__ = [
     "KincalError",

@@ -134,3 +134,17 @@ def _simulate_direct(
     solver: str,
     catch_sigint: bool,
 ) -> Dict[str, Any]: ...
+def _calibrate(
+    model: Model, data_path: Optional[str], actuators: Any, readings: Any, solver: str,
+    max_iterations: int, solver_options: Dict[str, str], loss: str, free: List[str],
+    fix: List[str], prior_std: List[str], noise_std: str, folds: int, starts: int, seed: int,
+    rcond: float, allow_rank_deficient: bool, formulation: str, skip_bad_rows: bool,
+    threads: int, out: str, json: str, html: str, model_path: str, inputs: List[str],
+    catch_sigint: bool,
+) -> Dict[str, Any]: ...
+def _validate(
+    model: Model, data_path: Optional[str], actuators: Any, readings: Any,
+    report_json: Optional[str], report_name: str, before: Optional[Model], before_name: str,
+    noise_std: str, skip_bad_rows: bool, json: str, html: str, model_path: str,
+    inputs: List[str],
+) -> Dict[str, Any]: ...

@@ -1,8 +1,10 @@
-"""simulate, calibrate, observability, design, validate, compare, export and the HTML
-report: kincal's commands, run in-process, returning their JSON reports as Report objects
-(``to_dict()`` is exactly what ``kincal <command> --json`` writes). Every option of the
-command is a keyword argument (see ``kincal._commands``); ``kincal <command> --help`` and
-the README list them.
+"""simulate, observability, design, compare, export and model_from_urdf: kincal's commands,
+run in-process, returning their JSON reports as Report objects (``to_dict()`` is exactly
+what ``kincal <command> --json`` writes). Every option of the command is a keyword argument
+(see ``kincal._commands``); ``kincal <command> --help`` and the README list them.
+
+calibrate, validate and html_report call the library's workflows directly, with typed
+keyword arguments (kincal.workflows); they are re-exported here.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from ._commands import (
     with_text,
 )
 from ._reports import Report
+from .workflows import DataArg, ModelArg, PathLike, calibrate, validate
 
 
 def simulate(
@@ -43,31 +46,6 @@ def simulate(
             args += ["--model", model_path(model, work)]
         args += option_args(options)
         report, _, out, err = json_report("simulate", args, work)
-        return with_text(report, out, err)
-
-
-def calibrate(model: Any, data: Any, *, solver: Optional[str] = None, **options: OptionValue) -> Report:
-    """Calibrates ``model`` (a model file or Model) from ``data`` (a measurement file or
-    Measurements), as ``kincal calibrate``; options as the command's (``free=[...]``,
-    ``fix=[...]``, ``loss="huber:1"``, ``prior_std=[...]``, ``folds=5``, ``out=``, ``html=``,
-    ``solver_option={...}``). ``report.calibrated_model`` is the calibrated Model: the file
-    ``out`` when given, else the model with the report's estimates."""
-    with Workdir() as work:
-        path = model_path(model, work)
-        args = ["--model", path, "--data", data_path(data, model, work)]
-        args += option_args({"solver": solver}) + option_args(options)
-        report, _, out, err = json_report("calibrate", args, work)
-        out_file = options.get("out")
-        if out_file is not None:
-            calibrated = _kincal.Model.load(str(out_file))
-        else:
-            start = model if isinstance(model, _kincal.Model) else _kincal.Model.load(path)
-            values = start.nominal
-            index = {name: i for i, name in enumerate(start.parameter_names)}
-            for row in report["parameters"]:
-                values[index[row["name"]]] = row["estimate"]
-            calibrated = start.with_values(values)
-        report.__dict__["calibrated_model"] = calibrated
         return with_text(report, out, err)
 
 
@@ -101,15 +79,6 @@ def design(model: Any, *, count: int, **options: OptionValue) -> Report:
         return with_text(report, out, err)
 
 
-def validate(model: Any, data: Any, **options: OptionValue) -> Report:
-    """Checks a calibrated model on held-out data, as ``kincal validate`` (``report=``,
-    ``before=``, ``html=``)."""
-    with Workdir() as work:
-        args = ["--model", model_path(model, work), "--data", data_path(data, model, work)]
-        report, _, out, err = json_report("validate", args + option_args(options), work)
-        return with_text(report, out, err)
-
-
 def compare(truth: Any, model: Any, **options: OptionValue) -> Report:
     """Compares a calibrated model with the true one, as ``kincal compare``."""
     with Workdir() as work:
@@ -128,11 +97,10 @@ def export(model: Any, format: str, out: Optional[str] = None) -> str:
             return f.read()
 
 
-def html_report(
-    model: Any, data: Any, out: str, *, solver: Optional[str] = None, **options: OptionValue
-) -> Report:
-    """Calibrates as ``calibrate`` and writes the HTML report to ``out``."""
-    return calibrate(model, data, solver=solver, html=out, **options)
+def html_report(model: ModelArg, data: DataArg, out: PathLike, **options: Any) -> Report:
+    """Calibrates as ``calibrate`` (the same keyword arguments) and writes the HTML report
+    to ``out``."""
+    return calibrate(model, data, html=out, **options)
 
 
 def model_from_urdf(

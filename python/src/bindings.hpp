@@ -23,6 +23,7 @@ void bind_least_squares(py::module_& m);
 void bind_sensors(py::module_& m);
 void bind_mechanisms(py::module_& m);
 void bind_studies(py::module_& m);
+void bind_workflows(py::module_& m);
 
 /// Held while a command runs in-process (commands.cpp): the commands share process state,
 /// the console (cli/console.hpp) and the Ctrl-C handler, so they run one at a time, and so

@@ -19,5 +19,6 @@ PYBIND11_MODULE(_kincal, m) {
   kp::bind_sensors(m);
   kp::bind_mechanisms(m);
   kp::bind_studies(m);
+  kp::bind_workflows(m);
   m.attr("__version__") = KINCAL_VERSION_STRING;
 }

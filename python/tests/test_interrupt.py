@@ -228,3 +228,30 @@ def test_sigint_during_a_study_on_dask_cancels_it_and_gives_the_partial_document
     assert words[:2] == ["interrupted", "True"], out
     # Trials that finished on the workers are in the document; the study did not finish.
     assert 0 < int(words[2]) <= int(words[3]) < 5000, out
+
+
+LONG_CALIBRATE = textwrap.dedent(
+    """
+    import kincal
+
+    path = "d.csv"  # in the test's own directory
+    kincal.simulate(preset="cube-hexapod", poses=600, noise_half_width=0.0125, seed=2,
+                    write_data=path)
+    model = kincal.Model.preset("cube-hexapod")
+    data = kincal.Measurements.read(path, model)
+    print("solving", flush=True)
+    try:
+        # The calibrate workflow, called directly: about ten seconds of evaluations.
+        kincal.calibrate(model, data, solver="nlopt:LN_NELDERMEAD", max_iterations=10**9)
+    except KeyboardInterrupt as e:
+        r = e.result
+        print("interrupted", r.termination, r.final_cost < r.initial_cost, flush=True)
+        raise SystemExit(0)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_sigint_during_the_calibrate_workflow_gives_the_report_of_the_best_point(tmp_path):
+    out, _ = interrupted(LONG_CALIBRATE, "solving", 2.0, timeout=60, cwd=tmp_path)
+    assert out.split() == ["interrupted", "user_stopped", "True"], out
