@@ -12,10 +12,10 @@
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sensitivity_option.hpp"
-#include "kincal/cli/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
+#include "kincal/framework/io/sha256.hpp"
 #include "kincal/framework/workflows/calibrate_report.hpp"
 #include "kincal/models/model_io.hpp"
 
@@ -37,21 +37,12 @@ void reject_loss_as_solver_option(const po::variables_map& vm) {
 // --loss, validated against the chosen backend and added to its options.
 RobustLoss loss_option(const po::variables_map& vm, SolverChoice& choice) {
   if (!vm.count("loss")) return {};
-  const std::string text = vm["loss"].as<std::string>();
-  RobustLoss loss;
   try {
-    loss = RobustLoss::parse(text);
+    return add_robust_loss(vm["loss"].as<std::string>(), *choice.solver, choice.name,
+                           choice.options, "--loss", "use --solver lm");
   } catch (const std::invalid_argument& e) {
-    throw CliError("--loss '" + text + "': " + e.what());
+    throw CliError(e.what());
   }
-  choice.options.backend_options["loss"] = text;
-  try {
-    choice.solver->check_options(choice.options);
-  } catch (const InvalidSolverOptions& e) {
-    throw CliError("--loss: solver '" + choice.name + "' does not take a robust loss (" + e.what() +
-                   "); use --solver lm");
-  }
-  return loss;
 }
 
 // The files of this run: no output may be an input or the other output. Checked before

@@ -3,11 +3,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "kincal/cli/export_formats.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/cli/sha256.hpp"
-#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/io/sha256.hpp"
+#include "kincal/models/export_formats.hpp"
 
 namespace kincal::cli {
 
@@ -28,30 +27,18 @@ int run_export(const Args& args) {
   plan.check();
 
   const std::shared_ptr<MeasurementModel> model = load_model_option(vm);
-  // Formats beyond kincal's own are registered per mechanism type (a plug-in's).
-  const ModelRegistry& registry = ModelRegistry::global();
-  const std::string& type = model->mechanism().type();
-  const ExportFormat* registered = registry.export_format(type, format);
-  if (format != "urdf" && format != "csv" && format != "json" && !registered) {
-    std::string known = "urdf, csv, json";
-    for (const auto& f : registry.export_formats())
-      if (f.mechanism_type == type) known += ", " + f.format;
-    throw CliError("--format '" + format + "': expected " + known + " for mechanism '" + type +
-                   "'");
-  }
   ExportSource source;
   source.model_file = vm["model"].as<std::string>();
   source.sha256 = model_file_sha256(source.model_file);
   std::string text;
   try {
-    text = registered         ? registered->write(*model, {source.model_file, source.sha256})
-           : format == "urdf" ? export_urdf(*model, source)
-           : format == "csv"  ? export_csv(*model, source)
-                              : export_json(*model, source);
+    text = export_model(*model, format, source);
   } catch (const ExportError& e) {
     throw CliError(source.model_file + ": " + e.what());
   } catch (const std::invalid_argument& e) {
-    throw CliError(source.model_file + ": --format " + format + ": " + e.what());
+    const std::string what = e.what();
+    if (what.rfind("format '", 0) == 0) throw CliError("--" + what);  // an unknown format
+    throw CliError(source.model_file + ": --format " + format + ": " + what);
   } catch (const nlohmann::json::exception& e) {
     throw CliError(source.model_file + ": cannot be written as JSON (" + e.what() + ")");
   }

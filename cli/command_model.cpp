@@ -2,7 +2,6 @@
 // for users to edit.
 
 #include "kincal/cli/model_args.hpp"
-#include "kincal/cli/urdf_io.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/kinematics/names.hpp"
@@ -10,6 +9,7 @@
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
 #include "kincal/models/presets.hpp"
+#include "kincal/models/urdf_io.hpp"
 
 namespace kincal::cli {
 
@@ -25,63 +25,34 @@ std::string read_text(const std::string& path) {
   }
 }
 
-// The model file written from a URDF is one kincal reads: within a model file's size (the
-// URDF's text grows when escaped as JSON) and accepted by the model reader. import_urdf
-// refuses what it knows the reader would; this catches the rest before anything is written.
-void check_reads_back(const std::string& model_text, const std::string& urdf_path) {
-  const JsonLimits limits;
-  if (model_text.size() > limits.max_bytes)
-    throw CliError(urdf_path + ": the model file would be " + std::to_string(model_text.size()) +
-                   " bytes (the URDF's text, escaped as JSON, and the model), more than the " +
-                   std::to_string(limits.max_bytes >> 20) + " MiB a model file may have");
-  try {
-    model_from_json(parse_json_text(model_text, "the model file"), "the model file");
-  } catch (const std::invalid_argument& e) {
-    throw CliError(urdf_path + ": the model imported from it would not read back: " + e.what());
-  }
-}
-
 // A model of the arm in a URDF with one tracker: every parameter free (calibrate keeps the
 // ones the data determine; docs/calibrating-a-serial-arm.md).
 std::shared_ptr<MeasurementModel> import_model(const po::variables_map& vm) {
   if (!vm.count("tip")) throw CliError("--urdf needs --tip LINK (the link the tool is on)");
   const std::string path = vm["urdf"].as<std::string>();
-  const std::string sensor = vm["sensor"].as<std::string>();
-  if (sensor != "point-tracker" && sensor != "pose-tracker")
-    throw CliError("--sensor '" + sensor + "': expected point-tracker or pose-tracker");
-  if (vm.count("point") && sensor != "point-tracker")
+  UrdfModelOptions options;
+  options.sensor = vm["sensor"].as<std::string>();
+  if (options.sensor != "point-tracker" && options.sensor != "pose-tracker")
+    throw CliError("--sensor '" + options.sensor + "': expected point-tracker or pose-tracker");
+  if (vm.count("point") && options.sensor != "point-tracker")
     throw CliError(
         "--point is the target of a point tracker; a pose tracker's marker starts at "
         "the tip frame");
-  Vector3d point = Vector3d::Zero();
   if (vm.count("point")) {
     const auto v = parse_numbers(vm["point"].as<std::string>(), 3, "point", "x,y,z in mm");
-    point = Vector3d(v[0], v[1], v[2]);
+    options.point = Vector3d(v[0], v[1], v[2]);
   }
-  UrdfArmGeometry g;
+  options.base_link = vm.count("base") ? vm["base"].as<std::string>() : "";
+  options.tip_link = vm["tip"].as<std::string>();
+  const std::string text = read_text(path);
   try {
     // The file's name is recorded in the model file (JSON: UTF-8).
-    g = import_urdf(read_text(path), is_valid_utf8(path) ? path : printable(path),
-                    vm.count("base") ? vm["base"].as<std::string>() : "",
-                    vm["tip"].as<std::string>());
+    return model_from_urdf(text, is_valid_utf8(path) ? path : printable(path), options);
   } catch (const UrdfError& e) {
     throw CliError(path + ": " + e.what());
-  }
-  std::shared_ptr<const Mechanism> arm;
-  try {
-    arm = std::make_shared<UrdfArm>(std::move(g));
   } catch (const std::invalid_argument& e) {
     throw CliError(path + ": " + e.what());
   }
-  std::shared_ptr<const Sensor> tracker;
-  if (sensor == "point-tracker")
-    tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), point);
-  else
-    tracker = std::make_shared<PoseTracker>("tracker", Vector6d::Zero(), Vector6d::Zero());
-  auto model =
-      std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
-  model->parameters().set_free("*", true);
-  return model;
 }
 
 }  // namespace
@@ -124,7 +95,6 @@ int run_model(const Args& args) {
   apply_free_fix(vm, *model);
   const std::string text =
       model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n";
-  if (vm.count("urdf")) check_reads_back(text, vm["urdf"].as<std::string>());
   plan.write({{"--out", text}});
   return 0;
 }

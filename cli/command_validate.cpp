@@ -14,7 +14,7 @@
 #include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/cli/sha256.hpp"
+#include "kincal/framework/io/sha256.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"

@@ -29,23 +29,6 @@ std::ostream& err() {
 bool out_is_process_stdout() { return g_out.load() == nullptr; }
 bool err_is_process_stderr() { return g_err.load() == nullptr; }
 
-std::string format_text(const char* format, ...) {
-  std::va_list args;
-  va_start(args, format);
-  std::va_list again;
-  va_copy(again, args);
-  const int n = std::vsnprintf(nullptr, 0, format, args);
-  va_end(args);
-  std::string text;
-  if (n > 0) {
-    std::vector<char> buffer(static_cast<std::size_t>(n) + 1);
-    std::vsnprintf(buffer.data(), buffer.size(), format, again);
-    text.assign(buffer.data(), static_cast<std::size_t>(n));
-  }
-  va_end(again);
-  return text;
-}
-
 ConsoleScope::ConsoleScope(std::ostream& out, std::ostream& err)
     : saved_out_(g_out.exchange(&out)), saved_err_(g_err.exchange(&err)) {}
 

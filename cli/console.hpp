@@ -9,6 +9,8 @@
 #include <ostream>
 #include <string>
 
+#include "kincal/framework/base/format_text.hpp"
+
 namespace kincal::cli {
 
 /// The command's standard output: std::cout, or the stream of the ConsoleScope in force.
@@ -20,9 +22,6 @@ std::ostream& err();
 bool out_is_process_stdout();
 /// Whether err() is the process's standard error (then a terminal there shows progress).
 bool err_is_process_stderr();
-
-/// printf's formatting into a string, for the commands' tables: out() << format_text(...).
-std::string format_text(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 /// Points out() and err() at `out` and `err` while it lives, for every thread (a command's
 /// workers print progress): one at a time in a process, held by whoever runs the command.

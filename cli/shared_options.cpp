@@ -43,17 +43,6 @@ void apply_prior_std(const po::variables_map& vm, MeasurementModel& model) {
   }
 }
 
-bool check_prior_usable(const MeasurementModel& model, const std::string& model_file) {
-  bool any = false;
-  for (int i : model.parameters().free_indices()) any = any || model.parameters()[i].has_prior();
-  if (any && !model.weighted())
-    throw CliError(model_file +
-                   ": a prior (prior_std, --prior-std) needs the readings' noise std to be "
-                   "weighed against; give --noise-std (e.g. 0.0072mm) or \"reading_std\": "
-                   "{\"<reading>\": std} in the model file (a / sqrt(3) for noise U[-a, a])");
-  return any;
-}
-
 void add_config_range_option(po::options_description& options) {
   options.add_options()("config-range", po::value<std::string>(),
                         "half-width of the box around the home actuator values from which "

@@ -26,10 +26,6 @@ std::vector<PriorStdRule> prior_std_rules(const po::variables_map& vm);
 /// Sets the prior std of the parameters each rule names, replacing the model file's; a
 /// pattern matching nothing or a value in another unit than its parameter's is a CliError.
 void apply_prior_std(const po::variables_map& vm, MeasurementModel& model);
-/// Whether a free parameter of `model` has a prior. When one has, the model must state its
-/// readings' noise (reading_std or --noise-std): the prior weighs against whitened residuals.
-/// Throws a CliError naming `model_file` otherwise.
-bool check_prior_usable(const MeasurementModel& model, const std::string& model_file);
 
 /// Adds --config-range SPEC: the half-width per unit of the box around the home actuator
 /// values from which configurations are drawn (simulate, reproduce, observability, design).

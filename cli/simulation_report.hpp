@@ -1,6 +1,6 @@
 #pragma once
-// Scenario options shared by `simulate` and `reproduce`, and the JSON form of one
-// simulated calibration.
+// Scenario options shared by `simulate` and `reproduce` (the JSON form of one simulated
+// calibration is the library's: framework/workflows/simulate.hpp).
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -8,6 +8,7 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/kinematics/units.hpp"
+#include "kincal/framework/workflows/simulate.hpp"
 
 namespace kincal::cli {
 
@@ -18,13 +19,5 @@ void add_scenario_options(po::options_description& options, bool with_case_and_p
 UnitValues unit_values_option(const po::variables_map& vm, const std::string& option);
 /// ScenarioOptions from those options; `case_id` receives --case (0 when not given).
 ScenarioOptions scenario_options_from(const po::variables_map& vm, int* case_id);
-
-nlohmann::json to_json(const PoseErrorStats& stats);
-/// `model_name`: the preset's name or the model file's path.
-nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int case_id,
-                       const std::string& model_name);
-
-/// Trace CSV: one row per solver iteration with cost and validation errors.
-std::string trace_csv(const CalibrationRun& run);
 
 }  // namespace kincal::cli

@@ -66,14 +66,14 @@ install(FILES "${PROJECT_BINARY_DIR}/kincalConfig.cmake"
 
 # ---- kincal.pc ---------------------------------------------------------------
 # Relocatable: the prefix is found from where the .pc file is (cmake --install --prefix P).
-# kincal is a static library, so Libs and Requires carry what it links: NLopt, Ipopt, Eigen
-# and nlohmann-json through their own .pc files; Ceres has none, and -lceres is enough where
+# kincal is a static library, so Libs and Requires carry what it links: NLopt, Ipopt, Eigen,
+# nlohmann-json and urdfdom (with TinyXML) through their own .pc files; Ceres has none, and -lceres is enough where
 # libceres is a shared library that brings its own dependencies (Debian's libceres.so; the
 # CMake package links what Ceres' own CMake config says, on Debian the static libceres.a).
 set(KINCAL_PC_DIR "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
 file(RELATIVE_PATH KINCAL_PC_TO_PREFIX "/prefix/${KINCAL_PC_DIR}" "/prefix")
 string(REGEX REPLACE "/$" "" KINCAL_PC_TO_PREFIX "${KINCAL_PC_TO_PREFIX}")
-set(KINCAL_PC_REQUIRES "eigen3 nlohmann_json")
+set(KINCAL_PC_REQUIRES "eigen3 nlohmann_json urdfdom tinyxml")
 set(KINCAL_PC_CFLAGS "")
 set(KINCAL_PC_LIBS "")
 if(KINCAL_WITH_CERES)

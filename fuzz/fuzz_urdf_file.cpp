@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "kincal/cli/urdf_io.hpp"
+#include "kincal/models/urdf_io.hpp"
 #include "kincal/models/point_tracker.hpp"
 
 namespace {
@@ -57,13 +57,13 @@ std::vector<std::string> tinyxml_elements(const std::string& text) {
   return out;
 }
 
-std::vector<std::string> scanned_elements(const kincal::cli::XmlText& xml) {
+std::vector<std::string> scanned_elements(const kincal::XmlText& xml) {
   std::vector<std::string> out;
-  for (const kincal::cli::XmlElement& e : xml.elements) {
+  for (const kincal::XmlElement& e : xml.elements) {
     int depth = 1;
     for (int p = e.parent; p >= 0; p = xml.elements[static_cast<std::size_t>(p)].parent) ++depth;
     std::string seen = std::to_string(depth) + " " + e.name;
-    for (const kincal::cli::XmlAttribute& a : e.attributes) seen += " " + a.name + "=" + a.value;
+    for (const kincal::XmlAttribute& a : e.attributes) seen += " " + a.name + "=" + a.value;
     out.push_back(seen);
   }
   return out;
@@ -74,21 +74,21 @@ std::vector<std::string> scanned_elements(const kincal::cli::XmlText& xml) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const kincal::cli::XmlText xml = kincal::cli::scan_urdf_xml(text);
+    const kincal::XmlText xml = kincal::scan_urdf_xml(text);
     if (scanned_elements(xml) != tinyxml_elements(text)) fail("TinyXML reads other elements", text);
-  } catch (const kincal::cli::UrdfError& e) {
+  } catch (const kincal::UrdfError& e) {
     check_message(e.what());
     return 0;
   }
   std::shared_ptr<kincal::MeasurementModel> model;
   try {
-    kincal::UrdfArmGeometry g = kincal::cli::import_urdf(text, "U.urdf", "", "tip");
+    kincal::UrdfArmGeometry g = kincal::import_urdf(text, "U.urdf", "", "tip");
     auto arm = std::make_shared<kincal::UrdfArm>(std::move(g));
     auto tracker = std::make_shared<kincal::PointTracker>("tracker", kincal::Vector6d::Zero(),
                                                           kincal::Vector3d(1, 2, 3));
     model = std::make_shared<kincal::MeasurementModel>(
         arm, std::vector<std::shared_ptr<const kincal::Sensor>>{tracker});
-  } catch (const kincal::cli::UrdfError& e) {
+  } catch (const kincal::UrdfError& e) {
     check_message(e.what());
     return 0;
   } catch (const std::invalid_argument& e) {
@@ -99,8 +99,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   kincal::VectorXd values = model->parameters().nominal_values();
   for (int i = 0; i < values.size(); ++i) values[i] += 1e-3 * (i % 7 + 1);
   try {
-    kincal::cli::export_urdf_arm(*model, values, " fuzz -- header ");
-  } catch (const kincal::cli::UrdfError& e) {
+    kincal::export_urdf_arm(*model, values, " fuzz -- header ");
+  } catch (const kincal::UrdfError& e) {
     const std::string what = e.what();
     check_message(what);
     if (what.find("does not read back") != std::string::npos) fail("export", what + "\n" + text);

@@ -95,6 +95,18 @@ void apply_prior_std(const std::vector<PriorStdRule>& rules, MeasurementModel& m
   }
 }
 
+bool check_prior_usable(const MeasurementModel& model, const std::string& model_file) {
+  bool any = false;
+  for (int i : model.parameters().free_indices()) any = any || model.parameters()[i].has_prior();
+  if (any && !model.weighted())
+    throw std::invalid_argument(
+        model_file +
+        ": a prior (prior_std, --prior-std) needs the readings' noise std to be weighed "
+        "against; give --noise-std (e.g. 0.0072mm) or \"reading_std\": {\"<reading>\": std} in "
+        "the model file (a / sqrt(3) for noise U[-a, a])");
+  return any;
+}
+
 VectorXd noise_std_per_reading(const UnitValues& noise, const MeasurementModel& model) {
   const std::vector<std::string> units = model.reading_units();
   VectorXd std(model.num_readings());

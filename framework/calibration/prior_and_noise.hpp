@@ -35,6 +35,11 @@ bool prior_std_per_unit_only(const std::vector<PriorStdRule>& rules);
 /// no parameter of the model") or a parameter in another unit than the rule's.
 void apply_prior_std(const std::vector<PriorStdRule>& rules, MeasurementModel& model);
 
+/// Whether a free parameter of `model` has a prior. When one has, the model must state its
+/// readings' noise (reading_std, or --noise-std / noise_std=): the prior weighs against
+/// whitened residuals. Throws std::invalid_argument naming `model_file` otherwise.
+bool check_prior_usable(const MeasurementModel& model, const std::string& model_file);
+
 /// The noise std of each reading of `model` from values per unit (every reading's unit needs
 /// one, within [1e-9, 1e6] of it). Throws std::invalid_argument saying which reading lacks a
 /// value or has one out of range (the caller prefixes the specification it came from).

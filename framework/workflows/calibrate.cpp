@@ -9,6 +9,7 @@
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
 #include "kincal/framework/calibration/equivalent_solutions.hpp"
+#include "kincal/framework/calibration/prior_and_noise.hpp"
 #include "kincal/framework/calibration/prior_problem.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 
@@ -69,15 +70,7 @@ void check_data_size(const CalibrateRequest& request, int configurations, std::s
 
 bool check_calibration_model(const MeasurementModel& model, const RobustLoss& loss,
                              const std::string& model_file) {
-  bool with_prior = false;
-  for (int i : model.parameters().free_indices())
-    with_prior = with_prior || model.parameters()[i].has_prior();
-  if (with_prior && !model.weighted())
-    throw std::invalid_argument(
-        model_file +
-        ": a prior (prior_std, --prior-std) needs the readings' noise std to be "
-        "weighed against; give --noise-std (e.g. 0.0072mm) or \"reading_std\": "
-        "{\"<reading>\": std} in the model file (a / sqrt(3) for noise U[-a, a])");
+  const bool with_prior = check_prior_usable(model, model_file);
   if (with_prior && loss.kind != RobustLoss::Kind::kNone)
     throw std::invalid_argument(
         "--loss " + loss.to_string() +
@@ -86,6 +79,25 @@ bool check_calibration_model(const MeasurementModel& model, const RobustLoss& lo
   if (model.parameters().free_indices().empty())
     throw std::invalid_argument("no free parameters: nothing to calibrate (use --free)");
   return with_prior;
+}
+
+RobustLoss add_robust_loss(const std::string& text, const Solver& solver,
+                           const std::string& solver_name, SolverOptions& options,
+                           const std::string& option, const std::string& remedy) {
+  RobustLoss loss;
+  try {
+    loss = RobustLoss::parse(text);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(option + " '" + text + "': " + e.what());
+  }
+  options.backend_options["loss"] = text;
+  try {
+    solver.check_options(options);
+  } catch (const InvalidSolverOptions& e) {
+    throw std::invalid_argument(option + ": solver '" + solver_name +
+                                "' does not take a robust loss (" + e.what() + "); " + remedy);
+  }
+  return loss;
 }
 
 CalibrateResult calibrate(const CalibrateRequest& request) {

@@ -95,6 +95,15 @@ struct CalibrateResult {
 bool check_calibration_model(const MeasurementModel& model, const RobustLoss& loss,
                              const std::string& model_file);
 
+/// The robust loss `text` ("huber:0.02", "cauchy:1") parsed and added to `options` (its
+/// backend_options' "loss") for `solver`, which must take one; returns it for
+/// CalibrateRequest::loss. Throws std::invalid_argument "<option> '<text>': <why>" for a
+/// malformed loss, and "<option>: solver '<solver_name>' does not take a robust loss (<why>);
+/// <remedy>" for a backend without one. `option` is how the face names it ("--loss", "loss").
+RobustLoss add_robust_loss(const std::string& text, const Solver& solver,
+                           const std::string& solver_name, SolverOptions& options,
+                           const std::string& option, const std::string& remedy);
+
 /// Runs the calibrate workflow (see the file's comment). Throws std::invalid_argument for a
 /// request that cannot be solved: no free parameter, fewer readings than free parameters,
 /// a prior without reading_std, a prior with a robust loss, more folds than configurations,

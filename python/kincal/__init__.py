@@ -6,17 +6,21 @@
     report.to_dict()                                 # the program's JSON, exactly
 
 Models (``Model.preset``, ``Model.load``, ``model_from_urdf``), forward and inverse
-kinematics over arrays, ``Measurements`` in kincal's CSV format, the workflows ``calibrate``
-and ``validate`` (the library's, with typed keyword arguments), the commands (``simulate``,
-``observability``, ``design``, ``compare``, ``export``, ``html_report``), the generic least-squares layer (``LeastSquaresProblem``, ``solve``) and
-studies on Dask (``kincal.studies``).
+kinematics over arrays, ``Measurements`` in kincal's CSV format, the workflows ``simulate``,
+``calibrate``, ``validate``, ``observability``, ``compare``, ``design``, ``export`` and
+``html_report`` (the library's, called directly with typed keyword arguments), the generic
+least-squares layer (``LeastSquaresProblem``, ``solve``) and studies on Dask
+(``kincal.studies``).
 """
 
 from . import _kincal
-from ._commands import KincalError, KincalInterrupt
+from ._errors import KincalError, KincalInterrupt
 from ._kincal import Model, __version__, load_plugin, loaded_plugins, presets
 from ._reports import Report, Table
-from .commands import (
+from .least_squares import LeastSquaresProblem, SolveResult, solve, solvers
+from .measurements import Measurements
+from .workflows import (
+    calibrate,
     compare,
     design,
     export,
@@ -24,10 +28,8 @@ from .commands import (
     model_from_urdf,
     observability,
     simulate,
+    validate,
 )
-from .least_squares import LeastSquaresProblem, SolveResult, solve, solvers
-from .measurements import Measurements
-from .workflows import calibrate, validate
 
 __all__ = [
     "KincalError",

@@ -15,7 +15,7 @@ from typing import Dict, Optional, Union
 import numpy as np
 
 from . import _kincal
-from ._commands import KincalInterrupt, _on_main_thread
+from ._errors import KincalInterrupt, _on_main_thread
 
 LeastSquaresProblem = _kincal.LeastSquaresProblem
 

@@ -26,7 +26,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _kincal
-from ._commands import KincalInterrupt, _on_main_thread
+from ._errors import KincalInterrupt, _on_main_thread
 
 
 __all__ = ["Sensor", "SimulatedCalibration", "check", "simulate", "with_sensors"]

@@ -18,21 +18,33 @@ import sys
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _kincal
-from ._commands import KincalError, KincalInterrupt, _on_main_thread, option_args
+from ._errors import KincalError, KincalInterrupt, _on_main_thread
 
 __all__ = ["reproduce", "accuracy", "design_study", "calibrate_fleet"]
 
 NUM_CASES = 5  # the paper's Table 2
 
 
-def _study_args(solver: str, seed: int, validation: int, options: Dict[str, Any]) -> List[str]:
-    args = option_args({"solver": solver, "seed": seed, "validation": validation})
-    return args + option_args(options)
+def _study_spec(solver: str, seed: int, validation: int, param_error: Union[str, float],
+                config_range: Optional[Union[str, float]], max_iterations: int,
+                solver_option: Optional[Dict[str, Any]]) -> Dict[str, Any]:
+    """The study's settings as typed values, in a plain dict that pickles (it travels to
+    Dask's workers as it is)."""
+    return {
+        "solver": solver,
+        "seed": seed,
+        "validation": validation,
+        "param_error": param_error if isinstance(param_error, str) else repr(float(param_error)),
+        "config_range": None if config_range is None
+        else config_range if isinstance(config_range, str) else repr(float(config_range)),
+        "max_iterations": max_iterations,
+        "solver_option": {str(k): str(v) for k, v in (solver_option or {}).items()},
+    }
 
 
-def _run_chunk(args: Sequence[str], tasks: Sequence[Tuple[int, int]]) -> List[Any]:
+def _run_chunk(spec: Dict[str, Any], tasks: Sequence[Tuple[int, int]]) -> List[Any]:
     """One Dask task: trials of (case index, trial), one thread (the worker's slot)."""
-    return list(_kincal.reproduce_trials(list(args), list(tasks), 1, False))
+    return list(_kincal.reproduce_trials(spec, list(tasks), 1, False))
 
 
 def _chunks(trials: int, chunk: int) -> List[List[Tuple[int, int]]]:
@@ -71,12 +83,15 @@ def reproduce(
     retries: int = 3,
     threads: int = 0,
     progress: Union[bool, Callable[[int, int], None]] = False,
-    **options: Any,
+    param_error: Union[str, float] = "5mm,0.01rad",
+    config_range: Optional[Union[str, float]] = None,
+    max_iterations: int = 200,
+    solver_option: Optional[Dict[str, Any]] = None,
 ) -> Dict[str, Any]:
     """The paper's five cases as a Monte Carlo of ``trials`` seeds, as ``kincal reproduce
-    --trials TRIALS``; returns its JSON document (a dict). Options are the command's
-    (``param_error="5mm,0.01rad"``, ``config_range=``, ``solver_option={...}``,
-    ``max_iterations=``). ``out``: also write summary.csv, trials.csv and trace.csv there
+    --trials TRIALS``; returns its JSON document (a dict). The options are the command's, as
+    typed keyword arguments (``param_error="5mm,0.01rad"``, ``config_range=``,
+    ``solver_option={...}``, ``max_iterations=``). ``out``: also write summary.csv, trials.csv and trace.csv there
     (the document's "out" is then that directory, else None) as the program does: the
     directory is replaced whole, in one step, so it may hold only those three files
     (anything else is refused before any work, with KincalError). ``progress``: True reports
@@ -87,9 +102,13 @@ def reproduce(
         raise ValueError("trials: expected at least 1")
     if chunk < 1:
         raise ValueError("chunk: expected at least 1")
-    args = _study_args(solver, seed, validation, options)
-    # Bad options fail here, before any work: the same parse the trials make.
-    _kincal.reproduce_report(args, 1, [[None]] * NUM_CASES, "")
+    spec = _study_spec(solver, seed, validation, param_error, config_range, max_iterations,
+                       solver_option)
+    # Bad options fail here, before any work: the same checks the trials make.
+    try:
+        _kincal.reproduce_report(spec, 1, [[None]] * NUM_CASES, "")
+    except ValueError as e:
+        raise KincalError(str(e)) from None
     out_dir = None if out is None else os.fspath(out)
     if out_dir is not None:
         # The program's rule for its out directory, checked before any work too.
@@ -105,7 +124,7 @@ def reproduce(
     if client is None:
         done = 0
         for tasks in chunks if report else [[task for c in chunks for task in c]]:
-            values = _kincal.reproduce_trials(args, tasks, threads, _on_main_thread())
+            values = _kincal.reproduce_trials(spec, tasks, threads, _on_main_thread())
             for (c, t), value in zip(tasks, values):
                 results[c][t] = value
             if any(v is None for v in values):
@@ -122,7 +141,7 @@ def reproduce(
         futures: List[Any] = []
         done = 0
         try:
-            futures = client.map(_run_chunk, [args] * len(chunks), chunks, pure=False, retries=retries)
+            futures = client.map(_run_chunk, [spec] * len(chunks), chunks, pure=False, retries=retries)
             tasks_of = {future.key: tasks for future, tasks in zip(futures, chunks)}
             for future in as_completed(futures):
                 for (c, t), value in zip(tasks_of[future.key], future.result()):
@@ -134,7 +153,7 @@ def reproduce(
             if futures:
                 client.cancel(futures)
             interrupted = True
-    text, _rows, summary, trials_csv, trace = _kincal.reproduce_report(args, trials, results, out_dir or "")
+    text, _rows, summary, trials_csv, trace = _kincal.reproduce_report(spec, trials, results, out_dir or "")
     document: Dict[str, Any] = json.loads(text)
     if out_dir is None:
         document["out"] = None
@@ -166,13 +185,13 @@ def _unpacked(model: Any) -> Any:
 
 
 def _design_one(model: Any, count: int, criterion: str, options: Dict[str, Any]) -> Dict[str, Any]:
-    from .commands import design
+    from .workflows import design
 
     return design(_unpacked(model), count=count, criterion=criterion, **options).to_dict()
 
 
 def _calibrate_one(model: Any, data: Any, options: Dict[str, Any]) -> Dict[str, Any]:
-    from .commands import calibrate
+    from .workflows import calibrate
 
     return calibrate(_unpacked(model), data, **options).to_dict()
 

@@ -1,4 +1,5 @@
-"""calibrate and validate: the library's workflows (framework/workflows/) called directly,
+"""simulate, calibrate, validate, observability, compare and design, and the model formats
+(export, model_from_urdf): the library's workflows (framework/workflows/) called directly,
 with typed keyword arguments. No command line is built and no file is written to call them:
 a Model and Measurements go in as they are in memory (a file name is read by the library's
 own reader). The report is the program's JSON for the same inputs (``to_dict()``).
@@ -12,12 +13,12 @@ from __future__ import annotations
 import json as _json
 import os
 import threading
-from typing import List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _kincal
-from ._commands import KincalError, KincalInterrupt
+from ._errors import KincalError, KincalInterrupt
 from ._reports import Report
 from .measurements import Measurements
 
@@ -190,3 +191,269 @@ def validate(
     result.__dict__["notes"] = list(answer["notes"])
     result.__dict__["messages"] = _messages("validate", answer["notes"])
     return result
+
+
+def observability(
+    model: ModelArg,
+    data: Optional[DataArg] = None,
+    *,
+    poses: Optional[int] = None,
+    seed: int = 1,
+    config_range: Optional[str] = None,
+    rcond: float = DEFAULT_RCOND,
+    free: Sequence[str] = (),
+    fix: Sequence[str] = (),
+    prior_std: Union[str, Sequence[str], None] = None,
+    noise_std: Optional[str] = None,
+    skip_bad_rows: bool = False,
+    json: Optional[PathLike] = None,
+    html: Optional[PathLike] = None,
+) -> Report:
+    """How well ``model``'s free parameters are determined, before any solving: from the
+    configurations of ``data`` (Measurements or a file; their readings are not used), or from
+    ``poses`` random ones drawn from ``seed`` within ``config_range`` (``"20mm,0.5rad"``;
+    default each actuator's range). ``free``, ``fix``, ``prior_std`` and ``noise_std`` as in
+    ``calibrate``. The observability workflow, as ``kincal observability`` runs it: returns
+    its report (rank, condition number, per-parameter figures) with ``report.text``."""
+    m, model_path = _model(model)
+    if data is not None:
+        data_path, actuators, readings = _data(data, m)
+    else:
+        data_path, actuators, readings = None, None, None
+    specs = [prior_std] if isinstance(prior_std, str) else list(prior_std or [])
+    inputs = [p for p in (model_path, data_path) if p]
+    try:
+        answer = _kincal._observability(
+            m, data_path, actuators, readings, 0 if poses is None else poses, seed, rcond,
+            config_range or "", list(free), list(fix), specs, noise_std or "", skip_bad_rows,
+            _path(json), _path(html), model_path, inputs)
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    report = Report(_json.loads(answer["report"]))
+    report.__dict__["text"] = answer["text"]
+    return report
+
+
+def compare(
+    truth: ModelArg,
+    model: ModelArg,
+    *,
+    data: Optional[DataArg] = None,
+    poses: int = 200,
+    seed: int = 1,
+    json: Optional[PathLike] = None,
+    html: Optional[PathLike] = None,
+) -> Report:
+    """Compares ``model`` (a calibration's result) with the ``truth`` (a simulation's truth
+    model): each parameter's error, and the pose error over the configurations of ``data``
+    (its actuator columns) or ``poses`` drawn in the truth's workspace from ``seed``. The
+    compare workflow, as ``kincal compare`` runs it: returns its report with ``text``."""
+    t, truth_path = _model(truth)
+    m, model_path = _model(model)
+    data_path: Optional[str] = None
+    actuators: object = None
+    if data is not None:
+        data_path, actuators, _ = _data(data, m)
+    inputs = [p for p in (truth_path, model_path, data_path) if p]
+    try:
+        answer = _kincal._compare(t, m, data_path, actuators, poses, seed, _path(json), _path(html),
+                                  truth_path, model_path, inputs)
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    report = Report(_json.loads(answer["report"]))
+    report.__dict__["text"] = answer["text"]
+    return report
+
+
+Quantity = Union[str, float]
+"""A quantity per unit as text ("0.05mm,1e-4rad"; a bare number is mm), or a number (mm)."""
+
+
+def _quantity(value: Optional[Quantity]) -> Optional[str]:
+    return None if value is None else value if isinstance(value, str) else repr(float(value))
+
+
+def simulate(
+    *,
+    preset: Optional[str] = None,
+    model: Optional[ModelArg] = None,
+    case: Optional[int] = None,
+    poses: Optional[int] = None,
+    noise_half_width: Optional[Quantity] = None,
+    noise_std: Optional[Quantity] = None,
+    param_error: Quantity = "5mm,0.01rad",
+    config_range: Optional[Quantity] = None,
+    seed: int = 1,
+    validation: int = 200,
+    solver: str = "lm",
+    max_iterations: int = 200,
+    solver_option: Optional[Mapping[str, object]] = None,
+    threads: int = 0,
+    formulation: Optional[str] = None,
+    design: Optional[str] = None,
+    design_candidates: int = 10000,
+    prior_std: Union[str, Sequence[str], None] = None,
+    configs: Optional[DataArg] = None,
+    truth: Optional[ModelArg] = None,
+    write_data: Optional[PathLike] = None,
+    allow_rank_deficient: bool = False,
+    starts: int = 1,
+    json: Optional[PathLike] = None,
+    trace: Optional[PathLike] = None,
+) -> Report:
+    """One simulated calibration: the simulate workflow, as ``kincal simulate`` runs it, e.g.
+    ``simulate(case=3, seed=7)``. The model is a ``preset`` (default cube-hexapod) or a
+    ``model`` (Model or file); ``case`` the paper's Table 2 case (it sets ``poses`` and the
+    noise); ``noise_half_width`` (U[-a, a]) or ``noise_std`` the readings' noise per unit;
+    ``param_error`` the true parameters' spread around the nominal ones (or ``truth``, a
+    model); ``configs`` the configurations to simulate (Measurements or a file) instead of
+    ``poses`` random ones, or ``design`` a criterion (D, A, E, I) to choose them; solver
+    settings as in ``calibrate``; ``write_data`` writes the readings and the true model
+    beside them, ``json`` and ``trace`` the reports. Returns the report (``to_dict()`` is the
+    program's JSON) with ``text`` and ``notes``; Ctrl-C stops the solve at its best point and
+    raises ``KincalInterrupt`` carrying the report."""
+    if preset is not None and model is not None:
+        raise KincalError("give either preset or model, not both")
+    inputs: List[str] = []
+    if model is not None:
+        m, model_path = _model(model)
+        model_name = model_path or m.source
+        if model_path:
+            inputs.append(model_path)
+    else:
+        model_name = preset or "cube-hexapod"
+        try:
+            m = _kincal.Model.preset(model_name)
+        except ValueError as e:
+            raise KincalError(f"preset: {e}") from None
+    configs_path: Optional[str] = None
+    configs_a: object = None
+    configs_r: object = None
+    if configs is not None:
+        configs_path, configs_a, configs_r = _data(configs, m)
+        if configs_path:
+            inputs.append(configs_path)
+    truth_model: Optional["_kincal.Model"] = None
+    truth_name = ""
+    if truth is not None:
+        truth_model, truth_name = _model(truth)
+        if truth_name:
+            inputs.append(truth_name)
+        else:
+            truth_name = truth_model.source
+    specs = [prior_std] if isinstance(prior_std, str) else list(prior_std or [])
+    try:
+        answer = _kincal._simulate(
+            m, model_name, case or 0, poses, _quantity(noise_half_width), _quantity(noise_std),
+            _quantity(param_error) or "", _quantity(config_range), seed, validation, solver,
+            max_iterations, {str(k): str(v) for k, v in (solver_option or {}).items()}, threads,
+            formulation or "", design or "", design_candidates, specs, configs_path, configs_a,
+            configs_r, truth_model, truth_name, _path(write_data), allow_rank_deficient, starts,
+            _path(json), _path(trace), inputs, threading.current_thread() is threading.main_thread())
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    report = Report(_json.loads(answer["report"]))
+    report.__dict__["text"] = answer["text"]
+    report.__dict__["notes"] = list(answer["notes"])
+    report.__dict__["messages"] = _messages("simulate", answer["notes"])
+    if answer["interrupted"]:
+        raise KincalInterrupt("kincal.simulate interrupted", report)
+    return report
+
+
+def design(
+    model: ModelArg,
+    *,
+    count: int,
+    criterion: str = "D",
+    candidates: int = 10000,
+    seed: int = 1,
+    singularity_margin: float = 0.5,
+    orientation_length: Optional[Quantity] = None,
+    config_range: Optional[Quantity] = None,
+    free: Sequence[str] = (),
+    fix: Sequence[str] = (),
+    prior_std: Union[str, Sequence[str], None] = None,
+    noise_std: Optional[Quantity] = None,
+    existing: Optional[DataArg] = None,
+    bound: bool = False,
+    out: Optional[PathLike] = None,
+    json: Optional[PathLike] = None,
+    html: Optional[PathLike] = None,
+) -> Report:
+    """Chooses ``count`` configurations worth measuring: the design workflow, as ``kincal
+    design`` runs it. ``criterion`` D, A, E or I; ``candidates`` random candidates drawn in
+    the actuators' box (``config_range``, default each actuator's range) from ``seed``;
+    ``noise_std`` the readings' noise (default the model's reading_std, which it must then
+    state); ``existing`` data already measured (Measurements or a file); ``bound`` also bounds
+    how good any design can be. ``report.configurations`` is a Measurements template of the
+    chosen configurations (readings NaN); ``out`` writes it as the program does, ``json`` and
+    ``html`` the reports. Ctrl-C stops the work with the best design so far (marked partial)
+    and raises ``KincalInterrupt`` carrying the report."""
+    m, model_path = _model(model)
+    inputs = [model_path] if model_path else []
+    existing_path: Optional[str] = None
+    existing_a: object = None
+    existing_r: object = None
+    if existing is not None:
+        existing_path, existing_a, existing_r = _data(existing, m)
+        if existing_path:
+            inputs.append(existing_path)
+    specs = [prior_std] if isinstance(prior_std, str) else list(prior_std or [])
+    try:
+        answer = _kincal._design(
+            m, count, criterion, candidates, seed, singularity_margin,
+            _quantity(orientation_length) or "", _quantity(config_range) or "", list(free),
+            list(fix), specs, _quantity(noise_std) or "", existing_path, existing_a, existing_r,
+            bound, _path(out), _path(json), _path(html), model_path, inputs,
+            threading.current_thread() is threading.main_thread())
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    if answer["stopped_before_design"]:
+        raise KincalInterrupt("kincal.design interrupted while drawing candidates: nothing chosen",
+                              None)
+    report = Report(_json.loads(answer["report"]))
+    report.__dict__["text"] = answer["text"]
+    report.__dict__["notes"] = list(answer["notes"])
+    report.__dict__["messages"] = _messages("design", answer["notes"])
+    report.__dict__["configurations"] = Measurements.empty_readings(answer["configurations"], m)
+    if answer["interrupted"] or report["partial"]:
+        raise KincalInterrupt("kincal.design interrupted", report)
+    return report
+
+
+def export(model: ModelArg, format: str, out: Optional[PathLike] = None) -> str:
+    """The calibrated model for a controller (``format`` urdf, csv, json, or one a plug-in
+    registers), as ``kincal export``: returns the text, and writes it to ``out`` when given
+    (never over the model file). Called in the library: a Model in memory is named by its
+    source and the SHA-256 of its JSON (as ``Model.to_json`` writes it), a model file by its
+    path and the SHA-256 of its bytes."""
+    m, path = _model(model)
+    try:
+        return str(_kincal._export(m, format, path, "" if out is None else os.fspath(out)))
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+
+
+def html_report(model: ModelArg, data: DataArg, out: PathLike, **options: Any) -> Report:
+    """Calibrates as ``calibrate`` (the same keyword arguments) and writes the HTML report
+    to ``out``."""
+    return calibrate(model, data, html=out, **options)
+
+
+def model_from_urdf(
+    urdf: PathLike,
+    tip: str,
+    base: Optional[str] = None,
+    sensor: str = "point-tracker",
+    point: Optional[Sequence[float]] = None,
+) -> "_kincal.Model":
+    """A model imported from a URDF (the chain from ``base``, default the root link, to
+    ``tip``), as ``kincal model --urdf``, every parameter free: ``sensor`` point-tracker or
+    pose-tracker, ``point`` the point tracker's target x, y, z (mm) on the tip link. Called
+    in the library (models/urdf_io.hpp)."""
+    try:
+        return _kincal._model_from_urdf(os.fspath(urdf), tip, base or "", sensor,
+                                        [float(v) for v in point] if point is not None else [])
+    except ValueError as e:
+        raise KincalError(str(e)) from None

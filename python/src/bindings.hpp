@@ -16,7 +16,6 @@ namespace kincal::python {
 namespace py = pybind11;
 
 void bind_interrupt(py::module_& m);
-void bind_commands(py::module_& m);
 void bind_models(py::module_& m);
 void bind_measurements(py::module_& m);
 void bind_least_squares(py::module_& m);
@@ -25,9 +24,8 @@ void bind_mechanisms(py::module_& m);
 void bind_studies(py::module_& m);
 void bind_workflows(py::module_& m);
 
-/// Held while a command runs in-process (commands.cpp): the commands share process state,
-/// the console (cli/console.hpp) and the Ctrl-C handler, so they run one at a time, and so
-/// does anything else that uses the CLI's console (its file writers flush it).
+/// Held while the CLI's file writers run (cli/output_plan.hpp): they flush the console
+/// (cli/console.hpp), process state that one caller at a time may point elsewhere.
 std::mutex& command_mutex();
 
 /// Row-major view of a float64 matrix: what numpy gives without a copy.

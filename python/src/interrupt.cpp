@@ -5,7 +5,6 @@
 #include <mutex>
 
 #include "bindings.hpp"
-#include "kincal/cli/cli_util.hpp"
 
 namespace kincal::python {
 
@@ -32,13 +31,11 @@ SigintScope::SigintScope(bool active) : active_(active) {
   action.sa_handler = on_sigint_in_python_call;
   sigemptyset(&action.sa_mask);
   ::sigaction(SIGINT, &action, &g_previous);
-  cli::set_solver_stop_check([] { return g_sigint.load(); });
 }
 
 SigintScope::~SigintScope() {
   if (!active_) return;
   if (--g_depth == 0) {
-    cli::set_solver_stop_check({});
     ::sigaction(SIGINT, &g_previous, nullptr);
   }
   g_scope_mutex.unlock();

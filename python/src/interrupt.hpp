@@ -2,7 +2,7 @@
 // Ctrl-C during a long call from Python. Python's own SIGINT handler only sets a flag that
 // Python code looks at between bytecodes, and none runs while kincal solves with the GIL
 // released; so for the length of a call made on the main thread, SigintScope installs a
-// handler that sets a flag the solvers' iteration check (cli::set_solver_stop_check) and the
+// handler that sets a flag the solvers' iteration callbacks (sigint_received) and the
 // studies' loops read. The call ends at the best point so far (solvers end user_stopped),
 // the previous handler is restored, and the caller raises KeyboardInterrupt carrying the
 // partial result.

@@ -76,6 +76,8 @@ kincal.Model.from_json().)doc")
       .def_static(
           "load",
           [](const std::string& path) {
+            // Without the GIL: the file may be a FIFO another Python thread writes.
+            py::gil_scoped_release release;
             return ModelHandle{load_model(path), path};
           },
           py::arg("path"), "Reads a model file (JSON). Errors name the file and the field.")

@@ -9,10 +9,9 @@
 PYBIND11_MODULE(_kincal, m) {
   m.doc() = "kincal's compiled core; use the kincal package, not this module.";
   namespace kp = kincal::python;
-  // The commands' bad-input error (one line naming what and where) is a ValueError.
+  // The CLI's output checks' error (one line naming what and where) is a ValueError.
   pybind11::register_exception<kincal::cli::CliError>(m, "CliError", PyExc_ValueError);
   kp::bind_interrupt(m);
-  kp::bind_commands(m);
   kp::bind_models(m);
   kp::bind_measurements(m);
   kp::bind_least_squares(m);

@@ -6,40 +6,50 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
-#include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/output_files.hpp"
 #include "kincal/cli/reproduce_study.hpp"
-#include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/workflows/simulate.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal::python {
 
 namespace {
 
-// The study's options, parsed by the code that parses `kincal reproduce`'s.
+// The study's settings, as typed values (a plain dict that pickles, so that it travels to
+// Dask's workers as it is): the scenario through the library's scenario_options, the backend
+// and its settings checked once.
 struct ReproduceSetup {
   ScenarioOptions base;
-  cli::SolverChoice choice;
+  std::string solver_name;
+  std::shared_ptr<const Solver> solver;
+  SolverOptions options;
 };
 
-ReproduceSetup reproduce_setup(const std::vector<std::string>& args) {
-  cli::po::options_description options("kincal.studies.reproduce");
-  cli::add_scenario_options(options, false);
-  cli::add_solver_options(options);
-  cli::po::variables_map vm;
-  cli::parse_command_line("reproduce", args, options, vm);
+ReproduceSetup reproduce_setup(const py::dict& spec) {
+  ScenarioText text;
+  text.param_error = spec["param_error"].cast<std::string>();
+  if (!spec["config_range"].is_none()) text.config_range = spec["config_range"].cast<std::string>();
+  text.seed = spec["seed"].cast<std::uint64_t>();
+  text.validation = spec["validation"].cast<int>();
   ReproduceSetup setup;
-  int unused_case = 0;
-  setup.base = cli::scenario_options_from(vm, &unused_case);
-  setup.choice = cli::make_solver_choice(vm);
-  setup.choice.options.callback = nullptr;  // a trial always runs to its end
+  setup.base = scenario_options(text, "");
+  setup.solver_name = spec["solver"].cast<std::string>();
+  setup.solver = SolverRegistry::global().create(setup.solver_name);
+  setup.options.max_iterations = spec["max_iterations"].cast<int>();
+  if (setup.options.max_iterations < 1)
+    throw std::invalid_argument("max_iterations must be at least 1");
+  setup.options.backend_options = spec["solver_option"].cast<std::map<std::string, std::string>>();
+  setup.solver->check_options(setup.options);  // a trial always runs to its end: no callback
   return setup;
 }
 
@@ -93,10 +103,9 @@ cli::ReproduceTrial trial_from(const py::handle& h) {
 
 // Runs the (case index, trial) pairs on `threads` threads with the GIL released; a pair not
 // started before Ctrl-C is None.
-py::list reproduce_trials(const std::vector<std::string>& args,
-                          const std::vector<std::pair<int, int>>& tasks, int threads,
-                          bool catch_sigint) {
-  const ReproduceSetup setup = reproduce_setup(args);
+py::list reproduce_trials(const py::dict& spec, const std::vector<std::pair<int, int>>& tasks,
+                          int threads, bool catch_sigint) {
+  const ReproduceSetup setup = reproduce_setup(spec);
   const auto& cases = paper_cases();
   for (const auto& [case_index, trial] : tasks)
     if (case_index < 0 || case_index >= static_cast<int>(cases.size()) || trial < 0)
@@ -111,7 +120,7 @@ py::list reproduce_trials(const std::vector<std::string>& args,
       if (sigint_received()) return;  // as the program: finish the trials under way
       const auto& [case_index, trial] = tasks[i];
       results[i] = cli::run_reproduce_trial(model, setup.base, cases[case_index], trial,
-                                            *setup.choice.solver, setup.choice.options);
+                                            *setup.solver, setup.options);
     });
   }
   py::list out;
@@ -120,9 +129,9 @@ py::list reproduce_trials(const std::vector<std::string>& args,
 }
 
 // results[case index][trial]: a tuple from reproduce_trials, or None (not run).
-py::tuple reproduce_report(const std::vector<std::string>& args, int num_trials,
-                           const py::list& results, const std::string& out_dir) {
-  const ReproduceSetup setup = reproduce_setup(args);
+py::tuple reproduce_report(const py::dict& spec, int num_trials, const py::list& results,
+                           const std::string& out_dir) {
+  const ReproduceSetup setup = reproduce_setup(spec);
   const auto& paper = paper_cases();
   if (results.size() != paper.size())
     throw py::value_error("results: expected one list per case (" + std::to_string(paper.size()) +
@@ -141,8 +150,8 @@ py::tuple reproduce_report(const std::vector<std::string>& args, int num_trials,
     cases.push_back(std::move(rc));
   }
   const cli::ReproduceTables tables =
-      cli::reproduce_tables(cases, num_trials, partial, setup.choice.name);
-  const nlohmann::ordered_json json = cli::reproduce_json(setup.choice.name, num_trials, partial,
+      cli::reproduce_tables(cases, num_trials, partial, setup.solver_name);
+  const nlohmann::ordered_json json = cli::reproduce_json(setup.solver_name, num_trials, partial,
                                                           setup.base, out_dir, tables.json_cases);
   return py::make_tuple(json.dump(2) + "\n", tables.text_rows, tables.summary_csv,
                         tables.trials_csv, tables.trace_csv);
@@ -178,12 +187,13 @@ void bind_studies(py::module_& m) {
         py::arg("summary"), py::arg("trials"), py::arg("trace"),
         "Replaces directory `path` by one holding the three tables, in one step (renameat2 "
         "RENAME_EXCHANGE), as `kincal reproduce --out` does; checked again first.");
-  m.def("reproduce_trials", &reproduce_trials, py::arg("args"), py::arg("tasks"),
+  m.def("reproduce_trials", &reproduce_trials, py::arg("spec"), py::arg("tasks"),
         py::arg("threads") = 0, py::arg("catch_sigint") = false,
-        "Trials of the paper's Monte Carlo: `args` are `kincal reproduce`'s scenario and "
-        "solver options, `tasks` (case index 0..4, trial) pairs. Returns one plain tuple per "
+        "Trials of the paper's Monte Carlo: `spec` the study's settings (solver, seed, "
+        "validation, param_error, config_range, max_iterations, solver_option), `tasks` "
+        "(case index 0..4, trial) pairs. Returns one plain tuple per "
         "task (None when Ctrl-C came first). The GIL is released.");
-  m.def("reproduce_report", &reproduce_report, py::arg("args"), py::arg("trials"),
+  m.def("reproduce_report", &reproduce_report, py::arg("spec"), py::arg("trials"),
         py::arg("results"), py::arg("out"),
         "The report of reproduce_trials' results, per case and trial: (JSON text as "
         "`kincal reproduce --json` writes it, text rows, summary.csv, trials.csv, trace.csv).");

@@ -96,12 +96,12 @@ def test_html_report_is_written(tmp_path):
 
 
 def test_bad_input_is_kincal_error_with_the_programs_line():
-    with pytest.raises(kincal.KincalError, match="--case"):
+    with pytest.raises(kincal.KincalError, match="^case: "):
         kincal.simulate(case=9)
     with pytest.raises(ValueError, match="no-such-solver"):
         kincal.simulate(case=1, solver="no-such-solver")
-    with pytest.raises(ValueError, match="unrecognised|unknown|not recognized|no-such-option"):
-        kincal.simulate(no_such_option=3)
+    with pytest.raises(TypeError, match="no_such_option"):  # typed keyword arguments
+        kincal.simulate(no_such_option=3)  # type: ignore[call-arg]
     with pytest.raises(ValueError, match="missing.csv"):
         kincal.calibrate(kincal.Model.preset("cube-hexapod"), "missing.csv")
 

@@ -30,10 +30,15 @@ def test_no_command_line_and_no_temporary_file(case3, monkeypatch):
     def refused(*args, **kwargs):
         raise AssertionError("kincal built a command line or a temporary file")
 
-    monkeypatch.setattr(kincal._kincal, "run_command", refused)
+    assert not hasattr(kincal._kincal, "run_command")  # no program inside the module
     monkeypatch.setattr(tempfile, "TemporaryDirectory", refused)
     monkeypatch.setattr(tempfile, "mkstemp", refused)
     monkeypatch.setattr(tempfile, "NamedTemporaryFile", refused)
+    sim = kincal.simulate(model=model, configs=data, truth=model, seed=4)
+    assert sim.termination == "converged" and sim.configs == "measurements"
+    assert kincal.observability(model, data)["configurations"] == len(data)
+    assert kincal.compare(model, model, data=data).pose_error.position_max_mm == 0
+    assert kincal.export(model, "json")
     cal = kincal.calibrate(model, data, folds=3, prior_std=None)
     assert cal.termination == "converged"
     assert cal.calibrated_model is not None
@@ -136,3 +141,77 @@ def test_mypy_strict_catches_a_misspelt_option(tmp_path):
     p = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", str(script)],
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stdout + p.stderr
+
+
+def test_model_from_urdf_and_export_are_the_programs_without_it(program, source_dir, tmp_path, monkeypatch):
+    urdf = source_dir / "examples" / "ur5-laser-tracker" / "ur5.urdf"
+    model_file = tmp_path / "ur5.json"
+    subprocess.run([program, "model", "--urdf", str(urdf), "--tip", "flange", "--point", "0,0,50",
+                    "--out", str(model_file)], check=True, capture_output=True)
+    model = kincal.model_from_urdf(str(urdf), "flange", point=[0, 0, 50])
+    assert model.to_json() == model_file.read_text()
+    for format in ("urdf", "json"):
+        p = subprocess.run([program, "export", "--model", str(model_file), "--format", format],
+                           capture_output=True, text=True, check=True)
+        assert kincal.export(str(model_file), format) == p.stdout, format
+    p = subprocess.run([program, "export", "--model", str(model_file), "--format", "csv"],
+                       capture_output=True, text=True)
+    assert p.returncode == 2
+    with pytest.raises(kincal.KincalError) as refused:
+        kincal.export(str(model_file), "csv")
+    assert str(refused.value) in p.stderr  # the program's line, without its "kincal export: error:"
+    out = tmp_path / "ur5-export.urdf"
+    text = kincal.export(model, "urdf", out=str(out))
+    assert out.read_text() == text and "flange" in text
+    with pytest.raises(kincal.KincalError, match="format 'step': expected urdf, csv, json"):
+        kincal.export(model, "step")
+    with pytest.raises(kincal.KincalError, match="an input"):
+        kincal.export(str(model_file), "json", out=str(model_file))
+    with pytest.raises(kincal.KincalError, match="sensor 'laser'"):
+        kincal.model_from_urdf(str(urdf), "flange", sensor="laser")
+    with pytest.raises(kincal.KincalError, match="no-such-link"):
+        kincal.model_from_urdf(str(urdf), "no-such-link")
+
+
+def test_observability_is_the_programs_from_memory_and_from_files(case3, program, tmp_path, monkeypatch):
+    model, data, _, data_file, _ = case3
+    model_file = tmp_path / "m.json"
+    model_file.write_text(model.to_json())
+    p = subprocess.run([program, "observability", "--model", str(model_file), "--poses", "30", "--seed", "2",
+                        "--config-range", "20mm", "--json", "-"], capture_output=True, text=True, check=True)
+    random = kincal.observability(str(model_file), poses=30, seed=2, config_range="20mm")
+    assert random.to_dict() == json.loads(p.stdout)
+    assert random.text.startswith("30 configurations\n")
+    p = subprocess.run([program, "observability", "--model", str(model_file), "--data", str(data_file),
+                        "--fix", "gauge.offset", "--json", "-"], capture_output=True, text=True, check=True)
+    from_file = kincal.observability(str(model_file), str(data_file), fix=["gauge.offset"])
+    assert from_file.to_dict() == json.loads(p.stdout)
+    in_memory = kincal.observability(model, data, fix=["gauge.offset"])
+    assert in_memory["condition_number"] == from_file["condition_number"]
+    with pytest.raises(kincal.KincalError, match="exactly one of data and poses"):
+        kincal.observability(model, data, poses=30)
+    with pytest.raises(kincal.KincalError, match="exactly one of data and poses"):
+        kincal.observability(model)
+
+
+def test_simulate_in_memory_is_the_programs_from_files(case3, program, tmp_path):
+    model, data, _, data_file, _ = case3
+    truth_file = tmp_path / "t.json"
+    truth_file.write_text(model.with_values(model.nominal + 0.01).to_json())
+    model_file = tmp_path / "m.json"
+    model_file.write_text(model.to_json())
+    args = ["--model", str(model_file), "--configs", str(data_file), "--truth", str(truth_file),
+            "--noise-std", "0.0007mm", "--seed", "5", "--json", "-"]
+    p = subprocess.run([program, "simulate"] + args, capture_output=True, text=True, check=True)
+    expected = json.loads(p.stdout)
+    from_files = kincal.simulate(model=str(model_file), configs=str(data_file), truth=str(truth_file),
+                                 noise_std="0.0007mm", seed=5)
+    assert without_timing(from_files.to_dict()) == without_timing(expected)
+    in_memory = kincal.simulate(model=model, configs=data, truth=kincal.Model.load(str(truth_file)),
+                                noise_std="0.0007mm", seed=5)
+    a, b = in_memory.to_dict(), expected
+    assert a["parameters"] == b["parameters"] and a["validation"] == b["validation"]
+    with pytest.raises(kincal.KincalError, match="configs gives the configurations"):
+        kincal.simulate(model=model, configs=data, poses=10)
+    with pytest.raises(kincal.KincalError, match="noise_std is the noise's std"):
+        kincal.simulate(case=3, noise_std="0.001mm")

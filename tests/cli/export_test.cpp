@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "cli_runner.hpp"
-#include "kincal/cli/export_formats.hpp"
+#include "kincal/models/export_formats.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
@@ -106,7 +106,7 @@ TEST(Export, UrdfOfEachPresetArmGivesTheTrackersReadings) {
   for (const std::string preset : {"puma560", "ur5"}) {
     VectorXd values;
     const MeasurementModel model = perturbed(preset, values);
-    const std::string urdf = cli::export_urdf(model, {"calibrated.json", "abc"});
+    const std::string urdf = export_urdf(model, {"calibrated.json", "abc"});
     const auto chain = read_urdf_chain(urdf);
     const auto& arm = dynamic_cast<const SerialArm&>(model.mechanism());
     // world -> base_link, the joints, tool, tool0 -> tcp.
@@ -143,7 +143,7 @@ TEST(Export, UrdfOfADhArmWithSocketsGivesTheToolPoint) {
   j["free"] = {"s*"};
   const auto model = model_from_json(j, "sockets.json");
   const VectorXd nominal = model->parameters().nominal_values();
-  const std::string urdf = cli::export_urdf(*model, {"sockets.json", "abc"});
+  const std::string urdf = export_urdf(*model, {"sockets.json", "abc"});
   EXPECT_NE(urdf.find("centres of the sockets were estimated"), std::string::npos);
   const auto chain = read_urdf_chain(urdf);
   const auto& arm = dynamic_cast<const SerialArm&>(model->mechanism());
@@ -170,7 +170,7 @@ TEST(Export, ParallelCsvHoldsTheModelsJointCoordinatesAndOffsets) {
     values = model->parameters().nominal_values();
     for (int i = 0; i < values.size(); ++i) set_value(*model, i, values[i] + 0.1 * i);
     values = model->parameters().nominal_values();
-    const std::string csv = cli::export_csv(*model, {"c.json", "abc"});
+    const std::string csv = export_csv(*model, {"c.json", "abc"});
     EXPECT_NE(csv.find("# leg length = actuator value + offset"), std::string::npos) << csv;
     std::istringstream in(csv);
     std::string line;

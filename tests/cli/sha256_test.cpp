@@ -1,7 +1,7 @@
 // The SHA-256 that ties a calibration report to its model file, against FIPS 180-4's
 // examples and `sha256sum`.
 
-#include "kincal/cli/sha256.hpp"
+#include "kincal/framework/io/sha256.hpp"
 
 #include <gtest/gtest.h>
 

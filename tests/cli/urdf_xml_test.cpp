@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "kincal/cli/urdf_xml.hpp"
+#include "kincal/models/urdf_xml.hpp"
 
 namespace kincal::cli {
 namespace {

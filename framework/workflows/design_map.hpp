@@ -9,7 +9,7 @@
 
 #include "kincal/framework/design/experiment_design.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 /// {"axes": [two descriptions], "explained": [share of the spread along each],
 ///  "candidates_total", "candidates": [[x, y], ...] (at most `max_candidates`, evenly taken),
@@ -18,4 +18,4 @@ nlohmann::ordered_json design_configuration_map(const DesignCandidates& candidat
                                                 const std::vector<int>& chosen,
                                                 int max_candidates = 800);
 
-}  // namespace kincal::cli
+}  // namespace kincal

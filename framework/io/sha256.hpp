@@ -4,13 +4,13 @@
 
 #include <string>
 
-namespace kincal::cli {
+namespace kincal {
 
 /// The SHA-256 digest of `data` as 64 lowercase hexadecimal digits.
 std::string sha256_hex(const std::string& data);
 
 /// The SHA-256 of model file `path`'s bytes, read within the model-file limit (JsonLimits:
-/// /dev/zero or a huge file fails at once). Throws CliError naming the file.
+/// /dev/zero or a huge file fails at once). Throws std::invalid_argument naming the file.
 std::string model_file_sha256(const std::string& path);
 
-}  // namespace kincal::cli
+}  // namespace kincal

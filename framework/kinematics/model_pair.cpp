@@ -1,11 +1,11 @@
-#include "kincal/cli/model_pair.hpp"
+#include "kincal/framework/kinematics/model_pair.hpp"
 
+#include <stdexcept>
 #include <vector>
 
-#include "kincal/cli/cli_util.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -43,8 +43,8 @@ void check_same_parameters(const MeasurementModel& a, const std::string& a_label
   if (why.empty())
     why = first_difference(a.reading_names(), b.reading_names(), "reading", a_label, b_label);
   if (!why.empty())
-    throw CliError(a_label + " and " + b_label + " do not have the same parameters: " + why +
-                   "; expected two models of the same machine");
+    throw std::invalid_argument(a_label + " and " + b_label + " do not have the same parameters: " +
+                                why + "; expected two models of the same machine");
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

@@ -1,14 +1,13 @@
-#include "kincal/cli/sha256.hpp"
+#include "kincal/framework/io/sha256.hpp"
 
 #include <array>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 
-#include "kincal/cli/cli_util.hpp"
 #include "kincal/framework/io/json_input.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -75,11 +74,7 @@ std::string sha256_hex(const std::string& data) {
 }
 
 std::string model_file_sha256(const std::string& path) {
-  try {
-    return sha256_hex(read_file_text(path, "model file", JsonLimits{}.max_bytes));
-  } catch (const std::invalid_argument& e) {
-    throw CliError(e.what());
-  }
+  return sha256_hex(read_file_text(path, "model file", JsonLimits{}.max_bytes));
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

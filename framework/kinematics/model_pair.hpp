@@ -7,12 +7,12 @@
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
-/// Throws CliError "<a_label> and <b_label> do not have the same parameters: <the first
-/// difference>" (one line) unless `a` and `b` have the same parameter names and units, the
+/// Throws std::invalid_argument "<a_label> and <b_label> do not have the same parameters: <the
+/// first difference>" (one line) unless `a` and `b` have the same parameter names and units, the
 /// same actuators and the same readings, in the same order.
 void check_same_parameters(const MeasurementModel& a, const std::string& a_label,
                            const MeasurementModel& b, const std::string& b_label);
 
-}  // namespace kincal::cli
+}  // namespace kincal

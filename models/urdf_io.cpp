@@ -1,4 +1,4 @@
-#include "kincal/cli/urdf_io.hpp"
+#include "kincal/models/urdf_io.hpp"
 
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
@@ -12,11 +12,13 @@
 
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/kinematics/names.hpp"
+#include "kincal/models/model_io.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -574,4 +576,44 @@ std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& value
   return out;
 }
 
-}  // namespace kincal::cli
+std::shared_ptr<MeasurementModel> model_from_urdf(const std::string& text, const std::string& file,
+                                                  const UrdfModelOptions& options) {
+  if (options.sensor != "point-tracker" && options.sensor != "pose-tracker")
+    throw std::invalid_argument("sensor '" + options.sensor +
+                                "': expected point-tracker or pose-tracker");
+  if (options.sensor != "point-tracker" && !options.point.isZero())
+    throw std::invalid_argument(
+        "a point is the target of a point tracker; a pose tracker's marker starts at the tip "
+        "frame");
+  std::shared_ptr<const Mechanism> arm =
+      std::make_shared<UrdfArm>(import_urdf(text, file, options.base_link, options.tip_link));
+  std::shared_ptr<const Sensor> tracker;
+  if (options.sensor == "point-tracker")
+    tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), options.point);
+  else
+    tracker = std::make_shared<PoseTracker>("tracker", Vector6d::Zero(), Vector6d::Zero());
+  auto model =
+      std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
+  model->parameters().set_free("*", true);
+  // The model file written from a URDF is one kincal reads: within a model file's size (the
+  // URDF's text grows when escaped as JSON) and accepted by the model reader. import_urdf
+  // refuses what it knows the reader would; this catches the rest before anything is written.
+  const std::string model_text =
+      model_to_json(*model, model->parameters().nominal_values()).dump(2) + "\n";
+  const JsonLimits limits;
+  if (model_text.size() > limits.max_bytes)
+    throw std::invalid_argument("the model file would be " + std::to_string(model_text.size()) +
+                                " bytes (the URDF's text, escaped as JSON, and the model), more "
+                                "than the " +
+                                std::to_string(limits.max_bytes >> 20) +
+                                " MiB a model file may have");
+  try {
+    model_from_json(parse_json_text(model_text, "the model file"), "the model file");
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("the model imported from it would not read back: ") +
+                                e.what());
+  }
+  return model;
+}
+
+}  // namespace kincal

@@ -1,4 +1,4 @@
-#include "kincal/cli/urdf_xml.hpp"
+#include "kincal/models/urdf_xml.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 
 #include "kincal/framework/base/message_excerpt.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -451,4 +451,4 @@ std::string xml_attribute_text(const std::string& text) {
   return out;
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

@@ -14,7 +14,7 @@
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 class ExportError : public std::runtime_error {
  public:
@@ -31,4 +31,12 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
 std::string export_csv(const MeasurementModel& model, const ExportSource& source);
 std::string export_json(const MeasurementModel& model, const ExportSource& source);
 
-}  // namespace kincal::cli
+/// The model in `format`: urdf, csv, json, or one a plug-in registered for its mechanism type
+/// (ModelRegistry::export_format). Throws std::invalid_argument naming the formats there are
+/// for an unknown one ("format 'x': expected urdf, csv, json for mechanism 'hexapod'"),
+/// ExportError when the mechanism cannot take the format, and nlohmann::json::exception when a
+/// value cannot be written as JSON.
+std::string export_model(const MeasurementModel& model, const std::string& format,
+                         const ExportSource& source);
+
+}  // namespace kincal

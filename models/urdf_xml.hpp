@@ -22,7 +22,7 @@
 #include <string_view>
 #include <vector>
 
-namespace kincal::cli {
+namespace kincal {
 
 /// One sentence about a URDF kincal cannot take (the callers add the file).
 class UrdfError : public std::runtime_error {
@@ -92,4 +92,4 @@ std::string xml_comment_text(const std::string& text);
 /// back exactly.
 std::string xml_attribute_text(const std::string& text);
 
-}  // namespace kincal::cli
+}  // namespace kincal

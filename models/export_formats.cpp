@@ -1,21 +1,22 @@
-#include "kincal/cli/export_formats.hpp"
+#include "kincal/models/export_formats.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "kincal/cli/urdf_io.hpp"
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/serial_arm.hpp"
 #include "kincal/models/urdf_arm.hpp"
+#include "kincal/models/urdf_io.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -382,4 +383,21 @@ std::string export_json(const MeasurementModel& model, const ExportSource& sourc
   return out.dump(2) + "\n";
 }
 
-}  // namespace kincal::cli
+std::string export_model(const MeasurementModel& model, const std::string& format,
+                         const ExportSource& source) {
+  // Formats beyond kincal's own are registered per mechanism type (a plug-in's).
+  const ModelRegistry& registry = ModelRegistry::global();
+  const std::string& type = model.mechanism().type();
+  if (const ExportFormat* registered = registry.export_format(type, format))
+    return registered->write(model, {source.model_file, source.sha256});
+  if (format == "urdf") return export_urdf(model, source);
+  if (format == "csv") return export_csv(model, source);
+  if (format == "json") return export_json(model, source);
+  std::string known = "urdf, csv, json";
+  for (const auto& f : registry.export_formats())
+    if (f.mechanism_type == type) known += ", " + f.format;
+  throw std::invalid_argument("format '" + format + "': expected " + known + " for mechanism '" +
+                              type + "'");
+}
+
+}  // namespace kincal

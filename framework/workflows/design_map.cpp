@@ -1,9 +1,9 @@
-#include "kincal/cli/design_map.hpp"
+#include "kincal/framework/workflows/design_map.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-namespace kincal::cli {
+namespace kincal {
 
 nlohmann::ordered_json design_configuration_map(const DesignCandidates& candidates,
                                                 const std::vector<int>& chosen,
@@ -50,4 +50,4 @@ nlohmann::ordered_json design_configuration_map(const DesignCandidates& candidat
   return out;
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

@@ -6,15 +6,16 @@
 //   export_urdf_arm  the user's own URDF with the calibrated joint origins and offsets, a
 //                  root link `world` (the measurement frame) and a link `tcp` (the measured
 //                  point or frame) on the tip
-// Each throws UrdfError (cli/urdf_xml.hpp) with one sentence on input it cannot take.
+// Each throws UrdfError (models/urdf_xml.hpp) with one sentence on input it cannot take.
 
+#include <memory>
 #include <string>
 
-#include "kincal/cli/urdf_xml.hpp"
 #include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/models/urdf_arm.hpp"
+#include "kincal/models/urdf_xml.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 /// The moving joints (revolute, continuous, prismatic) from `base_link` (empty: the URDF's
 /// root link) down to `tip_link`, fixed joints folded into the next origin; limits kept; home
@@ -25,6 +26,22 @@ namespace kincal::cli {
 /// above upper or beyond what a model file holds.
 UrdfArmGeometry import_urdf(const std::string& text, const std::string& file,
                             const std::string& base_link, const std::string& tip_link);
+
+/// What a model imported from a URDF measures with: one tracker on the tip link.
+struct UrdfModelOptions {
+  std::string base_link;  ///< empty: the URDF's root link
+  std::string tip_link;
+  std::string sensor = "point-tracker";  ///< or "pose-tracker"
+  Vector3d point = Vector3d::Zero();     ///< the point tracker's target in the tip frame, mm
+};
+
+/// A model of the arm in the URDF `text` (recorded as `file`) with one tracker, every
+/// parameter free (calibrate keeps the ones the data determine). Throws UrdfError for what
+/// import_urdf refuses, std::invalid_argument for a sensor other than point-tracker or
+/// pose-tracker, a point given to a pose tracker, an arm the urdf-arm type refuses, and a
+/// model whose file would not read back (over a model file's size, or refused by the reader).
+std::shared_ptr<MeasurementModel> model_from_urdf(const std::string& text, const std::string& file,
+                                                  const UrdfModelOptions& options);
 
 /// The measured point or frame on the tool and the measurement frame, as the model's sensor
 /// sees them: tcp = the tool frame composed with the sensor's target (point tracker) or
@@ -48,4 +65,4 @@ MeasuredFrames measured_frames(const MeasurementModel& model, const VectorXd& va
 std::string export_urdf_arm(const MeasurementModel& model, const VectorXd& values,
                             const std::string& header);
 
-}  // namespace kincal::cli
+}  // namespace kincal
