@@ -15,7 +15,7 @@ CramerRaoPrediction predict_cramer_rao(const Scenario& scenario) {
   MatrixXd J;
   if (!problem->evaluate(x_true, &r, &J)) return p;
   const int n = static_cast<int>(x_true.size());
-  p.sigma = scenario.options.noise_half_width / std::sqrt(3.0);
+  p.sigma = scenario.options.noise_for(kincal::kMillimetre) / std::sqrt(3.0);
   const Eigen::JacobiSVD<MatrixXd> svd(J);
   const VectorXd& s = svd.singularValues();
   p.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;

@@ -88,7 +88,8 @@ void evaluate(const Scenario& s, const VectorXd& estimate, const VectorXd& prior
   }
   // The problem's residuals are divided by the model's reading_std when it states one (a
   // scenario with a prior always does): then J is already whitened.
-  const double sigma = s.model->weighted() ? 1.0 : s.options.noise_half_width / std::sqrt(3.0);
+  const double sigma =
+      s.model->weighted() ? 1.0 : s.options.noise_for(kincal::kMillimetre) / std::sqrt(3.0);
   MatrixXd info = J.transpose() * J / (sigma * sigma);
   if (prior_std.size()) info.diagonal().array() += prior_std.array().square().inverse();
   const MatrixXd cov = info.ldlt().solve(MatrixXd::Identity(info.rows(), info.cols()));
@@ -221,9 +222,9 @@ int main(int argc, char** argv) {
         const PaperCase& pc = paper_case(job.case_id);
         const auto model = base_model;
         ScenarioOptions o;
-        if (variant.prior) o.prior_std = prior_std_mm;
+        if (variant.prior) o.prior_std.set(kincal::kMillimetre, prior_std_mm);
         o.num_configurations = pc.num_configurations;
-        o.noise_half_width = pc.noise_half_width;
+        o.noise_half_width.set(kincal::kMillimetre, pc.noise_half_width);
         o.num_validation = validation;
         o.seed = derive_seed(1, job.seed);  // the same truth, noise and validation per seed
         if (variant.designed) o.planned = designs.at({job.case_id, job.variant});

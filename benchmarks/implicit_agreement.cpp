@@ -43,7 +43,7 @@ struct Outcome {
 Outcome run(int case_id, std::uint64_t seed) {
   ScenarioOptions o;
   o.num_configurations = paper_case(case_id).num_configurations;
-  o.noise_half_width = paper_case(case_id).noise_half_width;
+  o.noise_half_width.set(kincal::kMillimetre, paper_case(case_id).noise_half_width);
   o.num_validation = 0;
   o.seed = seed;
   const Scenario scenario = make_scenario(make_cube_hexapod(), o);

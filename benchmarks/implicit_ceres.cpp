@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
   const int max_iterations = argc > 1 ? std::atoi(argv[1]) : 2000;
   ScenarioOptions o;
   o.num_configurations = paper_case(5).num_configurations;
-  o.noise_half_width = paper_case(5).noise_half_width;
+  o.noise_half_width.set(kincal::kMillimetre, paper_case(5).noise_half_width);
   o.num_validation = 0;
   o.seed = 1;
   const Scenario scenario = make_scenario(make_cube_hexapod(), o);

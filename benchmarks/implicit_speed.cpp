@@ -44,8 +44,8 @@ int main(int argc, char** argv) {
     for (int seed = 1; seed <= seeds; ++seed) {
       ScenarioOptions o;
       o.num_configurations = paper_case(case_id).num_configurations;
-      o.noise_half_width = paper_case(case_id).noise_half_width;
-      o.param_error_half_width = param_error;
+      o.noise_half_width.set(kincal::kMillimetre, paper_case(case_id).noise_half_width);
+      o.param_error_half_width.set(kincal::kMillimetre, param_error);
       o.num_validation = 0;
       o.seed = static_cast<std::uint64_t>(seed);
       const Scenario scenario = make_scenario(make_cube_hexapod(), o);

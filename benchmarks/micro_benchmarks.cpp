@@ -30,7 +30,7 @@ const Scenario& scenario_with(int num_configurations) {
   if (!slot) {
     ScenarioOptions o;
     o.num_configurations = num_configurations;
-    o.noise_half_width = paper_case(5).noise_half_width;
+    o.noise_half_width.set(kincal::kMillimetre, paper_case(5).noise_half_width);
     o.num_validation = 0;
     o.seed = 1;
     slot = std::make_unique<Scenario>(make_scenario(make_cube_hexapod(), o));

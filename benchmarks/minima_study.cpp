@@ -116,9 +116,9 @@ int main(int argc, char** argv) {
       std::vector<SeedResult> results(seeds);
       parallel_for(seeds, threads, [&](int t) {
         ScenarioOptions so;
-        so.noise_half_width = paper_case(c).noise_half_width;
+        so.noise_half_width.set(kincal::kMillimetre, paper_case(c).noise_half_width);
         so.num_configurations = paper_case(c).num_configurations;
-        so.param_error_half_width = param_error;
+        so.param_error_half_width.set(kincal::kMillimetre, param_error);
         so.num_validation = 1;
         so.seed = static_cast<std::uint64_t>(t + 1);
         const Scenario scenario = make_scenario(model, so);
@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
           r.start_rms.push_back(parameter_rms(scenario, problem->full_parameters(o.x)));
           r.start_cost.push_back(ok ? o.summary.final_cost : INFINITY);
         }
-        const double variance = std::pow(so.noise_half_width, 2) / 3.0;
+        const double variance = std::pow(so.noise_for(kincal::kMillimetre), 2) / 3.0;
         r.delta_chi_square = 2.0 * (m.starts[0].summary.final_cost - global) / variance;
         CalibrationRun run;
         run.estimate = problem->full_parameters(m.starts[0].x);

@@ -19,7 +19,7 @@ std::vector<StudyCase> all_cases(int num_validation) {
   for (const PaperCase& paper : paper_cases()) {
     StudyCase c;
     c.id = std::to_string(paper.id);
-    c.scenario.noise_half_width = paper.noise_half_width;
+    c.scenario.noise_half_width.set(kincal::kMillimetre, paper.noise_half_width);
     c.scenario.num_configurations = paper.num_configurations;
     c.description = "Table 2 case " + c.id;
     c.paper = true;
@@ -30,7 +30,7 @@ std::vector<StudyCase> all_cases(int num_validation) {
   StudyCase far = cases[2];
   far.id = "3e20";
   far.description = "case 3 with parameter errors +-20 mm";
-  far.scenario.param_error_half_width = 20;
+  far.scenario.param_error_half_width.set(kincal::kMillimetre, 20);
   far.paper = false;
   cases.push_back(far);
   StudyCase many = cases[4];

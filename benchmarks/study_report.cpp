@@ -124,7 +124,7 @@ CellSummary summarize_cell(const StudyResults& results, int case_index, int solv
     p += c.parameter_mean_square, t += c.position_mean_square, o += c.orientation_mean_square;
     ++n;
   }
-  const bool noisy = results.cases[case_index].scenario.noise_half_width > 0 && n > 0;
+  const bool noisy = results.cases[case_index].scenario.noise_for(kincal::kMillimetre) > 0 && n > 0;
   s.efficiency_parameters = noisy ? s.mc_parameter_rms / std::sqrt(p / n) : kNaN;
   s.efficiency_position = noisy ? s.mc_position_rms / std::sqrt(t / n) : kNaN;
   s.efficiency_orientation = noisy ? s.mc_orientation_rms / std::sqrt(o / n) : kNaN;
@@ -195,10 +195,10 @@ void write_bounds_csv(const StudyResults& results, const std::string& directory)
   for (std::size_t c = 0; c < results.cases.size(); ++c) {
     const StudyCase& sc = results.cases[c];
     const CaseBound b = summarize_bound(results, c);
-    out << sc.id << ",\"" << sc.description << "\"," << sc.scenario.noise_half_width << ','
-        << sc.scenario.num_configurations << ',' << sc.scenario.param_error_half_width << ','
-        << b.condition_number_median << ',' << b.parameter_rms << ',' << b.position_rms << ','
-        << b.orientation_rms << '\n';
+    out << sc.id << ",\"" << sc.description << "\"," << sc.scenario.noise_for(kincal::kMillimetre)
+        << ',' << sc.scenario.num_configurations << ','
+        << sc.scenario.param_error_for(kincal::kMillimetre) << ',' << b.condition_number_median
+        << ',' << b.parameter_rms << ',' << b.position_rms << ',' << b.orientation_rms << '\n';
   }
 }
 
@@ -272,16 +272,17 @@ void write_json(const StudyResults& results, const std::string& directory) {
   for (std::size_t c = 0; c < results.cases.size(); ++c) {
     const StudyCase& sc = results.cases[c];
     const CaseBound b = summarize_bound(results, c);
-    nlohmann::json jc = {{"id", sc.id},
-                         {"description", sc.description},
-                         {"noise_half_width_mm", sc.scenario.noise_half_width},
-                         {"configurations", sc.scenario.num_configurations},
-                         {"param_error_half_width_mm", sc.scenario.param_error_half_width},
-                         {"cramer_rao",
-                          {{"condition_number_median", b.condition_number_median},
-                           {"parameter_rms_mm", b.parameter_rms},
-                           {"position_rms_mm", b.position_rms},
-                           {"orientation_rms_rad", b.orientation_rms}}}};
+    nlohmann::json jc = {
+        {"id", sc.id},
+        {"description", sc.description},
+        {"noise_half_width_mm", sc.scenario.noise_for(kincal::kMillimetre)},
+        {"configurations", sc.scenario.num_configurations},
+        {"param_error_half_width_mm", sc.scenario.param_error_for(kincal::kMillimetre)},
+        {"cramer_rao",
+         {{"condition_number_median", b.condition_number_median},
+          {"parameter_rms_mm", b.parameter_rms},
+          {"position_rms_mm", b.position_rms},
+          {"orientation_rms_rad", b.orientation_rms}}}};
     for (std::size_t k = 0; k < results.solvers.size(); ++k) {
       const CellSummary s = summarize_cell(results, c, k);
       if (s.trials > 0) jc["cells"].push_back(to_json(s));
@@ -306,10 +307,11 @@ void write_markdown(const StudyResults& results, const std::string& directory) {
   for (std::size_t c = 0; c < results.cases.size(); ++c) {
     const StudyCase& sc = results.cases[c];
     const CaseBound b = summarize_bound(results, c);
-    out << "| " << sc.id << " | " << sc.description << " | " << sc.scenario.noise_half_width
-        << " | " << sc.scenario.num_configurations << " | ±" << sc.scenario.param_error_half_width
-        << " mm | " << format("%.2g", b.condition_number_median) << " | "
-        << format("%.3g", b.parameter_rms) << " | " << format("%.3g", b.position_rms) << " | "
+    out << "| " << sc.id << " | " << sc.description << " | "
+        << sc.scenario.noise_for(kincal::kMillimetre) << " | " << sc.scenario.num_configurations
+        << " | ±" << sc.scenario.param_error_for(kincal::kMillimetre) << " mm | "
+        << format("%.2g", b.condition_number_median) << " | " << format("%.3g", b.parameter_rms)
+        << " | " << format("%.3g", b.position_rms) << " | "
         << format("%.3g", 1e3 * b.orientation_rms) << " |\n";
   }
   out << "\n**Per case and backend**: median (p90) over trials; position and orientation are "

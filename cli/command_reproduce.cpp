@@ -105,7 +105,7 @@ int run_reproduce(const Args& args) {
   text << format_text(
       "kincal reproduce: %d trials per case, solver %s, parameter errors ±%g mm, "
       "%d validation poses%s\n",
-      num_trials, choice.name.c_str(), base.param_error_half_width, base.num_validation,
+      num_trials, choice.name.c_str(), base.param_error_for(kMillimetre), base.num_validation,
       partial ? " (PARTIAL: interrupted)" : "");
   text << format_text("%-4s %-9s %5s | %-32s | %-32s | %5s | %-17s | %s\n", "case", "noise mm",
                       "poses", "position error mm", "orientation error rad", "iter",

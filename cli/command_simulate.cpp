@@ -88,8 +88,7 @@ int run_simulate(const Args& args) {
   UnitValues prior_std;
   if (prior_per_unit) {
     for (const PriorStdRule& rule : prior_rules) prior_std.set(rule.unit, rule.value);
-    scenario_options.prior_std = prior_std.get(kMillimetre, 0);
-    scenario_options.prior_std_rad = prior_std.get(kRadian, 0);
+    scenario_options.prior_std = prior_std;
   }
   SolverChoice choice = make_solver_choice(vm);
   choice.options.num_threads = threads_option(vm);

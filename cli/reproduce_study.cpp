@@ -73,7 +73,7 @@ ReproduceTrial run_reproduce_trial(const std::shared_ptr<const MeasurementModel>
                                    const Solver& solver, const SolverOptions& options) {
   ScenarioOptions o = base;
   o.num_configurations = paper.num_configurations;
-  o.noise_half_width = paper.noise_half_width;
+  o.noise_half_width = UnitValues(paper.noise_half_width, 0);
   o.seed = derive_seed(base.seed, static_cast<std::uint64_t>(trial));
   const Scenario scenario = make_scenario(model, o);
   const CalibrationRun run = run_calibration(scenario, solver, options, true);
@@ -201,7 +201,7 @@ nlohmann::ordered_json reproduce_json(const std::string& solver_name, int num_tr
           {"solver", solver_name},
           {"trials_per_case", num_trials},
           {"partial", partial},
-          {"param_error_half_width_mm", base.param_error_half_width},
+          {"param_error_half_width_mm", base.param_error_for(kMillimetre)},
           {"validation_poses", base.num_validation},
           {"seed", base.seed},
           {"out", out_dir},

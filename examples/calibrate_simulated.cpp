@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   // The paper's case 3: 40 configurations, gauge noise U[-1.25, 1.25] um.
   ScenarioOptions options;
   options.num_configurations = paper_case(3).num_configurations;
-  options.noise_half_width = paper_case(3).noise_half_width;
+  options.noise_half_width.set(kincal::kMillimetre, paper_case(3).noise_half_width);
   options.seed = 2024;
   const Scenario scenario = make_scenario(make_cube_hexapod(), options);
 

@@ -136,7 +136,8 @@ std::vector<ConformanceCheck> check_model_file(const ModelFactory& make) {
     const auto model = make();
     std::string why;
     for (const auto& p : model->parameters().all())
-      if (!is_known_unit(p.unit)) why = "parameter " + p.name + " has unit '" + p.unit + "'";
+      if (!is_known_unit(p.unit))
+        why = "parameter " + p.name + " has unit '" + p.unit + "', not a base unit of the registry";
     for (const auto& a : model->mechanism().actuators()) {
       if (!is_known_unit(a.unit)) why = "actuator " + a.name + " has unit '" + a.unit + "'";
       if (!(a.default_range > 0)) why = "actuator " + a.name + " has no default range > 0";
@@ -147,7 +148,8 @@ std::vector<ConformanceCheck> check_model_file(const ModelFactory& make) {
             std::to_string(model->num_readings()) + " readings";
     for (const auto& u : units)
       if (!is_known_unit(u)) why = "a reading has unit '" + u + "'";
-    out.push_back({"units declared", why.empty(), 0, 0, why.empty() ? "mm and rad only" : why});
+    out.push_back({"units declared", why.empty(), 0, 0,
+                   why.empty() ? "base units of the registry (mm, rad, px, a plug-in's)" : why});
   });
   return out;
 }

@@ -426,10 +426,7 @@ MeasurementTable read_measurements(const std::string& path, const MeasurementMod
   return table;
 }
 
-const std::vector<std::string>& column_unit_suffixes() {
-  static const std::vector<std::string> suffixes = {"deg", "rad", "mm", "m"};
-  return suffixes;
-}
+std::vector<std::string> column_unit_suffixes() { return UnitRegistry::global().names(); }
 
 void convert_column_units(MeasurementTable& table, const std::vector<std::string>& actuator_units,
                           const std::vector<std::string>& reading_units,
@@ -444,23 +441,30 @@ void convert_column_units(MeasurementTable& table, const std::vector<std::string
     if (suffix.empty()) continue;
     const bool actuator = static_cast<int>(w) < na;
     const std::string& unit = actuator ? actuator_units[w] : reading_units[w - na];
-    double factor = 0;
-    if (unit == "rad") factor = suffix == "deg" ? kRadiansPerDegree : suffix == "rad" ? 1 : 0;
-    if (unit == "mm") factor = suffix == "m" ? 1000 : suffix == "mm" ? 1 : 0;
     if (unit.empty())
       throw std::invalid_argument(source + ":" + std::to_string(table.header_line) + ": column '" +
                                   table.column_headers[w] +
                                   "': a plain number (no unit), but the name carries the unit "
                                   "suffix _" +
                                   suffix + "; expected the name without a suffix");
-    if (factor == 0)
+    // The suffix must be a unit of the column's quantity: its value converts to the column's.
+    Unit given, wanted;
+    const bool known = UnitRegistry::global().find(suffix, &given);
+    UnitRegistry::global().find(unit, &wanted);
+    if (!known || given.base != unit) {
+      std::string expected;
+      const auto units = UnitRegistry::global().units_of(unit);
+      for (std::size_t i = 0; i < units.size(); ++i)
+        expected += (i == 0 ? "_" : i + 1 == units.size() ? " or _" : ", _") + units[i];
       throw std::invalid_argument(
           source + ":" + std::to_string(table.header_line) + ": column '" +
           table.column_headers[w] + "': " + (actuator ? "actuator" : "reading") + " " +
           table.column_headers[w].substr(0, table.column_headers[w].size() - suffix.size() - 1) +
-          " is " + (unit == "rad" ? "an angle (rad)" : "a length (mm)") + ", but the suffix says " +
-          suffix + "; expected " + (unit == "rad" ? "_deg or _rad" : "_mm or _m") +
-          " (or no suffix for " + unit + ")");
+          " is " + (wanted.quantity.empty() ? "in " + unit : wanted.quantity + " (" + unit + ")") +
+          ", but the suffix says " + suffix + "; expected " + expected + " (or no suffix for " +
+          unit + ")");
+    }
+    const double factor = given.factor;
     if (factor == 1) continue;
     auto column = actuator ? table.data.actuators.col(static_cast<int>(w))
                            : table.data.readings.col(static_cast<int>(w) - na);

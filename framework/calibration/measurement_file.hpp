@@ -53,7 +53,7 @@ struct MeasurementTable {
 };
 
 /// The unit suffixes a column name may carry, in the order they are tried.
-const std::vector<std::string>& column_unit_suffixes();
+std::vector<std::string> column_unit_suffixes();
 
 /// Converts every column read with a unit suffix into the unit of its actuator or reading
 /// (`actuator_units` then `reading_units`, "mm" or "rad"; "" for a plain number, which takes

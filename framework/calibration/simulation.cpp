@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
 #include <stdexcept>
 
 #include "kincal/framework/base/parallel.hpp"
@@ -29,19 +31,19 @@ const PaperCase& paper_case(int id) {
 }
 
 double ScenarioOptions::param_error_for(const std::string& unit) const {
-  return unit == kRadian ? param_error_half_width_rad : param_error_half_width;
+  return param_error_half_width.get(unit, 0);
 }
 
 double ScenarioOptions::noise_for(const std::string& unit) const {
-  return unit == kRadian ? noise_half_width_rad : noise_half_width;
+  return noise_half_width.get(unit, 0);
 }
 
 double ScenarioOptions::config_range_for(const std::string& unit) const {
-  return unit == kRadian ? config_range_rad : config_range;
+  return config_range.get(unit, std::numeric_limits<double>::quiet_NaN());
 }
 
 double ScenarioOptions::prior_std_for(const std::string& unit) const {
-  return unit == kRadian ? prior_std_rad : prior_std;
+  return prior_std.get(unit, 0);
 }
 
 std::shared_ptr<CalibrationProblem> Scenario::make_problem() const {
@@ -118,18 +120,19 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
                        const ScenarioOptions& options) {
   if (options.num_configurations < 1)
     throw std::invalid_argument("the number of configurations must be at least 1");
-  const auto non_negative = [](double v) { return v >= 0 && std::isfinite(v); };
-  const auto unset_or_non_negative = [&](double v) { return std::isnan(v) || non_negative(v); };
-  if (!non_negative(options.noise_half_width) || !non_negative(options.noise_half_width_rad) ||
-      !non_negative(options.param_error_half_width) ||
-      !non_negative(options.param_error_half_width_rad) ||
-      !unset_or_non_negative(options.config_range) ||
-      !unset_or_non_negative(options.config_range_rad) || !non_negative(options.prior_std) ||
-      !non_negative(options.prior_std_rad) || options.num_validation < 0)
+  const auto non_negative = [](const UnitValues& values, bool nan_is_unset) {
+    for (const auto& [unit, v] : values.values())
+      if (!((v >= 0 && std::isfinite(v)) || (nan_is_unset && std::isnan(v)))) return false;
+    return true;
+  };
+  if (!non_negative(options.noise_half_width, false) ||
+      !non_negative(options.param_error_half_width, false) ||
+      !non_negative(options.config_range, true) || !non_negative(options.prior_std, false) ||
+      options.num_validation < 0)
     throw std::invalid_argument(
         "noise, parameter error, range, prior std and validation size must be finite and >= 0");
   Scenario s;
-  if (options.prior_std > 0 || options.prior_std_rad > 0) {
+  if (options.prior_std.any_positive()) {
     auto with_prior = std::make_shared<MeasurementModel>(*model);
     // Every free parameter: "*" reaches them all, and a fixed one's prior is never used.
     with_prior->parameters().for_each_matching("*", [&](Parameter& p) {
@@ -146,9 +149,11 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
   // U[-a, a] has std a / sqrt(3)). With a single unit the weight is a constant factor that
   // changes nothing but the cost's scale, so it is left alone.
   const std::vector<std::string> reading_units = model->reading_units();
-  const bool mixed_units =
-      std::find(reading_units.begin(), reading_units.end(), kMillimetre) != reading_units.end() &&
-      std::find(reading_units.begin(), reading_units.end(), kRadian) != reading_units.end();
+  std::set<std::string> distinct_units(reading_units.begin(), reading_units.end());
+  bool every_unit_has_noise = true;
+  for (const std::string& unit : distinct_units)
+    every_unit_has_noise = every_unit_has_noise && options.noise_for(unit) > 0;
+  const bool mixed_units = distinct_units.size() > 1;
   if (has_prior && !model->weighted()) {
     // The prior's std is absolute; the data residuals must be in units of their noise std too.
     auto weighted = std::make_shared<MeasurementModel>(*model);
@@ -162,8 +167,7 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
       weighted->set_reading_std(names[i], a / std::sqrt(3.0));
     }
     s.model = weighted;
-  } else if (mixed_units && !model->weighted() && options.noise_half_width > 0 &&
-             options.noise_half_width_rad > 0) {
+  } else if (mixed_units && !model->weighted() && every_unit_has_noise) {
     auto weighted = std::make_shared<MeasurementModel>(*model);
     const auto names = model->reading_names();
     for (std::size_t i = 0; i < names.size(); ++i)
@@ -346,16 +350,19 @@ CalibrationRun run_calibration(const Scenario& scenario, const Solver& solver,
     run.summary.trace[i].seconds -= tracking_before[i];
   run.estimate = problem->full_parameters(x);
   run.after = validation_errors(scenario, run.estimate);
-  double sum[2] = {0, 0};
-  int count[2] = {0, 0};
+  // Per unit: an error in mm and one in rad (or px) are not summed.
+  std::map<std::string, std::pair<double, int>> squares;
   for (int i : scenario.free_indices) {
-    const bool angle = scenario.model->parameters()[i].unit == kRadian;
+    const std::string& unit = scenario.model->parameters()[i].unit;
     const double d = run.estimate[i] - scenario.truth[i];
-    sum[angle] += std::pow(angle ? wrap_angle(d) : d, 2);
-    ++count[angle];
+    auto& [sum, count] = squares[unit];
+    sum += std::pow(unit == kRadian ? wrap_angle(d) : d, 2);
+    ++count;
   }
-  run.parameter_rms_error = count[0] ? std::sqrt(sum[0] / count[0]) : 0.0;
-  run.parameter_rms_error_rad = count[1] ? std::sqrt(sum[1] / count[1]) : 0.0;
+  for (const auto& [unit, sc] : squares)
+    run.parameter_rms_errors.set(unit, std::sqrt(sc.first / sc.second));
+  run.parameter_rms_error = run.parameter_rms_errors.get(kMillimetre, 0);
+  run.parameter_rms_error_rad = run.parameter_rms_errors.get(kRadian, 0);
   return run;
 }
 

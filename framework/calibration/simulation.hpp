@@ -1,7 +1,7 @@
 #pragma once
 // Simulated calibration experiments, all drawn from one seed:
 //   true parameters = nominal + U[-e, e] on every free parameter (e per parameter, or per
-//                     unit: mm and rad),
+//                     unit: mm, rad, px, a plug-in's),
 //   configurations  = home actuator values (nominal model) + U[-r, r] per actuator (r from
 //                     the model's actuator ranges, or per unit),
 //   readings        = sensors at the true pose + U[-a, a] noise per reading (a per unit),
@@ -19,32 +19,29 @@
 #include "kincal/framework/calibration/calibration_solve.hpp"
 #include "kincal/framework/calibration/fit_check.hpp"
 #include "kincal/framework/calibration/multi_start.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 #include "kincal/framework/least_squares/solver.hpp"
 
 namespace kincal {
 
 struct ScenarioOptions {
   int num_configurations = 30;
-  /// a: readings in mm get U[-a, a] noise, readings in rad U[-a_rad, a_rad] (applied in the
-  /// tangent space of manifold readings, Sensor::retract).
-  double noise_half_width = 0.0;
-  double noise_half_width_rad = 0.0;
-  /// e: free parameters in mm get U[-e, e] errors, in rad U[-e_rad, e_rad], unless the
-  /// parameter has its own (Parameter::error_half_width, from the model file).
-  double param_error_half_width = 5;
-  double param_error_half_width_rad = 0.01;
-  /// r: when not NaN, every actuator in mm (in rad) is drawn within +-r (+-r_rad) of home
-  /// instead of its range in the model (MeasurementModel::actuator_ranges()).
-  double config_range = std::numeric_limits<double>::quiet_NaN();
-  double config_range_rad = std::numeric_limits<double>::quiet_NaN();
+  /// a per unit: a reading in that unit gets U[-a, a] noise (applied in the tangent space of
+  /// manifold readings, Sensor::retract); a unit not given: none.
+  UnitValues noise_half_width;
+  /// e per unit: a free parameter in that unit gets U[-e, e] errors, unless it has its own
+  /// (Parameter::error_half_width, from the model file); a unit not given: none.
+  UnitValues param_error_half_width{5, 0.01};
+  /// r per unit: every actuator in that unit is drawn within +-r of home instead of its range
+  /// in the model (MeasurementModel::actuator_ranges()); a unit not given: the model's.
+  UnitValues config_range;
   int num_validation = 200;
   std::uint64_t seed = 1;
-  /// When > 0: a Gaussian prior of this std around nominal on every free parameter in mm
-  /// (in rad), replacing the model's own prior_std, and the calibration is a MAP estimate
+  /// Per unit, when > 0: a Gaussian prior of this std around nominal on every free parameter
+  /// in that unit, replacing the model's own prior_std, and the calibration is a MAP estimate
   /// (PriorProblem). A prior needs whitened residuals: a model that states no reading_std
   /// gets the noise's, a / sqrt(3) per unit, which must then be > 0.
-  double prior_std = 0;
-  double prior_std_rad = 0;
+  UnitValues prior_std;
 
   /// When it has rows: the calibration configurations (actuators) and which readings are
   /// taken (a NaN reading is not taken, anything else is simulated), e.g. from experiment
@@ -58,7 +55,8 @@ struct ScenarioOptions {
   /// model file), instead of nominal + drawn errors on the free parameters.
   VectorXd truth;
 
-  /// The parameter error, noise and range for `unit` ("mm" or "rad").
+  /// The parameter error, noise, prior std (0 for a unit not given) and range (NaN for a
+  /// unit not given) for `unit`.
   double param_error_for(const std::string& unit) const;
   double noise_for(const std::string& unit) const;
   double config_range_for(const std::string& unit) const;
@@ -118,9 +116,10 @@ struct CalibrationRun {
   PoseErrorStats after;
   /// Validation errors at each trace entry (same length as summary.trace).
   std::vector<PoseErrorStats> trace_errors;
-  /// RMS over the free parameters in mm of (estimate - truth), mm; NaN when there is none.
+  /// RMS of (estimate - truth) over the free parameters of each unit (angles wrapped).
+  UnitValues parameter_rms_errors;
+  /// Its mm and rad values (0 when no free parameter is in that unit).
   double parameter_rms_error = 0;
-  /// The same over the free parameters in rad (wrapped differences), rad.
   double parameter_rms_error_rad = 0;
   /// Wall time of the solve alone: summary.wall_seconds minus the time spent computing the
   /// per-iteration validation errors inside the callback (summary.trace[k].seconds are

@@ -81,11 +81,10 @@ Measurements random_configurations(const MeasurementModel& model, int count, std
   ScenarioOptions s;
   s.num_configurations = count;
   s.seed = seed;
-  s.config_range = range.get(kMillimetre, s.config_range);
-  s.config_range_rad = range.get(kRadian, s.config_range_rad);
+  s.config_range = range;
   // Configurations the model's own values reach: no parameter errors, not even the
   // per-parameter ones of the model file.
-  s.param_error_half_width = s.param_error_half_width_rad = 0;
+  s.param_error_half_width = UnitValues();
   s.num_validation = 0;
   auto exact = std::make_shared<MeasurementModel>(model);
   exact->parameters().for_each_matching("*", [](Parameter& p) { p.error_half_width = 0; });

@@ -39,13 +39,11 @@ UnitValues unit_values(const std::string& prefix, const std::string& name,
 // Each free parameter's unit needs a std when the prior is given per unit.
 void check_prior_per_unit(const SimulateRequest& request) {
   const ScenarioOptions& o = request.scenario;
-  if (!(o.prior_std > 0 || o.prior_std_rad > 0)) return;
+  if (!o.prior_std.any_positive()) return;
   const MeasurementModel& model = *request.model;
   for (int i : model.parameters().free_indices()) {
     const Parameter& p = model.parameters()[i];
-    const bool has =
-        (p.unit == kMillimetre && o.prior_std > 0) || (p.unit == kRadian && o.prior_std_rad > 0);
-    if (!has)
+    if (!(o.prior_std_for(p.unit) > 0))
       throw std::invalid_argument(
           option(request, "prior-std") + " gives no std in " + p.unit + " for free parameter " +
           p.name +
@@ -66,8 +64,8 @@ ScenarioOptions designed_options(const SimulateRequest& request, std::string* te
   if (d.num_random < 0)
     throw std::invalid_argument(option(request, "design-candidates") + " must be >= 0");
   d.seed = base.seed;
-  d.default_error_mm = base.param_error_half_width;
-  d.default_error_rad = base.param_error_half_width_rad;
+  d.default_error_mm = base.param_error_for(kMillimetre);
+  d.default_error_rad = base.param_error_for(kRadian);
   MeasurementModel designed = model;
   const auto units = model.reading_units();
   d.noise_std = model.reading_std();
@@ -76,7 +74,7 @@ ScenarioOptions designed_options(const SimulateRequest& request, std::string* te
     if (a > 0) d.noise_std[i] = a / std::sqrt(3.0);  // uniform U[-a, a]
   }
   // The prior the calibration will use (ScenarioOptions::prior_std replaces the model's).
-  if (base.prior_std > 0 || base.prior_std_rad > 0)
+  if (base.prior_std.any_positive())
     designed.parameters().for_each_matching("*", [&](Parameter& p) {
       if (p.free) p.prior_std = base.prior_std_for(p.unit);
     });
@@ -110,16 +108,14 @@ ScenarioOptions scenario_options(const ScenarioText& text, const std::string& pr
     try {
       const PaperCase& c = paper_case(text.case_id);
       s.num_configurations = c.num_configurations;
-      s.noise_half_width = c.noise_half_width;
+      s.noise_half_width.set(kMillimetre, c.noise_half_width);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(option(prefix, "case") + ": " + e.what());
     }
   }
   if (text.poses) s.num_configurations = *text.poses;
   if (text.noise_half_width) {
-    const UnitValues noise = unit_values(prefix, "noise-half-width", *text.noise_half_width);
-    s.noise_half_width = noise.get(kMillimetre, 0);
-    s.noise_half_width_rad = noise.get(kRadian, 0);
+    s.noise_half_width = unit_values(prefix, "noise-half-width", *text.noise_half_width);
   }
   const UnitValues error = unit_values(prefix, "param-error", text.param_error);
   // "0" is the truth itself: zero in every unit, not only in the bare number's (mm), which
@@ -127,12 +123,9 @@ ScenarioOptions scenario_options(const ScenarioText& text, const std::string& pr
   char* end = nullptr;
   const bool bare_zero = std::strtod(text.param_error.c_str(), &end) == 0 &&
                          end != text.param_error.c_str() && *end == '\0';
-  s.param_error_half_width = bare_zero ? 0 : error.get(kMillimetre, s.param_error_half_width);
-  s.param_error_half_width_rad = bare_zero ? 0 : error.get(kRadian, s.param_error_half_width_rad);
+  s.param_error_half_width = bare_zero ? UnitValues() : error.over(s.param_error_half_width);
   if (text.config_range) {
-    const UnitValues range = unit_values(prefix, "config-range", *text.config_range);
-    s.config_range = range.get(kMillimetre, s.config_range);
-    s.config_range_rad = range.get(kRadian, s.config_range_rad);
+    s.config_range = unit_values(prefix, "config-range", *text.config_range);
   }
   s.seed = text.seed;
   s.num_validation = text.validation;
@@ -145,9 +138,7 @@ ScenarioOptions scenario_options(const ScenarioText& text, const std::string& pr
       throw std::invalid_argument(option(prefix, "noise-std") + " is the noise's std, " +
                                   option(prefix, "noise-half-width") + " its half-width, " +
                                   option(prefix, "case") + " sets it: give one of them");
-    const UnitValues std = unit_values(prefix, "noise-std", *text.noise_std);
-    s.noise_half_width = std.get(kMillimetre, 0) * std::sqrt(3.0);
-    s.noise_half_width_rad = std.get(kRadian, 0) * std::sqrt(3.0);
+    s.noise_half_width = unit_values(prefix, "noise-std", *text.noise_std).scaled(std::sqrt(3.0));
   }
   return s;
 }

@@ -25,18 +25,11 @@ void print_errors(std::string& text, const char* label, const PoseErrorStats& e)
   text += format_text("\n");
 }
 
-// "5 mm, 0.01 rad" for the units the free parameters (or readings) are in.
-std::string per_unit(double mm, double rad, const std::set<std::string>& units) {
+// "±5 mm, ±0.01 rad" for the units the free parameters (or readings) are in.
+std::string per_unit(const UnitValues& values, const std::set<std::string>& units) {
   std::string out;
-  char buf[64];
-  if (units.count(kMillimetre)) {
-    std::snprintf(buf, sizeof buf, "±%g mm", mm);
-    out += buf;
-  }
-  if (units.count(kRadian)) {
-    std::snprintf(buf, sizeof buf, "%s±%g rad", out.empty() ? "" : ", ", rad);
-    out += buf;
-  }
+  for (const std::string& unit : units)
+    out += format_text("%s±%g %s", out.empty() ? "" : ", ", values.get(unit, 0), unit.c_str());
   return out;
 }
 
@@ -50,25 +43,17 @@ void print_report(std::string& text, const Scenario& scenario, const Calibration
   for (const auto& u : model.reading_units()) reading_units.insert(u);
   text += format_text("kincal simulate: %s, ", model_name.c_str());
   if (case_id) text += format_text("case %d, ", case_id);
-  text += format_text("%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
-                      per_unit(o.noise_half_width, o.noise_half_width_rad, reading_units).c_str(),
-                      o.truth.size() ? "true model given (--truth)"
-                                     : ("parameter errors " + per_unit(o.param_error_half_width,
-                                                                       o.param_error_half_width_rad,
-                                                                       parameter_units))
-                                           .c_str(),
-                      static_cast<unsigned long long>(o.seed));
-  if (o.prior_std > 0 || o.prior_std_rad > 0) {
+  text += format_text(
+      "%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
+      per_unit(o.noise_half_width, reading_units).c_str(),
+      o.truth.size()
+          ? "true model given (--truth)"
+          : ("parameter errors " + per_unit(o.param_error_half_width, parameter_units)).c_str(),
+      static_cast<unsigned long long>(o.seed));
+  if (o.prior_std.any_positive()) {
     std::string stds;
-    char buf[64];
-    if (o.prior_std > 0) {
-      std::snprintf(buf, sizeof buf, "%g mm", o.prior_std);
-      stds += buf;
-    }
-    if (o.prior_std_rad > 0) {
-      std::snprintf(buf, sizeof buf, "%s%g rad", stds.empty() ? "" : ", ", o.prior_std_rad);
-      stds += buf;
-    }
+    for (const auto& [unit, value] : o.prior_std.values())
+      if (value > 0) stds += format_text("%s%g %s", stds.empty() ? "" : ", ", value, unit.c_str());
     text += format_text(
         "MAP estimate: Gaussian prior of std %s around nominal on every free parameter\n",
         stds.c_str());
@@ -97,10 +82,12 @@ void print_report(std::string& text, const Scenario& scenario, const Calibration
         "noise, P(larger) %.3g: %s\n",
         fit.chi_square, fit.degrees_of_freedom, fit.p_larger, kFitTooLarge);
   text += format_text("parameter RMS error after calibration:");
-  if (parameter_units.count(kMillimetre)) text += format_text(" %.6g mm", run.parameter_rms_error);
-  if (parameter_units.count(kRadian))
-    text += format_text("%s %.6g rad", parameter_units.count(kMillimetre) ? "," : "",
-                        run.parameter_rms_error_rad);
+  bool first = true;
+  for (const std::string& unit : parameter_units) {
+    text += format_text("%s %.6g %s", first ? "" : ",", run.parameter_rms_errors.get(unit, 0),
+                        unit.c_str());
+    first = false;
+  }
   text += format_text(" (%zu free parameters)\n", scenario.free_indices.size());
 }
 
@@ -158,17 +145,29 @@ nlohmann::json to_json(const Scenario& scenario, const CalibrationRun& run, int 
       {"case", case_id == 0 ? nlohmann::json() : nlohmann::json(case_id)},
       {"model", model_name},
       {"poses", o.num_configurations},
-      {"noise_half_width_mm", o.noise_half_width},
-      {"noise_half_width_rad", o.noise_half_width_rad},
-      {"param_error_half_width_mm", o.param_error_half_width},
-      {"param_error_half_width_rad", o.param_error_half_width_rad},
+      {"noise_half_width_mm", o.noise_for(kMillimetre)},
+      {"noise_half_width_rad", o.noise_for(kRadian)},
+      {"param_error_half_width_mm", o.param_error_for(kMillimetre)},
+      {"param_error_half_width_rad", o.param_error_for(kRadian)},
       {"config_range_mm", common_range(scenario, kMillimetre)},
       {"config_range_rad", common_range(scenario, kRadian)},
       {"actuator_ranges", ranges},
       {"validation_poses", o.num_validation},
       {"seed", o.seed},
-      {"prior_std_mm", o.prior_std > 0 ? nlohmann::json(o.prior_std) : nlohmann::json()},
-      {"prior_std_rad", o.prior_std_rad > 0 ? nlohmann::json(o.prior_std_rad) : nlohmann::json()}};
+      {"prior_std_mm", o.prior_std_for(kMillimetre) > 0
+                           ? nlohmann::json(o.prior_std_for(kMillimetre))
+                           : nlohmann::json()},
+      {"prior_std_rad",
+       o.prior_std_for(kRadian) > 0 ? nlohmann::json(o.prior_std_for(kRadian)) : nlohmann::json()}};
+  // Units beyond mm and rad (px, a plug-in's), per unit: the keys above are for mm and rad.
+  for (const UnitValues* values : {&o.noise_half_width, &o.param_error_half_width, &o.prior_std})
+    for (const auto& [unit, value] : values->values())
+      if (unit != kMillimetre && unit != kRadian) {
+        const char* key = values == &o.noise_half_width         ? "noise_half_width"
+                          : values == &o.param_error_half_width ? "param_error_half_width"
+                                                                : "prior_std";
+        out["scenario"][std::string(key) + "_" + unit] = value;
+      }
   out["parameter_rms_error_mm"] = run.parameter_rms_error;
   out["parameter_rms_error_rad"] = run.parameter_rms_error_rad;
   nlohmann::json params = nlohmann::json::array();
@@ -264,12 +263,18 @@ std::string simulated_data_csv(const SimulateResult& result, const std::string& 
   const ScenarioOptions& o = result.scenario.options;
   const MeasurementModel& model = *result.scenario.model;
   char noise[96];
-  std::snprintf(noise, sizeof noise, "%g mm, %g rad", o.noise_half_width, o.noise_half_width_rad);
+  std::snprintf(noise, sizeof noise, "%g mm, %g rad", o.noise_for(kMillimetre),
+                o.noise_for(kRadian));
+  std::string other_noise;  // units beyond mm and rad
+  for (const auto& [unit, value] : o.noise_half_width.values())
+    if (unit != kMillimetre && unit != kRadian)
+      other_noise += format_text(", %g %s", value, unit.c_str());
   const std::string comment =
       "kincal simulate: " + printable(result.model_name) + ", " +
       std::to_string(o.num_configurations) + " configurations" +
       (!result.configs_file.empty() ? " of " + printable(result.configs_file) : std::string()) +
-      ", reading noise U[-a, a] with a = " + noise + ", seed " + std::to_string(o.seed) +
+      ", reading noise U[-a, a] with a = " + noise + other_noise + ", seed " +
+      std::to_string(o.seed) +
       (!result.truth_file.empty() ? ", true model given by --truth " + printable(result.truth_file)
                                   : std::string()) +
       "\ntrue model: " + printable(truth_path) + " (sha256 " + sha256_hex(truth_text) + ")";

@@ -221,8 +221,7 @@ py::dict simulate_direct(const ModelHandle& h, int poses, double noise_mm, doubl
     py::gil_scoped_release release;
     ScenarioOptions o;
     o.num_configurations = poses;
-    o.noise_half_width = noise_mm;
-    o.noise_half_width_rad = noise_rad;
+    o.noise_half_width = UnitValues(noise_mm, noise_rad);
     o.seed = seed;
     o.num_validation = 50;
     scenario = make_scenario(h.model, o);

@@ -470,8 +470,7 @@ py::dict simulate_workflow(const ModelHandle& handle, const std::string& model_n
   if (!rules.empty() && prior_std_per_unit_only(rules)) {
     UnitValues per_unit;
     for (const PriorStdRule& rule : rules) per_unit.set(rule.unit, rule.value);
-    scenario.prior_std = per_unit.get(kMillimetre, 0);
-    scenario.prior_std_rad = per_unit.get(kRadian, 0);
+    scenario.prior_std = per_unit;
   } else if (!rules.empty()) {
     try {
       kincal::apply_prior_std(rules, *model);

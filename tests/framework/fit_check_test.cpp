@@ -63,7 +63,7 @@ TEST(FitCheck, SaysWhyItIsNotTested) {
 
 ScenarioOptions case_options(int id, std::uint64_t seed) {
   ScenarioOptions o;
-  o.noise_half_width = paper_case(id).noise_half_width;
+  o.noise_half_width.set(kincal::kMillimetre, paper_case(id).noise_half_width);
   o.num_configurations = paper_case(id).num_configurations;
   o.num_validation = 1;
   o.seed = seed;
@@ -111,7 +111,7 @@ TEST(SimulatedFitCheck, IsNotTestedWithoutNoiseOrWithAPrior) {
   run.estimate = noise_free.truth;
   EXPECT_FALSE(simulated_fit_check(noise_free, run).tested);
   ScenarioOptions o = case_options(3, 1);
-  o.prior_std = 2.887;
+  o.prior_std.set(kincal::kMillimetre, 2.887);
   const Scenario map = make_scenario(model, o);
   run.estimate = map.truth;
   const FitCheck f = simulated_fit_check(map, run);

@@ -263,7 +263,7 @@ TEST(Uncertainty, NoParameterOrNoInformationIsNaNNotACrashOrAStdOfZero) {
 TEST(Uncertainty, ReportedStdMatchesTheSpreadOverSeeds) {
   ScenarioOptions options;
   options.num_configurations = 60;
-  options.noise_half_width = 0.0;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0);
   options.num_validation = 0;
   options.seed = 11;
   const Scenario exact = make_scenario(make_cube_hexapod(), options);

@@ -23,7 +23,7 @@ class MeasurementLoading : public ::testing::Test {
     model_ = make_cube_hexapod();
     ScenarioOptions options;
     options.num_configurations = 30;
-    options.noise_half_width = 0.01;
+    options.noise_half_width.set(kincal::kMillimetre, 0.01);
     options.num_validation = 0;
     options.seed = 4;
     const Scenario s = make_scenario(model_, options);

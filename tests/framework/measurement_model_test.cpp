@@ -54,7 +54,7 @@ TEST(MeasurementModel, ReadingJacobianMatchesFiniteDifferencesForEveryParameter)
 TEST(CalibrationProblem, JacobianOfFreeParametersMatchesFiniteDifferences) {
   ScenarioOptions options;
   options.num_configurations = 12;
-  options.noise_half_width = 0.01;
+  options.noise_half_width.set(kincal::kMillimetre, 0.01);
   options.num_validation = 1;
   const Scenario scenario = make_scenario(make_cube_hexapod(), options);
   const auto problem = scenario.make_problem();
@@ -105,7 +105,7 @@ TEST(CalibrationProblem, FailingForwardKinematicsIsReportedWithTheConfiguration)
 TEST(Simulation, SameSeedReproducesBitForBit) {
   ScenarioOptions options;
   options.num_configurations = 40;
-  options.noise_half_width = 0.00125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.00125);
   options.num_validation = 30;
   options.seed = 1234;
   const Scenario a = make_scenario(make_cube_hexapod(), options);
@@ -124,7 +124,7 @@ TEST(Simulation, NoiseLevelDoesNotChangeTruthOrConfigurations) {
   ScenarioOptions options;
   options.num_validation = 1;
   const Scenario quiet = make_scenario(make_cube_hexapod(), options);
-  options.noise_half_width = 0.0125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0125);
   const Scenario noisy = make_scenario(make_cube_hexapod(), options);
   EXPECT_TRUE(quiet.truth == noisy.truth);
   EXPECT_TRUE(quiet.calibration.actuators == noisy.calibration.actuators);
@@ -136,7 +136,7 @@ TEST(Simulation, NoiseLevelDoesNotChangeTruthOrConfigurations) {
 
 TEST(Simulation, TruthDiffersFromNominalOnlyOnFreeParametersWithinTheBound) {
   ScenarioOptions options;
-  options.param_error_half_width = 5.0;
+  options.param_error_half_width.set(kincal::kMillimetre, 5.0);
   options.num_validation = 1;
   const Scenario s = make_scenario(make_cube_hexapod(), options);
   const auto& params = s.model->parameters();

@@ -37,7 +37,7 @@ std::shared_ptr<MeasurementModel> two_gauge_model() {
 Scenario noisy_scenario(std::shared_ptr<const MeasurementModel> model, int m) {
   ScenarioOptions options;
   options.num_configurations = m;
-  options.noise_half_width = 0.002;
+  options.noise_half_width.set(kincal::kMillimetre, 0.002);
   options.num_validation = 0;
   options.seed = 17;
   return make_scenario(model, options);
@@ -291,8 +291,8 @@ namespace {
 
 TEST(ReadingStd, ASimulationOfMixedUnitsWeighsEachUnitByItsNoise) {
   ScenarioOptions options;
-  options.noise_half_width = 0.05;      // mm
-  options.noise_half_width_rad = 2e-4;  // rad
+  options.noise_half_width.set(kincal::kMillimetre, 0.05);  // mm
+  options.noise_half_width.set(kincal::kRadian, 2e-4);      // rad
   options.num_configurations = 40;
   options.num_validation = 0;
   options.seed = 3;
@@ -305,7 +305,7 @@ TEST(ReadingStd, ASimulationOfMixedUnitsWeighsEachUnitByItsNoise) {
   EXPECT_TRUE(report.weighted);
   EXPECT_NEAR(report.uncertainty.sigma, 1.0, 0.2);  // the scatter is as stated
   // A single-unit model is left unweighted: its figures stay those of plain least squares.
-  options.noise_half_width_rad = 0;
+  options.noise_half_width.set(kincal::kRadian, 0);
   EXPECT_FALSE(make_scenario(make_preset("ur5"), options).model->weighted());
   EXPECT_FALSE(make_scenario(make_cube_hexapod(), options).model->weighted());
 }

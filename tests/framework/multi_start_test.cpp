@@ -182,9 +182,9 @@ TEST(MultiStart, RefusesNoStartsAndASpreadOfAnotherSize) {
 // lower one.
 TEST(MultiStart, FindsALowerMinimumOfTheHexapodFromFarStarts) {
   ScenarioOptions o;
-  o.noise_half_width = paper_case(2).noise_half_width;
+  o.noise_half_width.set(kincal::kMillimetre, paper_case(2).noise_half_width);
   o.num_configurations = paper_case(2).num_configurations;
-  o.param_error_half_width = 20;
+  o.param_error_half_width.set(kincal::kMillimetre, 20);
   o.num_validation = 1;
   o.seed = 16;
   const Scenario scenario = make_scenario(make_cube_hexapod(), o);

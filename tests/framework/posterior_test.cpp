@@ -85,8 +85,8 @@ TEST(Posterior, ReportedStdMatchesTheErrorOverSeeds) {
   for (std::uint64_t seed = 1; seed <= 200; ++seed) {
     ScenarioOptions options;
     options.num_configurations = paper_case(4).num_configurations;
-    options.noise_half_width = paper_case(4).noise_half_width;
-    options.prior_std = 5 / std::sqrt(3.0);
+    options.noise_half_width.set(kincal::kMillimetre, paper_case(4).noise_half_width);
+    options.prior_std.set(kincal::kMillimetre, 5 / std::sqrt(3.0));
     options.num_validation = 0;
     options.seed = seed;
     const Scenario scenario = make_scenario(make_cube_hexapod(), options);
@@ -138,7 +138,7 @@ TEST(Validation, FTailHasKnownValues) {
 TEST(Validation, ChiSquareUsesTheFullCovariance) {
   ScenarioOptions options;
   options.num_configurations = 15;
-  options.noise_half_width = 0.0125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0125);
   options.num_validation = 0;
   options.seed = 9;
   const Scenario scenario = make_scenario(make_cube_hexapod(), options);
@@ -169,7 +169,7 @@ TEST(Validation, ChiSquareUsesTheFullCovariance) {
 TEST(Validation, VerdictSeparatesTheTruthFromNominal) {
   ScenarioOptions options;
   options.num_configurations = 100;
-  options.noise_half_width = 0.0125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0125);
   options.num_validation = 0;
   options.seed = 12;
   const Scenario scenario = make_scenario(make_cube_hexapod(), options);
@@ -195,8 +195,8 @@ TEST(Validation, HeldOutChiSquareAveragesOneAfterAMapCalibration) {
   for (std::uint64_t seed = 1; seed <= 100; ++seed) {
     ScenarioOptions options;
     options.num_configurations = 100;
-    options.noise_half_width = 0.0125;
-    options.prior_std = 5 / std::sqrt(3.0);
+    options.noise_half_width.set(kincal::kMillimetre, 0.0125);
+    options.prior_std.set(kincal::kMillimetre, 5 / std::sqrt(3.0));
     options.num_validation = 0;
     options.seed = seed;
     const Scenario scenario = make_scenario(make_cube_hexapod(), options);

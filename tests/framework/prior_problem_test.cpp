@@ -96,7 +96,7 @@ TEST(PriorProblem, JacobianMatchesFiniteDifferencesOnTheHexapod) {
   model->parameters().set_free("leg1.*", true);  // a mix of seen and weakly seen parameters
   ScenarioOptions options;
   options.num_configurations = 12;
-  options.noise_half_width = 0.01;
+  options.noise_half_width.set(kincal::kMillimetre, 0.01);
   options.num_validation = 0;
   options.seed = 3;
   const Scenario scenario = make_scenario(model, options);
@@ -126,7 +126,7 @@ TEST(PriorProblem, ModelPriorTakesTheFreeParametersPriorStd) {
   model->parameters().for_each_matching("leg4.base.*", [](Parameter& p) { p.prior_std = 2; });
   ScenarioOptions options;
   options.num_configurations = 30;
-  options.noise_half_width = 0.01;  // a prior needs the readings' noise
+  options.noise_half_width.set(kincal::kMillimetre, 0.01);  // a prior needs the readings' noise
   options.num_validation = 0;
   const Scenario scenario = make_scenario(model, options);
   const auto data = scenario.make_problem();
@@ -153,10 +153,10 @@ TEST(PriorProblem, RejectsBadPriors) {
 
 TEST(PriorProblem, SimulationWithAPriorNeedsNoise) {
   ScenarioOptions options;
-  options.prior_std = 2.9;
+  options.prior_std.set(kincal::kMillimetre, 2.9);
   options.num_validation = 0;
   EXPECT_THROW(make_scenario(make_cube_hexapod(), options), std::invalid_argument);
-  options.noise_half_width = 0.0125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0125);
   const Scenario scenario = make_scenario(make_cube_hexapod(), options);
   EXPECT_NEAR(scenario.model->reading_std()[0], 0.0125 / std::sqrt(3.0), 1e-15);
   for (int i : scenario.free_indices) EXPECT_EQ(scenario.model->parameters()[i].prior_std, 2.9);

@@ -81,7 +81,7 @@ double robust_spread(const VectorXd& values) {
 void expect_std_matches_scatter(const std::string& loss_name) {
   ScenarioOptions options;
   options.num_configurations = 60;
-  options.noise_half_width = 0.0;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0);
   options.num_validation = 0;
   options.seed = 11;
   const Scenario exact = make_scenario(make_cube_hexapod(), options);

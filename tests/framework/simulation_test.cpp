@@ -99,7 +99,7 @@ namespace {
 // scenario begins with the configurations, readings and truth of a small one of the same seed.
 TEST(Simulation, ALargeScenarioBeginsWithTheSmallOneOfTheSameSeed) {
   ScenarioOptions options;
-  options.noise_half_width = 0.0125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0125);
   options.num_validation = 3;
   options.seed = 21;
   options.num_configurations = 60;

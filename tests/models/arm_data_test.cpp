@@ -36,8 +36,8 @@ Scenario scenario(const std::shared_ptr<MeasurementModel>& model, int configurat
                   std::uint64_t seed, double param_error_mm = 0, double param_error_rad = 0) {
   ScenarioOptions o;
   o.num_configurations = configurations;
-  o.param_error_half_width = param_error_mm;
-  o.param_error_half_width_rad = param_error_rad;
+  o.param_error_half_width.set(kincal::kMillimetre, param_error_mm);
+  o.param_error_half_width.set(kincal::kRadian, param_error_rad);
   o.num_validation = 0;
   o.seed = seed;
   return make_scenario(model, o);
@@ -88,7 +88,7 @@ TEST(UnitSuffix, AWrongKindOfSuffixOrAColumnGivenTwiceIsAnError) {
     FAIL() << "an angle in mm was read";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("joint1_mm"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("_deg or _rad"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("_rad or _deg"), std::string::npos) << e.what();
   }
   std::istringstream twice("joint1,joint1_deg\n1,2\n");
   EXPECT_THROW(parse_measurements(twice, "D.csv", {"joint1"}, {}), std::invalid_argument);

@@ -201,7 +201,7 @@ TEST(AutoDiff, LmOnTheTwinLandsWhereTheHandWrittenModelDoes) {
   if (!SolverRegistry::global().contains("lm")) GTEST_SKIP() << "lm is not built";
   ScenarioOptions options;
   options.num_configurations = 60;
-  options.noise_half_width = 0.0125;
+  options.noise_half_width.set(kincal::kMillimetre, 0.0125);
   options.num_validation = 0;
   options.seed = 1;
   const Scenario hand = make_scenario(make_cube_hexapod(), options);

@@ -382,7 +382,7 @@ TEST(SerialArmCalibration, NoisyPointTrackerEstimatesLieWithinTheirStandardDevia
   ScenarioOptions options;
   options.num_validation = 0;
   options.num_configurations = 100;
-  options.noise_half_width = 0.05;
+  options.noise_half_width.set(kincal::kMillimetre, 0.05);
   options.seed = 7;
   const Scenario s = make_scenario(make_puma560(), options);
   const auto solver = SolverRegistry::global().create("lm");

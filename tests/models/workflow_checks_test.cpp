@@ -23,7 +23,7 @@ Measurements exact_data(const std::shared_ptr<MeasurementModel>& model) {
   exact->parameters().for_each_matching("*", [](Parameter& p) { p.error_half_width = 0; });
   ScenarioOptions o;
   o.num_configurations = 60;
-  o.param_error_half_width = o.param_error_half_width_rad = 0;
+  o.param_error_half_width = kincal::UnitValues();
   o.num_validation = 0;
   o.seed = 3;
   return make_scenario(exact, o).calibration;

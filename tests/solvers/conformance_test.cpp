@@ -405,7 +405,7 @@ class SameNoisyMinimum : public Conformance {};
 TEST_P(SameNoisyMinimum, AgreesWithLm) {
   ScenarioOptions scenario_options;
   scenario_options.num_configurations = paper_case(3).num_configurations;
-  scenario_options.noise_half_width = paper_case(3).noise_half_width;
+  scenario_options.noise_half_width.set(kincal::kMillimetre, paper_case(3).noise_half_width);
   scenario_options.num_validation = 0;
   scenario_options.seed = 5;
   const Scenario scenario = make_scenario(make_cube_hexapod(), scenario_options);

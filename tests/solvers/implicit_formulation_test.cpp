@@ -28,7 +28,7 @@ using kincal::testing::paper_scenario;
 Scenario preset_scenario(const std::string& preset, int configurations, std::uint64_t seed) {
   ScenarioOptions options;
   options.num_configurations = configurations;
-  options.noise_half_width = 0.01;
+  options.noise_half_width.set(kincal::kMillimetre, 0.01);
   options.num_validation = 0;
   options.seed = seed;
   return make_scenario(make_preset(preset), options);

@@ -99,8 +99,8 @@ const Scenario& case4_with_prior() {
   static const Scenario scenario = [] {
     ScenarioOptions options;
     options.num_configurations = paper_case(4).num_configurations;
-    options.noise_half_width = paper_case(4).noise_half_width;
-    options.prior_std = 5 / std::sqrt(3.0);
+    options.noise_half_width.set(kincal::kMillimetre, paper_case(4).noise_half_width);
+    options.prior_std.set(kincal::kMillimetre, 5 / std::sqrt(3.0));
     options.num_validation = 50;
     options.seed = 4;
     return make_scenario(make_cube_hexapod(), options);

@@ -23,8 +23,8 @@ inline Scenario paper_scenario(std::shared_ptr<MeasurementModel> model, int case
                                std::uint64_t seed, double param_error = 5, int validation = 20) {
   ScenarioOptions options;
   options.num_configurations = paper_case(case_id).num_configurations;
-  options.noise_half_width = paper_case(case_id).noise_half_width;
-  options.param_error_half_width = param_error;
+  options.noise_half_width.set(kincal::kMillimetre, paper_case(case_id).noise_half_width);
+  options.param_error_half_width.set(kincal::kMillimetre, param_error);
   options.num_validation = validation;
   options.seed = seed;
   return make_scenario(std::move(model), options);
