@@ -16,12 +16,12 @@
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/progress.hpp"
-#include "kincal/cli/reproduce_study.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/base/statistics.hpp"
+#include "kincal/framework/workflows/reproduce.hpp"
 #include "kincal/models/presets.hpp"
 
 namespace kincal::cli {

@@ -29,7 +29,8 @@ set(CPACK_COMPONENT_RUNTIME_DESCRIPTION
     "Simulates calibrations, calibrates a mechanism model from measurement files, reports\n"
     "uncertainty and identifiability; solver backends gn, lm, Ceres, NLopt, Ipopt.")
 
-set(KINCAL_DEV_DEPENDS libeigen3-dev nlohmann-json3-dev pkg-config)
+# urdfdom (with TinyXML): the library reads and writes URDF (models/urdf_io.hpp).
+set(KINCAL_DEV_DEPENDS libeigen3-dev nlohmann-json3-dev liburdfdom-dev pkg-config)
 if(KINCAL_WITH_CERES)
   list(APPEND KINCAL_DEV_DEPENDS libceres-dev)
 endif()
@@ -40,7 +41,7 @@ if(KINCAL_WITH_IPOPT)
   list(APPEND KINCAL_DEV_DEPENDS coinor-libipopt-dev)
 endif()
 if(KINCAL_BUILD_CLI)
-  list(APPEND KINCAL_DEV_DEPENDS libboost-program-options-dev liburdfdom-dev)
+  list(APPEND KINCAL_DEV_DEPENDS libboost-program-options-dev)
 endif()
 list(JOIN KINCAL_DEV_DEPENDS ", " KINCAL_DEV_DEPENDS)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libkincal-dev)

@@ -1,7 +1,7 @@
 // The studies' C++ side (python/kincal/studies.py drives them, in-process or on Dask): the
 // trials of the paper's Monte Carlo one at a time, as plain tuples that pickle exactly, and
 // the report of a set of them, made by the same functions as `kincal reproduce`
-// (cli/reproduce_study.hpp).
+// (framework/workflows/reproduce.hpp).
 
 #include <pybind11/stl.h>
 
@@ -15,9 +15,9 @@
 #include "bindings.hpp"
 #include "interrupt.hpp"
 #include "kincal/cli/output_files.hpp"
-#include "kincal/cli/reproduce_study.hpp"
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/workflows/reproduce.hpp"
 #include "kincal/framework/workflows/simulate.hpp"
 #include "kincal/models/presets.hpp"
 
@@ -77,7 +77,7 @@ TerminationType termination_from(const std::string& word) {
   throw py::value_error("trial: unknown termination '" + word + "'");
 }
 
-py::object trial_tuple(const cli::ReproduceTrial& r) {
+py::object trial_tuple(const ReproduceTrial& r) {
   if (!r.done) return py::none();
   py::list trace;
   for (const auto& e : r.trace) trace.append(stats_tuple(e));
@@ -85,8 +85,8 @@ py::object trial_tuple(const cli::ReproduceTrial& r) {
                         r.seconds, stats_tuple(r.before), stats_tuple(r.after), trace);
 }
 
-cli::ReproduceTrial trial_from(const py::handle& h) {
-  cli::ReproduceTrial r;
+ReproduceTrial trial_from(const py::handle& h) {
+  ReproduceTrial r;
   if (h.is_none()) return r;
   const auto t = h.cast<py::tuple>();
   if (t.size() != 7) throw py::value_error("trial: expected a tuple of 7 from reproduce_trials");
@@ -112,15 +112,15 @@ py::list reproduce_trials(const py::dict& spec, const std::vector<std::pair<int,
       throw py::value_error("tasks: (case index, trial) out of range: (" +
                             std::to_string(case_index) + ", " + std::to_string(trial) + ")");
   const std::shared_ptr<const MeasurementModel> model = make_cube_hexapod();
-  std::vector<cli::ReproduceTrial> results(tasks.size());
+  std::vector<ReproduceTrial> results(tasks.size());
   {
     py::gil_scoped_release release;
     SigintScope sigint(catch_sigint);
     parallel_for(static_cast<int>(tasks.size()), threads, [&](int i) {
       if (sigint_received()) return;  // as the program: finish the trials under way
       const auto& [case_index, trial] = tasks[i];
-      results[i] = cli::run_reproduce_trial(model, setup.base, cases[case_index], trial,
-                                            *setup.solver, setup.options);
+      results[i] = run_reproduce_trial(model, setup.base, cases[case_index], trial, *setup.solver,
+                                       setup.options);
     });
   }
   py::list out;
@@ -136,10 +136,10 @@ py::tuple reproduce_report(const py::dict& spec, int num_trials, const py::list&
   if (results.size() != paper.size())
     throw py::value_error("results: expected one list per case (" + std::to_string(paper.size()) +
                           ")");
-  std::vector<cli::ReproduceCase> cases;
+  std::vector<ReproduceCase> cases;
   bool partial = false;
   for (std::size_t c = 0; c < paper.size(); ++c) {
-    cli::ReproduceCase rc{paper[c], {}};
+    ReproduceCase rc{paper[c], {}};
     const auto trials = results[c].cast<py::list>();
     if (static_cast<int>(trials.size()) != num_trials)
       throw py::value_error("results: expected " + std::to_string(num_trials) + " trials per case");
@@ -149,10 +149,9 @@ py::tuple reproduce_report(const py::dict& spec, int num_trials, const py::list&
     }
     cases.push_back(std::move(rc));
   }
-  const cli::ReproduceTables tables =
-      cli::reproduce_tables(cases, num_trials, partial, setup.solver_name);
-  const nlohmann::ordered_json json = cli::reproduce_json(setup.solver_name, num_trials, partial,
-                                                          setup.base, out_dir, tables.json_cases);
+  const ReproduceTables tables = reproduce_tables(cases, num_trials, partial, setup.solver_name);
+  const nlohmann::ordered_json json = reproduce_json(setup.solver_name, num_trials, partial,
+                                                     setup.base, out_dir, tables.json_cases);
   return py::make_tuple(json.dump(2) + "\n", tables.text_rows, tables.summary_csv,
                         tables.trials_csv, tables.trace_csv);
 }

@@ -1,4 +1,4 @@
-#include "kincal/cli/reproduce_study.hpp"
+#include "kincal/framework/workflows/reproduce.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/base/statistics.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -208,4 +208,4 @@ nlohmann::ordered_json reproduce_json(const std::string& solver_name, int num_tr
           {"cases", json_cases}};
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

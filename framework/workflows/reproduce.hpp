@@ -11,7 +11,7 @@
 
 #include "kincal/framework/calibration/simulation.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 struct ReproduceTrial {
   bool done = false;  // false: skipped after Ctrl-C, left out of every table
@@ -49,4 +49,4 @@ nlohmann::ordered_json reproduce_json(const std::string& solver_name, int num_tr
                                       const ScenarioOptions& base, const std::string& out_dir,
                                       const nlohmann::ordered_json& json_cases);
 
-}  // namespace kincal::cli
+}  // namespace kincal
