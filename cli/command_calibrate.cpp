@@ -59,18 +59,6 @@ OutputPlan plan_files(const po::variables_map& vm) {
   return plan;
 }
 
-// The calibrated model file. It lists what this run estimated as free: a model written after
-// --allow-rank-deficient must not stop again on the parameters that had to be fixed.
-std::string calibrated_model_text(const std::string& path, MeasurementModel& model,
-                                  const VectorXd& values, const std::vector<std::string>& fixed) {
-  for (const auto& name : fixed) model.parameters().set_free(name, false);
-  if (!fixed.empty())
-    note("calibrate", path + ": lists only the " + std::to_string(model.parameters().num_free()) +
-                          " estimated parameters as free (the " + std::to_string(fixed.size()) +
-                          " fixed above are fixed there)");
-  return model_to_json(model, values).dump(2) + "\n";
-}
-
 }  // namespace
 
 int run_calibrate(const Args& args) {
@@ -195,8 +183,16 @@ int run_calibrate(const Args& args) {
   std::vector<std::pair<std::string, std::string>> outputs;
   std::string model_text;
   if (solved && vm.count("out")) {
-    model_text = calibrated_model_text(vm["out"].as<std::string>(), *model, result.parameters,
-                                       result.fixed_by_identifiability);
+    // It lists what this run estimated as free: a model written after --allow-rank-deficient
+    // must not stop again on the parameters that had to be fixed.
+    const std::vector<std::string>& fixed = result.fixed_by_identifiability;
+    model_text = calibrated_model_text(*model, result.parameters, fixed);
+    if (!fixed.empty())
+      note("calibrate",
+           vm["out"].as<std::string>() + ": lists only the " +
+               std::to_string(model->parameters().num_free() - static_cast<int>(fixed.size())) +
+               " estimated parameters as free (the " + std::to_string(fixed.size()) +
+               " fixed above are fixed there)");
     report_json["calibrated_model"] = {{"file", vm["out"].as<std::string>()},
                                        {"sha256", sha256_hex(model_text)}};
   } else {

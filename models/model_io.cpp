@@ -135,6 +135,12 @@ Json model_to_json(const MeasurementModel& model, const VectorXd& values) {
   return out;
 }
 
+std::string calibrated_model_text(MeasurementModel model, const VectorXd& values,
+                                  const std::vector<std::string>& fixed) {
+  for (const auto& name : fixed) model.parameters().set_free(name, false);
+  return model_to_json(model, values).dump(2) + "\n";
+}
+
 std::shared_ptr<MeasurementModel> model_from_json(const Json& j, const std::string& source) {
   const JsonPath root(source);
   if (!j.is_object()) root.fail("expected a JSON object (a kincal model file)");

@@ -17,6 +17,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 
@@ -29,6 +30,13 @@ inline constexpr int kModelFormatVersion = 1;
 /// free mask. Throws std::invalid_argument for mechanism or sensor types it cannot write,
 /// and for a value that is not finite (a model file holds finite numbers only).
 nlohmann::ordered_json model_to_json(const MeasurementModel& model, const VectorXd& values);
+
+/// The model file of a calibration (model_to_json's text, indented): `values` at the estimate,
+/// and only what it estimated listed as free: `fixed` names the free parameters the data
+/// could not determine, fixed at their nominal values, so that the file calibrated again does
+/// not stop on them.
+std::string calibrated_model_text(MeasurementModel model, const VectorXd& values,
+                                  const std::vector<std::string>& fixed);
 
 /// A model whose nominal values are those of the file and whose free mask is its "free"
 /// list. `source` names the file in messages ("<source>: mechanism.legs[2].base: expected

@@ -166,13 +166,6 @@ void apply_prior_std(MeasurementModel& model, const std::vector<std::string>& sp
   }
 }
 
-// The calibrated model file's text: what this run estimated listed as free (a model written
-// after allow_rank_deficient must not stop again on the parameters that had to be fixed).
-std::string calibrated_model_text(MeasurementModel model, const CalibrateResult& result) {
-  for (const auto& name : result.fixed_by_identifiability) model.parameters().set_free(name, false);
-  return model_to_json(model, result.parameters).dump(2) + "\n";
-}
-
 py::dict calibrate_workflow(
     const ModelHandle& handle, const std::optional<std::string>& data_path,
     const py::object& actuators, const py::object& readings, const std::string& solver,
@@ -222,7 +215,7 @@ py::dict calibrate_workflow(
   Json report = calibration_json(result, Json::object());
   std::string model_text;
   if (result.solved && !out.empty()) {
-    model_text = calibrated_model_text(*model, result);
+    model_text = calibrated_model_text(*model, result.parameters, result.fixed_by_identifiability);
     report["calibrated_model"] = {{"file", out}, {"sha256", sha256_hex(model_text)}};
   } else {
     report["calibrated_model"] = nullptr;
