@@ -11,6 +11,7 @@
 #include "kincal/framework/base/format_text.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/workflows/design_map.hpp"
+#include "kincal/framework/workflows/option_name.hpp"
 
 namespace kincal {
 
@@ -21,11 +22,8 @@ using Json = nlohmann::ordered_json;
 Json number(double v) { return std::isfinite(v) ? Json(v) : Json(); }
 
 // An option as the face spells it: "--poses" for the program, "poses" for Python.
-std::string option(const ExperimentDesignRequest& request, std::string name) {
-  if (request.option_prefix.empty())
-    for (char& c : name)
-      if (c == '-') c = '_';
-  return request.option_prefix + name;
+std::string option(const ExperimentDesignRequest& request, const std::string& name) {
+  return option_name(request.option_prefix, name);
 }
 
 // The information matrix M (normalised parameters) must determine every free parameter:

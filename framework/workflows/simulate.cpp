@@ -10,17 +10,14 @@
 #include "kincal/framework/calibration/prior_and_noise.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/workflows/option_name.hpp"
 
 namespace kincal {
 
 namespace {
 
-// An option as the face spells it: "--prior-std" for the program, "prior_std" for Python.
-std::string option(const std::string& prefix, std::string name) {
-  if (prefix.empty())
-    for (char& c : name)
-      if (c == '-') c = '_';
-  return prefix + name;
+std::string option(const std::string& prefix, const std::string& name) {
+  return option_name(prefix, name);
 }
 std::string option(const SimulateRequest& request, const std::string& name) {
   return option(request.option_prefix, name);

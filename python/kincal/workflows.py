@@ -13,7 +13,7 @@ from __future__ import annotations
 import json as _json
 import os
 import threading
-from typing import Any, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -74,6 +74,17 @@ def _messages(command: str, notes: List[str]) -> str:
     return "".join(f"kincal {command}: note: {n}\n" for n in notes)
 
 
+def _report(command: str, answer: Dict[str, Any]) -> Report:
+    """A workflow's answer as a Report: its JSON, with ``text`` and, when it has notes,
+    ``notes`` and ``messages`` (the lines the program prints on stderr)."""
+    report = Report(_json.loads(answer["report"]))
+    report.__dict__["text"] = answer["text"]
+    if "notes" in answer:
+        report.__dict__["notes"] = list(answer["notes"])
+        report.__dict__["messages"] = _messages(command, answer["notes"])
+    return report
+
+
 def calibrate(
     model: ModelArg,
     data: DataArg,
@@ -128,10 +139,7 @@ def calibrate(
             model_path, inputs, threading.current_thread() is threading.main_thread())
     except ValueError as e:
         raise KincalError(str(e)) from None
-    report = Report(_json.loads(answer["report"]))
-    report.__dict__["text"] = answer["text"]
-    report.__dict__["notes"] = list(answer["notes"])
-    report.__dict__["messages"] = _messages("calibrate", answer["notes"])
+    report = _report("calibrate", answer)
     report.__dict__["calibrated_model"] = answer["calibrated_model"]
     if answer["interrupted"]:
         raise KincalInterrupt("kincal.calibrate interrupted", report)
@@ -186,10 +194,7 @@ def validate(
             noise_std or "", skip_bad_rows, _path(json), _path(html), model_path, inputs)
     except ValueError as e:
         raise KincalError(str(e)) from None
-    result = Report(_json.loads(answer["report"]))
-    result.__dict__["text"] = answer["text"]
-    result.__dict__["notes"] = list(answer["notes"])
-    result.__dict__["messages"] = _messages("validate", answer["notes"])
+    result = _report("validate", answer)
     return result
 
 
@@ -229,9 +234,7 @@ def observability(
             _path(json), _path(html), model_path, inputs)
     except ValueError as e:
         raise KincalError(str(e)) from None
-    report = Report(_json.loads(answer["report"]))
-    report.__dict__["text"] = answer["text"]
-    return report
+    return _report("", answer)
 
 
 def compare(
@@ -260,9 +263,7 @@ def compare(
                                   truth_path, model_path, inputs)
     except ValueError as e:
         raise KincalError(str(e)) from None
-    report = Report(_json.loads(answer["report"]))
-    report.__dict__["text"] = answer["text"]
-    return report
+    return _report("", answer)
 
 
 Quantity = Union[str, float]
@@ -352,10 +353,7 @@ def simulate(
             _path(json), _path(trace), inputs, threading.current_thread() is threading.main_thread())
     except ValueError as e:
         raise KincalError(str(e)) from None
-    report = Report(_json.loads(answer["report"]))
-    report.__dict__["text"] = answer["text"]
-    report.__dict__["notes"] = list(answer["notes"])
-    report.__dict__["messages"] = _messages("simulate", answer["notes"])
+    report = _report("simulate", answer)
     if answer["interrupted"]:
         raise KincalInterrupt("kincal.simulate interrupted", report)
     return report
@@ -412,10 +410,7 @@ def design(
     if answer["stopped_before_design"]:
         raise KincalInterrupt("kincal.design interrupted while drawing candidates: nothing chosen",
                               None)
-    report = Report(_json.loads(answer["report"]))
-    report.__dict__["text"] = answer["text"]
-    report.__dict__["notes"] = list(answer["notes"])
-    report.__dict__["messages"] = _messages("design", answer["notes"])
+    report = _report("design", answer)
     report.__dict__["configurations"] = Measurements.empty_readings(answer["configurations"], m)
     if answer["interrupted"] or report["partial"]:
         raise KincalInterrupt("kincal.design interrupted", report)
