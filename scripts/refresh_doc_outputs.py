@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Re-runs every command shown in the docs and writes what it printed back into the page.
 
+The pages are README.md and every page of docs/ (docs/*.md).
+
 A transcript in a page is a ```console block whose first line starts with "$ ": each "$ " line is
 a command (a line ending in a backslash continues it), the lines up to the next one are what
 it printed (stdout and stderr together, as on a terminal). The blocks of one page run in
@@ -134,14 +136,18 @@ def main():
     parser.add_argument("--check", action="store_true", help="compare, do not write")
     parser.add_argument("--kincal", default=str(ROOT / "build" / "cli" / "kincal"),
                         help="the kincal binary to run (default: build/cli/kincal)")
-    parser.add_argument("pages", nargs="*", help="pages under docs/ (default: every page)")
+    parser.add_argument("pages", nargs="*",
+                        help="pages under docs/, or README.md (default: every page)")
     args = parser.parse_args()
     kincal = Path(args.kincal).resolve()
     if not kincal.is_file():
         sys.exit(f"refresh_doc_outputs: {kincal}: no such program; build kincal first")
     bin_dir = Path(tempfile.mkdtemp(prefix="kincal-doc-bin-"))
     (bin_dir / "kincal").symlink_to(kincal)
-    pages = [DOCS / p for p in args.pages] if args.pages else sorted(DOCS.glob("*.md"))
+    if args.pages:
+        pages = [ROOT / p if p == "README.md" else DOCS / p for p in args.pages]
+    else:
+        pages = [ROOT / "README.md"] + sorted(DOCS.glob("*.md"))
     stale = []
     for page in pages:
         lines = page.read_text().split("\n")
