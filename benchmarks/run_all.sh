@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds kincal in Release, runs the accuracy study, the micro-benchmarks and the solver test
-# suite (Moré-Garbow-Hillstrom), draws the plots into docs/img/ and refreshes the generated
-# tables of docs/benchmarks.md and docs/benchmark-results/.
+# suite (Moré-Garbow-Hillstrom), draws the plots into docs/generated/img/ and refreshes the
+# generated tables of docs/benchmarks.md and docs/generated/benchmark-results/.
 #
 #   benchmarks/run_all.sh [--trials N] [--repetitions N] [--build DIR] [--no-docs]
 #
@@ -53,16 +53,16 @@ mkdir -p "$results"
   --benchmark_report_aggregates_only=true --benchmark_out="$results/micro.json" \
   --benchmark_out_format=json
 "$build/benchmarks/kincal-solver-suite-benchmark" --out "$results/solver-suite"
-"$python" "$root/benchmarks/plot_results.py" "$results" "$root/docs/img"
-"$python" "$root/benchmarks/plot_solver_suite.py" "$results/solver-suite" "$root/docs/img"
+"$python" "$root/benchmarks/plot_results.py" "$results" "$root/docs/generated/img"
+"$python" "$root/benchmarks/plot_solver_suite.py" "$results/solver-suite" "$root/docs/generated/img"
 
 if [ "$update_docs" = 1 ]; then
-  mkdir -p "$root/docs/benchmark-results"
+  mkdir -p "$root/docs/generated/benchmark-results"
   cp "$results"/{accuracy.md,micro.md,machine.md,summary.csv,summary.json,bounds.csv,traces.csv,micro.json} \
-    "$root/docs/benchmark-results/"
-  mkdir -p "$root/docs/benchmark-results/solver-suite"
+    "$root/docs/generated/benchmark-results/"
+  mkdir -p "$root/docs/generated/benchmark-results/solver-suite"
   cp "$results"/solver-suite/{suite_table.md,suite.csv,dimension.csv} \
-    "$root/docs/benchmark-results/solver-suite/"
+    "$root/docs/generated/benchmark-results/solver-suite/"
   "$python" "$root/benchmarks/update_docs.py" "$root/docs/benchmarks.md" "$results"
 fi
-echo "results in $results; plots in $root/docs/img"
+echo "results in $results; plots in $root/docs/generated/img"

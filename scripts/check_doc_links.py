@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Checks the links of README.md and of every page under docs/: each relative link names a file
-or folder of the repository, and each #anchor a heading (or an <a id>/<a name>) of its page.
+or folder of the repository, and each #anchor a heading (or an <a id>/<a name>) of its page;
+and that the index, docs/README.md, lists every page of docs/.
 
 Anchors are GitHub's: a heading's text in lower case, without punctuation but for '-' and
 '_', spaces as '-', and '-1', '-2'... after a repeated one. Links inside code (fenced blocks,
@@ -59,8 +60,10 @@ def anchors(path, cache={}):
 
 
 def main():
+    index = ROOT / "docs" / "README.md"
     pages = [ROOT / "README.md"] + sorted((ROOT / "docs").rglob("*.md"))
     problems = []
+    listed = set()
     for page in pages:
         for number, line in prose_lines(page):
             for target in LINK.findall(SPAN.sub("", line)):
@@ -69,15 +72,20 @@ def main():
                 where = f"{page.relative_to(ROOT)}:{number}: {target}"
                 name, _, anchor = target.partition("#")
                 path = (page.parent / name).resolve() if name else page
+                if page == index:
+                    listed.add(path)
                 if ROOT not in path.parents and path != ROOT:
                     problems.append(f"{where}: outside the repository")
                 elif not path.exists():
                     problems.append(f"{where}: no such file or folder")
                 elif anchor and path.suffix == ".md" and anchor not in anchors(path):
                     problems.append(f"{where}: no heading #{anchor} in {path.relative_to(ROOT)}")
+    for page in sorted((ROOT / "docs").glob("*.md")):
+        if page != index and page not in listed:
+            problems.append(f"{page.relative_to(ROOT)}: not listed in the index, docs/README.md")
     for p in problems:
         print(p)
-    print(f"check_doc_links: {len(problems)} broken link(s) in {len(pages)} pages"
+    print(f"check_doc_links: {len(problems)} problem(s) in {len(pages)} pages"
           if problems else f"check_doc_links: every link of {len(pages)} pages resolves")
     return 1 if problems else 0
 

@@ -17,7 +17,7 @@ used by the next.
 machines); everything else must match, digits included. A block preceded by
 `<!-- doc-outputs: skip REASON -->` is not run (the script lists it with its reason).
 
-Screenshots: docs/img/calibration-report.png is the page that calibrating-a-machine.md's
+Screenshots: docs/generated/img/calibration-report.png is the page that calibrating-a-machine.md's
 walk-through writes (report.html), taken by headless Chromium. Beside it,
 calibration-report.png.source holds the SHA-256 of that page with times masked; --check
 recomputes it, so a report page that changed makes the screenshot stale.
@@ -40,7 +40,7 @@ SKIP = re.compile(r"<!-- doc-outputs: skip (.+?) -->")
 TIME = re.compile(r"\b\d+(?:\.\d+)?(?:e[-+]?\d+)? ?(?:ms|s|µs)\b")
 MARK = "@@kincal-doc-outputs@@"
 SCREENSHOTS = {
-    # page whose session writes the HTML -> (file in that session, image under docs/img)
+    # page whose session writes the HTML -> (file in that session, image under docs/generated/img)
     "calibrating-a-machine.md": ("hexcal/report.html", "calibration-report.png"),
 }
 
@@ -178,7 +178,7 @@ def main():
             shot = SCREENSHOTS.get(page.name)
             if shot:
                 html = Path(workdir) / shot[0]
-                image = DOCS / "img" / shot[1]
+                image = DOCS / "generated" / "img" / shot[1]
                 source = image.with_name(image.name + ".source")
                 digest = hashlib.sha256(mask(html.read_text()).encode()).hexdigest()
                 recorded = source.read_text().strip() if source.exists() else ""
