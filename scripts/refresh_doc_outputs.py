@@ -3,8 +3,8 @@
 
 The pages are README.md and every page of docs/ (docs/*.md).
 
-A transcript in a page is a ```console block whose first line starts with "$ ": each "$ " line is
-a command (a line ending in a backslash continues it), the lines up to the next one are what
+A transcript in a page is a ```console block whose first line starts with "$ ": each "$ " line
+is a command (a line ending in a backslash continues it), the lines up to the next one are what
 it printed (stdout and stderr together, as on a terminal). The blocks of one page run in
 order in one bash session started in an empty directory, with the build's `kincal` first on
 PATH, so a page reads like the walk-through it is: `mkdir`, `cd`, files made by one block and
@@ -17,8 +17,17 @@ used by the next.
 machines); everything else must match, digits included. A block preceded by
 `<!-- doc-outputs: skip REASON -->` is not run (the script lists it with its reason).
 
-Screenshots: docs/generated/img/calibration-report.png is the page that calibrating-a-machine.md's
-walk-through writes (report.html), taken by headless Chromium. Beside it,
+Abridged blocks: a block preceded by `<!-- doc-outputs: abridge REGEX -->` shows, of each run
+of more than three consecutive output lines matching REGEX (Python's re.match; a parameter
+table's rows, say), the first two and one line saying how many more there are. The whole
+block, every line of every output, goes to docs/generated/transcripts/<page>-<n>.txt (the
+n-th abridged block of docs/<page>.md; top-README-<n>.txt for README.md), and the line after
+the block links to it. The script writes the abridged block, the file and the link; --check
+compares the file with the full outputs and the page with their abridged form, so nothing
+shown or kept goes unchecked, and names a transcript file that no block writes any more.
+
+Screenshots: docs/generated/img/calibration-report.png is the page that
+calibrating-a-machine.md's walk-through writes (report.html), taken by headless Chromium. Beside it,
 calibration-report.png.source holds the SHA-256 of that page with times masked; --check
 recomputes it, so a report page that changed makes the screenshot stale.
 """
@@ -36,6 +45,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 SKIP = re.compile(r"<!-- doc-outputs: skip (.+?) -->")
+ABRIDGE = re.compile(r"<!-- doc-outputs: abridge (.+?) -->")
+TRANSCRIPTS = DOCS / "generated" / "transcripts"
+FULL_OUTPUT = "<sub>Full output: "  # starts the line after an abridged block
+KEEP = 2  # lines of a run shown before "… N more"
 # Times vary from run to run; nothing else may.
 TIME = re.compile(r"\b\d+(?:\.\d+)?(?:e[-+]?\d+)? ?(?:ms|s|µs)\b")
 MARK = "@@kincal-doc-outputs@@"
@@ -50,9 +63,58 @@ def mask(text):
 
 
 class Block:
-    def __init__(self, start, end, commands, outputs, skip):
+    def __init__(self, start, end, commands, outputs, skip, abridge):
         self.start, self.end = start, end  # line indices of the fences
         self.commands, self.outputs, self.skip = commands, outputs, skip
+        self.abridge = abridge  # the compiled REGEX of an abridged block, else None
+        self.transcript = None  # its file under TRANSCRIPTS, set by main
+
+
+def abridged(output, pattern, transcript_name):
+    """`output` (lines) with each run of more than KEEP + 1 lines matching `pattern` cut to its
+    first KEEP lines and one saying how many more there are."""
+    shown, i = [], 0
+    while i < len(output):
+        j = i
+        while j < len(output) and pattern.match(output[j]):
+            j += 1
+        if j - i > KEEP + 1:
+            indent = output[i][:len(output[i]) - len(output[i].lstrip())]
+            shown += output[i:i + KEEP]
+            shown.append(f"{indent}… {j - i - KEEP} more like these "
+                         f"(full output: {transcript_name})")
+            i = j
+        elif j > i:
+            shown += output[i:j]
+            i = j
+        else:
+            shown.append(output[i])
+            i += 1
+    return shown
+
+
+def transcript_text(page_name, commands, outputs):
+    header = (f"# The full output of a block abridged in {page_name}, written by "
+              "scripts/refresh_doc_outputs.py: do not edit.")
+    body = [header]
+    for command, output in zip(commands, outputs):
+        body += ["$ " + command[0]] + command[1:] + output
+    return "\n".join(body) + "\n"
+
+
+def read_transcript(path):
+    """The outputs of a transcript file written by transcript_text, one list per command."""
+    lines = path.read_text().rstrip("\n").split("\n")[1:]
+    outputs, continued = [], False
+    for line in lines:
+        if line.startswith("$ ") and not continued:
+            outputs.append([])
+            continued = line.endswith("\\")
+        elif continued:
+            continued = line.endswith("\\")
+        elif outputs:
+            outputs[-1].append(line)
+    return outputs
 
 
 def parse_page(lines):
@@ -61,10 +123,12 @@ def parse_page(lines):
     i = 0
     while i < len(lines):
         if lines[i] == "```console" and i + 1 < len(lines) and lines[i + 1].startswith("$ "):
-            skip = None
+            skip = abridge = None
             for back in (i - 1, i - 2):
                 if back >= 0 and SKIP.search(lines[back]):
                     skip = SKIP.search(lines[back]).group(1)
+                if back >= 0 and ABRIDGE.search(lines[back]):
+                    abridge = re.compile(ABRIDGE.search(lines[back]).group(1))
             j = i + 1
             commands, outputs = [], []
             while j < len(lines) and not lines[j].startswith("```"):
@@ -78,7 +142,9 @@ def parse_page(lines):
                 else:
                     outputs[-1].append(lines[j])
                 j += 1
-            blocks.append(Block(i, j, commands, outputs, skip))
+            if skip and abridge:
+                sys.exit(f"refresh_doc_outputs: line {i + 1}: a block not run cannot be abridged")
+            blocks.append(Block(i, j, commands, outputs, skip, abridge))
             i = j + 1
         else:
             i += 1
@@ -150,30 +216,72 @@ def main():
         pages = [ROOT / "README.md"] + sorted(DOCS.glob("*.md"))
     stale = []
     for page in pages:
+        where = page.relative_to(ROOT)
         lines = page.read_text().split("\n")
         blocks = parse_page(lines)
+        abridged_blocks = [b for b in blocks if b.abridge]
+        # docs/x.md's are x-1.txt, x-2.txt...; README.md's (two READMEs) top-README-1.txt...
+        key = page.stem if page.parent == DOCS else "top-" + page.stem
+        for n, block in enumerate(abridged_blocks, 1):
+            block.transcript = TRANSCRIPTS / f"{key}-{n}.txt"
+        # A transcript file of this page that no block writes any more.
+        for path in sorted(TRANSCRIPTS.glob(f"{key}-[0-9]*.txt")):
+            if path not in [b.transcript for b in abridged_blocks]:
+                stale.append(f"{path.relative_to(ROOT)}: no block of {where} writes it")
+                if not args.check:
+                    path.unlink()
         if not blocks:
             continue
         for block in blocks:
             if block.skip:
-                print(f"{page.relative_to(ROOT)}:{block.start + 1}: not run: {block.skip}")
+                print(f"{where}:{block.start + 1}: not run: {block.skip}")
         with tempfile.TemporaryDirectory(prefix="kincal-doc-") as workdir:
             outputs = iter(run_session(blocks, bin_dir, kincal.parent.parent, Path(workdir)))
             new_lines = list(lines)
-            # From the last block up, so that earlier line numbers stay valid.
             replaced = []
             for block in blocks:
                 if block.skip:
                     continue
+                full = [next(outputs) for _ in block.commands]
+                link = None
+                if block.abridge:
+                    name = os.path.relpath(block.transcript, page.parent)
+                    link = f"{FULL_OUTPUT}[{name}]({name})</sub>"
+                    shown = [abridged(out, block.abridge, name) for out in full]
+                    kept = read_transcript(block.transcript) if block.transcript.exists() else []
+                    if len(kept) != len(full):
+                        stale.append(f"{block.transcript.relative_to(ROOT)}: not the full "
+                                     f"output of {where}:{block.start + 1}")
+                    for command, old, new in zip(block.commands, kept, full):
+                        if mask("\n".join(new)) != mask("\n".join(old)):
+                            stale.append(f"{block.transcript.relative_to(ROOT)}: '$ "
+                                         f"{command[0][:60]}' prints something else now")
+                    text = transcript_text(where, block.commands, full)
+                    if not args.check and (not block.transcript.exists()
+                                           or block.transcript.read_text() != text):
+                        TRANSCRIPTS.mkdir(parents=True, exist_ok=True)
+                        block.transcript.write_text(text)
+                else:
+                    shown = full
                 body = []
-                for command, old in zip(block.commands, block.outputs):
-                    out = next(outputs)
+                for command, old, out in zip(block.commands, block.outputs, shown):
                     body += ["$ " + command[0]] + command[1:] + out
                     if mask("\n".join(out)) != mask("\n".join(old)):
-                        stale.append(f"{page.relative_to(ROOT)}:{block.start + 2}: "
+                        stale.append(f"{where}:{block.start + 2}: "
                                      f"'$ {command[0][:60]}' prints something else now")
-                replaced.append((block, body))
-            for block, body in reversed(replaced):
+                after = block.end + 1
+                present = new_lines[after] if after < len(new_lines) else ""
+                if (link or "") != (present if present.startswith(FULL_OUTPUT) else ""):
+                    stale.append(f"{where}:{after + 1}: the link to the full output "
+                                 + ("is missing or wrong" if link else "is left over"))
+                replaced.append((block, body, link))
+            # From the last block up, so that earlier line numbers stay valid.
+            for block, body, link in reversed(replaced):
+                after = block.end + 1
+                if after < len(new_lines) and new_lines[after].startswith(FULL_OUTPUT):
+                    del new_lines[after]
+                if link:
+                    new_lines.insert(after, link)
                 new_lines[block.start + 1:block.end] = body
             shot = SCREENSHOTS.get(page.name)
             if shot:
