@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <string>
 
 #include "kincal/framework/calibration/calibration_solve.hpp"
@@ -23,7 +24,7 @@ int main(int argc, char** argv) {
   using namespace kincal;
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 200;
   const double param_error = argc > 2 ? std::atof(argv[2]) : 5;
-  SolverOptions implicit_options;
+  std::map<std::string, std::string> settings;
   for (int i = 3; i < argc; ++i) {
     const std::string entry = argv[i];
     const auto equals = entry.find('=');
@@ -31,9 +32,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "kincal-implicit-speed: '%s' is not KEY=VALUE\n", argv[i]);
       return 2;
     }
-    implicit_options.backend_options[entry.substr(0, equals)] = entry.substr(equals + 1);
+    settings[entry.substr(0, equals)] = entry.substr(equals + 1);
   }
   const auto lm = SolverRegistry::global().create("lm");
+  SolverOptions implicit_options;
+  implicit_options.backend = lm->parse_settings(settings);
   std::printf(
       "case seeds nested_ms nested_iterations nested_converged implicit_ms implicit_iterations "
       "implicit_converged fell_back same_minimum lower higher\n");

@@ -177,7 +177,7 @@ void calibrate_scenario(benchmark::State& state, const Scenario& s, const std::s
   const auto problem = s.make_problem();
   const auto solver = SolverRegistry::global().create(name);
   SolverOptions options = calibration_options(name, threads);
-  options.backend_options = backend_options;
+  options.backend = solver->parse_settings(backend_options);
   Summary summary;
   VectorXd x;
   for (auto _ : state) {

@@ -52,7 +52,8 @@ std::vector<Variant> variants() {
            }});
     if (name.rfind("nlopt:LD_", 0) == 0)
       out.push_back({name + " (scaling=none)", name,
-                     [](SolverOptions& o) { o.backend_options["scaling"] = "none"; }});
+                     [settings = SolverRegistry::global().create(name)->parse_settings(
+                          {{"scaling", "none"}})](SolverOptions& o) { o.backend = settings; }});
   }
   return out;
 }

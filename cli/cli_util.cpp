@@ -199,8 +199,8 @@ SolverChoice make_solver_choice(const po::variables_map& vm) {
   try {
     choice.solver = SolverRegistry::global().create(choice.name);
     if (vm.count("solver-option"))
-      choice.options.backend_options =
-          parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option");
+      choice.options.backend = choice.solver->parse_settings(
+          parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option"));
     choice.options.max_iterations = vm["max-iterations"].as<int>();
     check_max_iterations(choice.options.max_iterations);
     choice.options.verbosity = vm["verbose"].as<int>();

@@ -23,8 +23,8 @@ namespace kincal::cli {
 
 namespace {
 
-// The loss must reach the report (its name and the standard deviations depend on it), so it
-// has one way in: --loss. A backend option would solve with it behind the report's back.
+// The loss is a shared solver setting (SolverOptions::loss), not a backend's: lm's settings
+// would call loss= an unknown option; this says where it goes instead.
 void reject_loss_as_solver_option(const po::variables_map& vm) {
   if (!vm.count("solver-option")) return;
   for (const auto& entry : vm["solver-option"].as<std::vector<std::string>>())
@@ -35,11 +35,11 @@ void reject_loss_as_solver_option(const po::variables_map& vm) {
 }
 
 // --loss, validated against the chosen backend and added to its options.
-RobustLoss loss_option(const po::variables_map& vm, SolverChoice& choice) {
-  if (!vm.count("loss")) return {};
+void loss_option(const po::variables_map& vm, SolverChoice& choice) {
+  if (!vm.count("loss")) return;
   try {
-    return add_robust_loss(vm["loss"].as<std::string>(), *choice.solver, choice.name,
-                           choice.options, "--loss", "use --solver lm");
+    add_robust_loss(vm["loss"].as<std::string>(), *choice.solver, choice.name, choice.options,
+                    "--loss", "use --solver lm");
   } catch (const std::invalid_argument& e) {
     throw CliError(e.what());
   }
@@ -113,7 +113,7 @@ int run_calibrate(const Args& args) {
   reject_loss_as_solver_option(vm);
   SolverChoice choice = make_solver_choice(vm);
   choice.options.num_threads = threads_option(vm);
-  const RobustLoss loss = loss_option(vm, choice);
+  loss_option(vm, choice);
   const OutputPlan plan = plan_files(vm);
 
   CalibrateRequest request;
@@ -123,7 +123,7 @@ int run_calibrate(const Args& args) {
   apply_free_fix(vm, *model);
   apply_noise_std(vm, *model);
   apply_prior_std(vm, *model);
-  check_calibration_model(*model, loss, request.model_file);
+  check_calibration_model(*model, choice.options.loss, request.model_file);
   const VectorXd nominal = model->parameters().nominal_values();
   const int free_count = model->parameters().num_free();
   request.measurements =
@@ -134,7 +134,6 @@ int run_calibrate(const Args& args) {
   request.model = model;
   request.solver = std::move(choice.solver);
   request.solver_options = choice.options;
-  request.loss = loss;
   if (vm.count("formulation")) request.formulation = formulation_choice(vm, *model);
   request.identifiability = id_options;
   request.when_rank_deficient = when_rank_deficient(*model, vm["allow-rank-deficient"].as<bool>(),

@@ -102,19 +102,18 @@ int run_solver_suite(const Args& args) {
   } else {
     solvers = registry.featured_names();
   }
-  SolverOptions overrides;
-  if (vm.count("solver-option")) {
-    if (solvers.size() != 1)
-      throw CliError("--solver-option needs exactly one --solver (each backend has its own keys)");
-    overrides.backend_options =
-        parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option");
-  }
+  if (vm.count("solver-option") && solvers.size() != 1)
+    throw CliError("--solver-option needs exactly one --solver (each backend has its own keys)");
   if (vm.count("max-iterations")) check_max_iterations(vm["max-iterations"].as<int>());
-  // Names and options are checked before any work.
+  // Names and options are checked before any work; the settings are parsed once, here.
+  SolverOptions overrides;
   for (const auto& name : solvers) {
     try {
-      SolverOptions check = overrides;
-      registry.create(name)->check_options(check);
+      const std::unique_ptr<Solver> solver = registry.create(name);
+      if (vm.count("solver-option"))
+        overrides.backend = solver->parse_settings(
+            parse_key_values(vm["solver-option"].as<std::vector<std::string>>(), "solver-option"));
+      solver->check_options(overrides);
     } catch (const InvalidSolverOptions& e) {
       throw CliError(e.what());
     }
@@ -165,7 +164,7 @@ int run_solver_suite(const Args& args) {
     const auto configure = [&](SolverOptions& o) {
       if (started) run_done();
       started = true;
-      if (!overrides.backend_options.empty()) o.backend_options = overrides.backend_options;
+      if (overrides.backend) o.backend = overrides.backend;
       if (vm.count("max-iterations")) o.max_iterations = vm["max-iterations"].as<int>();
     };
     std::vector<problems::SuiteCaseResult> results;

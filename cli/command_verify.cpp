@@ -9,9 +9,9 @@
 #include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/framework/io/sha256.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/io/sha256.hpp"
 
 namespace kincal::cli {
 

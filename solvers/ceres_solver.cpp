@@ -295,20 +295,13 @@ class CeresSolver final : public Solver {
 
   void check_options(const SolverOptions& options) const override {
     Solver::check_options(options);
-    solver_option::require_known_keys(
-        name(), options,
-        {"trust_region", "dogleg_type", "linear_solver", "loss", "initial_trust_region_radius"});
     std::string error;
     if (!ceres_options(options, 1).IsValid(&error)) throw InvalidSolverOptions("ceres: " + error);
-    const auto it = options.backend_options.find("loss");
-    if (it != options.backend_options.end()) {
-      try {
-        RobustLoss::parse(it->second);
-      } catch (const std::invalid_argument& e) {
-        throw InvalidSolverOptions(std::string("ceres: ") + e.what());
-      }
-    }
   }
+  std::unique_ptr<BackendSettings> default_settings() const override {
+    return std::make_unique<CeresSettings>();
+  }
+  bool takes_robust_loss() const override { return true; }
 
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override {
@@ -326,7 +319,7 @@ class CeresSolver final : public Solver {
     // Residuals or a Jacobian that cannot be computed at the start are our failure, reported
     // with our reason, before Ceres sees the problem (Ceres would only say that an evaluation
     // failed).
-    const RobustLoss loss = RobustLoss::parse(backend_value(options, "loss", "none"));
+    const RobustLoss& loss = options.loss;
     // The scale of what Ceres sees at `at` (r, J there): detail::objective_scale of the
     // robust-corrected Jacobian, every column of norm >= 1. Ceres' Jacobi scaling
     // 1 / (1 + |J_j|), its bounds on the LM diagonal and its projected gradient then meet the
@@ -487,12 +480,6 @@ class CeresSolver final : public Solver {
   }
 
  private:
-  static std::string backend_value(const SolverOptions& options, const std::string& key,
-                                   const std::string& fallback) {
-    const auto it = options.backend_options.find(key);
-    return it == options.backend_options.end() ? fallback : it->second;
-  }
-
   ceres::Solver::Options ceres_options(const SolverOptions& options, int threads) const {
     ceres::Solver::Options o;
     o.max_num_iterations = options.max_iterations;
@@ -504,18 +491,13 @@ class CeresSolver final : public Solver {
     o.num_threads = std::max(1, threads);
     o.logging_type = ceres::SILENT;
     o.minimizer_progress_to_stdout = false;
-    const std::string region = solver_option::get_choice(name(), options, "trust_region",
-                                                         kTrustRegions, "levenberg_marquardt");
-    o.trust_region_strategy_type = region == "dogleg" ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
-    o.dogleg_type = solver_option::get_choice(name(), options, "dogleg_type", kDoglegTypes,
-                                              "traditional") == "subspace"
-                        ? ceres::SUBSPACE_DOGLEG
-                        : ceres::TRADITIONAL_DOGLEG;
-    const std::string linear =
-        solver_option::get_choice(name(), options, "linear_solver", kLinearSolvers, "dense_qr");
-    ceres::StringToLinearSolverType(linear, &o.linear_solver_type);
-    o.initial_trust_region_radius = solver_option::get_double(
-        name(), options, "initial_trust_region_radius", o.initial_trust_region_radius);
+    const CeresSettings settings = settings_for<CeresSettings>(name(), options);
+    o.trust_region_strategy_type =
+        settings.trust_region == "dogleg" ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+    o.dogleg_type =
+        settings.dogleg_type == "subspace" ? ceres::SUBSPACE_DOGLEG : ceres::TRADITIONAL_DOGLEG;
+    ceres::StringToLinearSolverType(settings.linear_solver, &o.linear_solver_type);
+    o.initial_trust_region_radius = settings.initial_trust_region_radius;
     return o;
   }
 
@@ -536,6 +518,16 @@ class CeresSolver final : public Solver {
 };
 
 }  // namespace
+
+const std::vector<SettingField<CeresSettings>>& CeresSettings::fields() {
+  using S = CeresSettings;
+  static const std::vector<SettingField<S>> fields = {
+      {"trust_region", &S::trust_region, kTrustRegions},
+      {"dogleg_type", &S::dogleg_type, kDoglegTypes},
+      {"linear_solver", &S::linear_solver, kLinearSolvers},
+      {"initial_trust_region_radius", &S::initial_trust_region_radius}};
+  return fields;
+}
 
 std::unique_ptr<Solver> make_ceres_solver() { return std::make_unique<CeresSolver>(); }
 

@@ -15,9 +15,7 @@ class GaussNewtonSolver final : public Solver {
 
   void check_options(const SolverOptions& options) const override {
     Solver::check_options(options);
-    solver_option::require_known_keys(name(), options, {"runaway_factor"});
-    if (solver_option::get_double(name(), options, "runaway_factor", 1e3) <= 0)
-      throw InvalidSolverOptions("gn: runaway_factor must be > 0");
+    settings_for<GaussNewtonSettings>(name(), options);
     // Undamped full steps have no way to stay in a box; ignoring one would return a point
     // outside the bounds the caller asked for.
     if (options.lower_bounds || options.upper_bounds)
@@ -26,12 +24,16 @@ class GaussNewtonSolver final : public Solver {
           "box); use lm, ceres, nlopt:<ALGORITHM> or ipopt");
   }
 
+  std::unique_ptr<BackendSettings> default_settings() const override {
+    return std::make_unique<GaussNewtonSettings>();
+  }
+
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override {
     check_options(options);
     check_sizes(problem, x, options);
     // Parameters "run away" when they move further than this from the start.
-    const double runaway_factor = solver_option::get_double(name(), options, "runaway_factor", 1e3);
+    const double runaway_factor = settings_for<GaussNewtonSettings>(name(), options).runaway_factor;
     Summary summary;
     summary.solver = name();
     detail::SolveMonitor monitor(options, summary);
@@ -134,6 +136,16 @@ class GaussNewtonSolver final : public Solver {
 };
 
 }  // namespace
+
+const std::vector<SettingField<GaussNewtonSettings>>& GaussNewtonSettings::fields() {
+  static const std::vector<SettingField<GaussNewtonSettings>> fields = {
+      {"runaway_factor", &GaussNewtonSettings::runaway_factor}};
+  return fields;
+}
+
+std::string GaussNewtonSettings::validity_error() const {
+  return runaway_factor > 0 ? std::string() : "runaway_factor must be > 0";
+}
 
 std::unique_ptr<Solver> make_gauss_newton_solver() { return std::make_unique<GaussNewtonSolver>(); }
 

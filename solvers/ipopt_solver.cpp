@@ -386,12 +386,12 @@ class LeastSquaresNlp final : public Ipopt::TNLP {
 class IpoptSolver final : public Solver {
  public:
   std::string name() const override { return "ipopt"; }
+  std::unique_ptr<BackendSettings> default_settings() const override {
+    return std::make_unique<IpoptSettings>();
+  }
 
   void check_options(const SolverOptions& options) const override {
     Solver::check_options(options);
-    solver_option::require_known_keys(name(), options, {"hessian", "mu_strategy", "linear_solver"});
-    hessian(options);
-    mu_strategy(options);
     const std::string linear = linear_solver(options);
     const std::string why = linear_solver_unavailable(linear);
     if (!why.empty())
@@ -557,19 +557,15 @@ class IpoptSolver final : public Solver {
   }
 
   std::string hessian(const SolverOptions& options) const {
-    return solver_option::get_choice(name(), options, "hessian", {"gauss-newton", "limited-memory"},
-                                     "gauss-newton");
+    return settings_for<IpoptSettings>(name(), options).hessian;
   }
   std::string mu_strategy(const SolverOptions& options) const {
-    return solver_option::get_choice(name(), options, "mu_strategy", {"monotone", "adaptive"},
-                                     "monotone");
+    return settings_for<IpoptSettings>(name(), options).mu_strategy;
   }
   // Debian's Ipopt has MUMPS built in; the HSL and Pardiso solvers load at run time when
   // present, and check_options rejects them when they cannot.
   std::string linear_solver(const SolverOptions& options) const {
-    return solver_option::get_choice(name(), options, "linear_solver",
-                                     {"mumps", "ma27", "ma57", "ma77", "ma86", "ma97", "pardiso"},
-                                     "mumps");
+    return settings_for<IpoptSettings>(name(), options).linear_solver;
   }
 
   static std::pair<TerminationType, std::string> termination(Ipopt::ApplicationReturnStatus status,
@@ -605,6 +601,17 @@ class IpoptSolver final : public Solver {
 };
 
 }  // namespace
+
+const std::vector<SettingField<IpoptSettings>>& IpoptSettings::fields() {
+  using S = IpoptSettings;
+  static const std::vector<SettingField<S>> fields = {
+      {"hessian", &S::hessian, {"gauss-newton", "limited-memory"}},
+      {"mu_strategy", &S::mu_strategy, {"monotone", "adaptive"}},
+      {"linear_solver",
+       &S::linear_solver,
+       {"mumps", "ma27", "ma57", "ma77", "ma86", "ma97", "pardiso"}}};
+  return fields;
+}
 
 std::unique_ptr<Solver> make_ipopt_solver() { return std::make_unique<IpoptSolver>(); }
 

@@ -18,27 +18,6 @@ namespace {
 
 enum class LinearSolver { kCholesky, kQr };
 
-// Backend options, parsed and validated once (check_options and solve share this).
-struct LmSettings {
-  RobustLoss loss;
-  LinearSolver linear_solver = LinearSolver::kCholesky;
-  double initial_trust_radius = 1e4;  // Ceres' default: starts close to Gauss-Newton
-  double max_trust_radius = 1e16;
-  double min_trust_radius = 1e-32;
-  double min_relative_decrease = 1e-3;  // accept a step when rho exceeds this
-  double max_radius_growth = 10;  // cap on the radius increase per step (Nielsen: 3; measured)
-  int max_invalid_steps = 10;     // consecutive unusable trial points before giving up
-  // Off: a fixed distance from the start stopped legitimate solves (Brown badly scaled: the
-  // minimum lies 1e6 from the start); iterates that run off towards an asymptote are named by
-  // the plateau test instead.
-  double runaway_factor = std::numeric_limits<double>::infinity();
-  bool geodesic_acceleration = true;
-  double geodesic_step = 0.1;      // h of the finite-difference second directional derivative
-  double max_acceleration = 0.75;  // use only when 2|a| <= this * |v| (Transtrum's alpha)
-  bool uphill_steps = true;
-  double max_uphill_ratio = 2;  // an uphill step may cost at most this times the best cost
-};
-
 const char* const kSolverName = "lm";
 // A convergence test that fires within this many iterations of a failed trial point is
 // reported as stopped at the edge of the computable region (diverged), unless the gradient
@@ -62,67 +41,6 @@ constexpr double kUphillMinCostOverRounding = 1e6;
 // evaluation, buys nothing: the plain step is taken instead.
 constexpr double kAccelerationMinPredictedDecrease = 1e-6;
 
-LmSettings parse_settings(const SolverOptions& options) {
-  using namespace solver_option;
-  require_known_keys(kSolverName, options,
-                     {"loss", "linear_solver", "initial_trust_radius", "max_trust_radius",
-                      "min_trust_radius", "min_relative_decrease", "max_radius_growth",
-                      "max_invalid_steps", "runaway_factor", "geodesic_acceleration",
-                      "geodesic_step", "max_acceleration", "uphill_steps", "max_uphill_ratio"});
-  LmSettings s;
-  const auto loss = options.backend_options.find("loss");
-  if (loss != options.backend_options.end()) {
-    try {
-      s.loss = RobustLoss::parse(loss->second);
-    } catch (const std::invalid_argument& e) {
-      throw InvalidSolverOptions(std::string(kSolverName) + ": " + e.what());
-    }
-  }
-  s.linear_solver =
-      get_choice(kSolverName, options, "linear_solver", {"cholesky", "qr"}, "cholesky") == "qr"
-          ? LinearSolver::kQr
-          : LinearSolver::kCholesky;
-  s.initial_trust_radius =
-      get_double(kSolverName, options, "initial_trust_radius", s.initial_trust_radius);
-  s.max_trust_radius = get_double(kSolverName, options, "max_trust_radius", s.max_trust_radius);
-  s.min_trust_radius = get_double(kSolverName, options, "min_trust_radius", s.min_trust_radius);
-  s.min_relative_decrease =
-      get_double(kSolverName, options, "min_relative_decrease", s.min_relative_decrease);
-  s.max_radius_growth = get_double(kSolverName, options, "max_radius_growth", s.max_radius_growth);
-  s.max_invalid_steps = get_int(kSolverName, options, "max_invalid_steps", s.max_invalid_steps);
-  const auto runaway = options.backend_options.find("runaway_factor");
-  if (runaway == options.backend_options.end() || runaway->second != "none")
-    s.runaway_factor = get_double(kSolverName, options, "runaway_factor", s.runaway_factor);
-  s.geodesic_acceleration = get_choice(kSolverName, options, "geodesic_acceleration",
-                                       {"true", "false"}, "true") == "true";
-  s.geodesic_step = get_double(kSolverName, options, "geodesic_step", s.geodesic_step);
-  s.max_acceleration = get_double(kSolverName, options, "max_acceleration", s.max_acceleration);
-  s.uphill_steps =
-      get_choice(kSolverName, options, "uphill_steps", {"true", "false"}, "true") == "true";
-  s.max_uphill_ratio = get_double(kSolverName, options, "max_uphill_ratio", s.max_uphill_ratio);
-
-  auto require = [](bool ok, const char* what) {
-    if (!ok) throw InvalidSolverOptions(std::string(kSolverName) + ": " + what);
-  };
-  // Written as !(a > b) so that NaN is rejected too.
-  require(s.min_trust_radius > 0, "min_trust_radius must be > 0");
-  require(s.max_trust_radius >= s.min_trust_radius && std::isfinite(s.max_trust_radius),
-          "max_trust_radius must be finite and >= min_trust_radius");
-  require(
-      s.initial_trust_radius >= s.min_trust_radius && s.initial_trust_radius <= s.max_trust_radius,
-      "initial_trust_radius must lie in [min_trust_radius, max_trust_radius]");
-  require(s.min_relative_decrease >= 0 && s.min_relative_decrease < 1,
-          "min_relative_decrease must be in [0, 1)");
-  require(s.max_radius_growth > 1, "max_radius_growth must be > 1");
-  require(s.max_invalid_steps >= 1, "max_invalid_steps must be >= 1");
-  require(s.runaway_factor > 0, "runaway_factor must be > 0 (or none)");
-  require(s.geodesic_step > 0 && s.geodesic_step <= 1, "geodesic_step must be in (0, 1]");
-  require(s.max_acceleration > 0, "max_acceleration must be > 0");
-  require(s.max_uphill_ratio >= 1 && std::isfinite(s.max_uphill_ratio),
-          "max_uphill_ratio must be finite and >= 1");
-  return s;
-}
-
 double max_norm(const VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
 
 // z <- Q^T z for a Householder QR, reflector by reflector (Q^T = H_{n-1} ... H_0). Eigen's
@@ -144,8 +62,12 @@ class LevenbergMarquardtSolver final : public Solver {
 
   void check_options(const SolverOptions& options) const override {
     Solver::check_options(options);
-    parse_settings(options);
+    settings_for<LevenbergMarquardtSettings>(kSolverName, options);
   }
+  std::unique_ptr<BackendSettings> default_settings() const override {
+    return std::make_unique<LevenbergMarquardtSettings>();
+  }
+  bool takes_robust_loss() const override { return true; }
 
   Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
                 const SolverOptions& options) const override;
@@ -153,14 +75,18 @@ class LevenbergMarquardtSolver final : public Solver {
   // The Schur-complement solver takes lm's trust-region schedule and none of its other backend
   // options, nor bounds.
   bool solves_implicit(const SolverOptions& options) const override {
-    for (const auto& entry : options.backend_options)
-      if (entry.first != "initial_trust_radius" && entry.first != "max_radius_growth") return false;
-    return !options.lower_bounds;
+    LevenbergMarquardtSettings settings =
+        settings_for<LevenbergMarquardtSettings>(kSolverName, options);
+    const LevenbergMarquardtSettings defaults;
+    settings.initial_trust_radius = defaults.initial_trust_radius;
+    settings.max_radius_growth = defaults.max_radius_growth;
+    return settings.in_force() == defaults.in_force() &&
+           options.loss.kind == RobustLoss::Kind::kNone && !options.lower_bounds;
   }
   Summary solve_implicit(const ImplicitCalibrationProblem& problem, VectorXd& x,
                          const SolverOptions& options) const override {
     Solver::check_options(options);
-    const LmSettings settings = parse_settings(options);
+    const auto settings = settings_for<LevenbergMarquardtSettings>(kSolverName, options);
     return solve_implicit_lm(problem, x, options,
                              {settings.initial_trust_radius, settings.max_radius_growth});
   }
@@ -230,7 +156,9 @@ class LmWorkspace {
 Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, VectorXd& x,
                                         const SolverOptions& options) const {
   Solver::check_options(options);
-  const LmSettings settings = parse_settings(options);
+  const auto settings = settings_for<LevenbergMarquardtSettings>(kSolverName, options);
+  const LinearSolver linear_solver =
+      settings.linear_solver == "qr" ? LinearSolver::kQr : LinearSolver::kCholesky;
   const int m = problem.num_residuals(), n = problem.num_parameters();
   check_sizes(problem, x, options);
   const bool bounded = options.lower_bounds.has_value();
@@ -244,8 +172,8 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   // The trace is the only growing container: reserve it so the loop does not allocate.
   summary.trace.reserve(static_cast<std::size_t>(std::min(options.max_iterations, 10000)) + 1);
 
-  LmWorkspace ws(m, n, settings.linear_solver);
-  const RobustLoss& loss = settings.loss;
+  LmWorkspace ws(m, n, linear_solver);
+  const RobustLoss& loss = options.loss;
   project(x);  // the box applies to the start too
   const VectorXd x0 = x;
   const double runaway = settings.runaway_factor * (1.0 + max_norm(x0));
@@ -319,7 +247,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
     ws.B.noalias() = ws.J * ws.column_scale.cwiseInverse().asDiagonal();
     for (int j = 0; j < n; ++j)
       if (ws.active[j]) ws.B.col(j).setZero();
-    if (settings.linear_solver == LinearSolver::kCholesky) {
+    if (linear_solver == LinearSolver::kCholesky) {
       gram_lower(ws.B, ws.H);
     } else {
       ws.qr.compute(ws.B);
@@ -329,7 +257,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
 
   // Factorises the damped system for lambda; false when that failed.
   auto factorize = [&](double lambda) {
-    if (settings.linear_solver == LinearSolver::kCholesky) {
+    if (linear_solver == LinearSolver::kCholesky) {
       ws.M = ws.H;
       ws.M.diagonal().array() += lambda;
       ws.llt.compute(ws.M);
@@ -346,7 +274,7 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
   // out = argmin |B out + z|^2 + lambda |out|^2 with the current factorisation; z is
   // overwritten. False when the result is not finite.
   auto damped_solve = [&](VectorXd& z, VectorXd& out) {
-    if (settings.linear_solver == LinearSolver::kCholesky) {
+    if (linear_solver == LinearSolver::kCholesky) {
       out.noalias() = -ws.B.transpose() * z;
       ws.llt.solveInPlace(out);
     } else {
@@ -618,6 +546,44 @@ Summary LevenbergMarquardtSolver::solve(const LeastSquaresProblem& problem, Vect
 }
 
 }  // namespace
+
+const std::vector<SettingField<LevenbergMarquardtSettings>>& LevenbergMarquardtSettings::fields() {
+  using S = LevenbergMarquardtSettings;
+  static const std::vector<SettingField<S>> fields = {
+      {"linear_solver", &S::linear_solver, {"cholesky", "qr"}},
+      {"initial_trust_radius", &S::initial_trust_radius},
+      {"max_trust_radius", &S::max_trust_radius},
+      {"min_trust_radius", &S::min_trust_radius},
+      {"min_relative_decrease", &S::min_relative_decrease},
+      {"max_radius_growth", &S::max_radius_growth},
+      {"max_invalid_steps", &S::max_invalid_steps},
+      {"runaway_factor", &S::runaway_factor, {}, "none"},
+      {"geodesic_acceleration", &S::geodesic_acceleration},
+      {"geodesic_step", &S::geodesic_step},
+      {"max_acceleration", &S::max_acceleration},
+      {"uphill_steps", &S::uphill_steps},
+      {"max_uphill_ratio", &S::max_uphill_ratio}};
+  return fields;
+}
+
+std::string LevenbergMarquardtSettings::validity_error() const {
+  // Written as !(a > b) so that NaN is rejected too.
+  if (!(min_trust_radius > 0)) return "min_trust_radius must be > 0";
+  if (!(max_trust_radius >= min_trust_radius && std::isfinite(max_trust_radius)))
+    return "max_trust_radius must be finite and >= min_trust_radius";
+  if (!(initial_trust_radius >= min_trust_radius && initial_trust_radius <= max_trust_radius))
+    return "initial_trust_radius must lie in [min_trust_radius, max_trust_radius]";
+  if (!(min_relative_decrease >= 0 && min_relative_decrease < 1))
+    return "min_relative_decrease must be in [0, 1)";
+  if (!(max_radius_growth > 1)) return "max_radius_growth must be > 1";
+  if (!(max_invalid_steps >= 1)) return "max_invalid_steps must be >= 1";
+  if (!(runaway_factor > 0)) return "runaway_factor must be > 0 (or none)";
+  if (!(geodesic_step > 0 && geodesic_step <= 1)) return "geodesic_step must be in (0, 1]";
+  if (!(max_acceleration > 0)) return "max_acceleration must be > 0";
+  if (!(max_uphill_ratio >= 1 && std::isfinite(max_uphill_ratio)))
+    return "max_uphill_ratio must be finite and >= 1";
+  return {};
+}
 
 std::unique_ptr<Solver> make_levenberg_marquardt_solver() {
   return std::make_unique<LevenbergMarquardtSolver>();

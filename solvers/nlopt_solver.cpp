@@ -86,7 +86,6 @@ bool runs_in_this_build(int algorithm) {
   return known[algorithm] = probe(static_cast<nlopt_algorithm>(algorithm)) != NLOPT_INVALID_ARGS;
 }
 
-constexpr double kDefaultBoxHalfWidth = 10;
 // Cost reported at points where the residuals cannot be computed, times the worst cost seen.
 constexpr double kPenaltyFactor = 10;
 // A stop within this many times (n + 1) evaluations of an uncomputable point, at a point that
@@ -266,25 +265,19 @@ class NloptSolver final : public Solver {
         algorithm_name_(nlopt_algorithm_to_string(static_cast<nlopt_algorithm>(algorithm))) {}
 
   std::string name() const override { return "nlopt:" + algorithm_name_; }
+  std::unique_ptr<BackendSettings> default_settings() const override {
+    return std::make_unique<NloptSettings>();
+  }
 
   void check_options(const SolverOptions& options) const override {
     Solver::check_options(options);
-    solver_option::require_known_keys(
-        name(), options, {"initial_step", "local_algorithm", "box_half_width", "seed", "scaling"});
-    if (solver_option::get_double(name(), options, "initial_step", 1) <= 0)
-      throw InvalidSolverOptions(name() + ": initial_step must be > 0");
-    if (solver_option::get_double(name(), options, "box_half_width", kDefaultBoxHalfWidth) <= 0)
-      throw InvalidSolverOptions(name() + ": box_half_width must be > 0");
-    scaling(options);
-    if (solver_option::get_int(name(), options, "seed", 1) < 0)
-      throw InvalidSolverOptions(name() + ": seed must be >= 0");
-    const auto it = options.backend_options.find("local_algorithm");
-    if (it != options.backend_options.end()) {
+    const NloptSettings settings = settings_for<NloptSettings>(name(), options);
+    if (!settings.local_algorithm.empty()) {
       if (!takes_local_optimizer(algorithm_name_))
         throw InvalidSolverOptions(name() +
                                    ": local_algorithm applies only to the AUGLAG and MLSL "
                                    "algorithms, which run a subsidiary optimiser");
-      const std::string& local = it->second;
+      const std::string& local = settings.local_algorithm;
       if (find_algorithm(local) < 0 || local[0] != 'L')
         throw InvalidSolverOptions(name() + ": local_algorithm='" + local +
                                    "' is not a local NLopt algorithm (LD_* or LN_*)");
@@ -366,7 +359,7 @@ class NloptSolver final : public Solver {
       opt.set_min_objective(&Objective::call, &objective);
       // Stochastic algorithms draw from NLopt's (thread-local) generator: seed it so that a
       // run is reproducible.
-      nlopt::srand(static_cast<unsigned long>(solver_option::get_int(name(), options, "seed", 1)));
+      nlopt::srand(static_cast<unsigned long>(settings_for<NloptSettings>(name(), options).seed));
       objective.start_z = x.cwiseProduct(objective.scale);
       std::vector<double> xv(objective.start_z.data(), objective.start_z.data() + n);
       double f = 0;
@@ -422,13 +415,13 @@ class NloptSolver final : public Solver {
 
   std::string local_algorithm(const SolverOptions& options) const {
     if (!takes_local_optimizer(algorithm_name_)) return "";
-    const auto it = options.backend_options.find("local_algorithm");
-    if (it != options.backend_options.end()) return it->second;
+    const std::string given = settings_for<NloptSettings>(name(), options).local_algorithm;
+    if (!given.empty()) return given;
     return requires_local_optimizer(algorithm_name_) ? kDefaultLocalAlgorithm : "";
   }
 
   std::string scaling(const SolverOptions& options) const {
-    return solver_option::get_choice(name(), options, "scaling", {"jacobian", "none"}, "jacobian");
+    return settings_for<NloptSettings>(name(), options).scaling;
   }
 
   // Everything NLopt sees is in z = scale .* x.
@@ -444,8 +437,7 @@ class NloptSolver final : public Solver {
       opt.set_upper_bounds(to_std(*options.upper_bounds));
     } else if (is_global(algorithm_name_)) {
       // Global algorithms search a finite box; without bounds from the caller, use x0 +- w.
-      const double w =
-          solver_option::get_double(name(), options, "box_half_width", kDefaultBoxHalfWidth);
+      const double w = settings_for<NloptSettings>(name(), options).box_half_width;
       opt.set_lower_bounds(to_std((x0.array() - w).matrix()));
       opt.set_upper_bounds(to_std((x0.array() + w).matrix()));
     }
@@ -460,9 +452,8 @@ class NloptSolver final : public Solver {
     // their _LDS variants, and crashes (memcpy from null in nlopt_set_xtol_abs).
     opt.set_xtol_abs(0.0);
     opt.set_maxeval(options.max_iterations);
-    if (options.backend_options.count("initial_step"))
-      opt.set_initial_step(to_std(
-          VectorXd::Constant(n, solver_option::get_double(name(), options, "initial_step", 1))));
+    const double initial_step = settings_for<NloptSettings>(name(), options).initial_step;
+    if (initial_step > 0) opt.set_initial_step(to_std(VectorXd::Constant(n, initial_step)));
     if (!local_name.empty()) {
       nlopt::opt local(static_cast<nlopt::algorithm>(find_algorithm(local_name)),
                        static_cast<unsigned>(n));
@@ -549,6 +540,24 @@ class NloptSolver final : public Solver {
 };
 
 }  // namespace
+
+const std::vector<SettingField<NloptSettings>>& NloptSettings::fields() {
+  using S = NloptSettings;
+  static const std::vector<SettingField<S>> fields = {
+      {"initial_step", &S::initial_step},
+      {"local_algorithm", &S::local_algorithm},
+      {"box_half_width", &S::box_half_width},
+      {"seed", &S::seed},
+      {"scaling", &S::scaling, {"jacobian", "none"}}};
+  return fields;
+}
+
+std::string NloptSettings::validity_error() const {
+  if (!(initial_step >= 0)) return "initial_step must be > 0 (or 0: NLopt's own)";
+  if (!(box_half_width > 0)) return "box_half_width must be > 0";
+  if (seed < 0) return "seed must be >= 0";
+  return {};
+}
 
 std::unique_ptr<Solver> make_nlopt_solver(const std::string& algorithm) {
   const int a = find_algorithm(algorithm);

@@ -74,8 +74,10 @@ Json to_json(const CalibrationReport& r) {
   out["loss"] = r.loss;
   {
     const SolverOptions& o = r.solver_options;
+    // Every backend setting in force, defaults included (calibrate fills o.backend).
     Json backend = Json::object();
-    for (const auto& [key, value] : o.backend_options) backend[key] = value;
+    if (o.backend)
+      for (const auto& [key, value] : o.backend->in_force()) backend[key] = value;
     out["solver_options"] = {{"max_iterations", o.max_iterations},
                              {"function_tolerance", o.function_tolerance},
                              {"parameter_tolerance", o.parameter_tolerance},

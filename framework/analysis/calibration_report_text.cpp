@@ -91,6 +91,13 @@ std::string to_text(const CalibrationReport& r) {
   if (!r.dropped_readings.empty())
     out << " (" << r.dropped_readings.size() << " readings dropped: no reading)";
   out << "\n" << r.summary.brief_report() << "\n";
+  {
+    const std::vector<std::string> changed = changed_settings(r.solver_options);
+    out << "solver settings: ";
+    for (std::size_t i = 0; i < changed.size(); ++i) out << (i ? ", " : "") << changed[i];
+    out << (changed.empty() ? "the defaults" : "; the others at their defaults")
+        << " (the JSON report lists each one)\n";
+  }
   out << "readings:";
   for (const auto& [name, count] : r.readings_per_sensor) out << " " << name << " " << count;
   out << " of " << r.num_configurations << " configurations\n";

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "kincal/framework/least_squares/backend_settings.hpp"
 #include "kincal/framework/least_squares/least_squares_problem.hpp"
+#include "kincal/framework/least_squares/robust_loss.hpp"
 
 namespace kincal {
 
@@ -39,12 +41,6 @@ enum class CallbackAction { kContinue, kStop };
 /// Called after iteration 0 and after every accepted iterate, with the current x.
 using IterationCallback = std::function<CallbackAction(const IterationRecord&, const VectorXd&)>;
 
-/// Thrown for invalid solver names or options: bad input, reported before any work.
-class InvalidSolverOptions : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
-
 struct SolverOptions {
   /// Upper bound on iterations (outer iterations for every backend; NLopt counts
   /// objective evaluations, see docs/solvers.md); at least 1, or check_options throws
@@ -67,8 +63,13 @@ struct SolverOptions {
   std::optional<VectorXd> upper_bounds;
   /// Observer of the iterations; may stop the solve.
   IterationCallback callback;
-  /// Backend-specific settings (key=value); each backend rejects unknown keys.
-  std::map<std::string, std::string> backend_options;
+  /// A robust loss for data with outliers (robust_loss.hpp); backends that cannot take one
+  /// (takes_robust_loss() false) reject anything but none in check_options.
+  RobustLoss loss;
+  /// The backend's own settings (its typed struct, e.g. LevenbergMarquardtSettings, or
+  /// Solver::parse_settings of key=value text); null = the backend's defaults. A backend
+  /// rejects settings that are another backend's or not valid (validity_error()).
+  std::shared_ptr<const BackendSettings> backend;
 };
 
 struct Summary {
@@ -94,8 +95,19 @@ class Solver {
   virtual ~Solver() = default;
   /// Registry name of this instance.
   virtual std::string name() const = 0;
-  /// Throws InvalidSolverOptions naming the offending key or value.
+  /// Throws InvalidSolverOptions naming the offending setting or value.
   virtual void check_options(const SolverOptions& options) const;
+  /// This backend's settings at their defaults (NoBackendSettings for one without any).
+  virtual std::unique_ptr<BackendSettings> default_settings() const;
+  /// Settings from key=value text, parsed and checked once at the edge (the command line,
+  /// Python): the defaults with each key set. Throws InvalidSolverOptions "<name>: ...".
+  std::shared_ptr<const BackendSettings> parse_settings(
+      const std::map<std::string, std::string>& text) const;
+  /// The settings a solve with `options` uses: options.backend, else the defaults. What the
+  /// reports list as in force.
+  std::shared_ptr<const BackendSettings> settings_in_force(const SolverOptions& options) const;
+  /// Whether the backend minimises a robust cost (SolverOptions::loss).
+  virtual bool takes_robust_loss() const { return false; }
   /// Minimises 1/2 |r(x)|^2 starting from x, which holds the result on return (the best
   /// point the backend reached). Throws only InvalidSolverOptions.
   virtual Summary solve(const LeastSquaresProblem& problem, VectorXd& x,
@@ -116,18 +128,23 @@ class Solver {
                    const SolverOptions& options) const;
 };
 
-/// Helpers for backends: validated parsing of backend_options values.
-namespace solver_option {
-/// Throws InvalidSolverOptions for any key of `options.backend_options` not in `known`.
-void require_known_keys(const std::string& solver, const SolverOptions& options,
-                        const std::vector<std::string>& known);
-double get_double(const std::string& solver, const SolverOptions& options, const std::string& key,
-                  double fallback);
-int get_int(const std::string& solver, const SolverOptions& options, const std::string& key,
-            int fallback);
-std::string get_choice(const std::string& solver, const SolverOptions& options,
-                       const std::string& key, const std::vector<std::string>& choices,
-                       const std::string& fallback);
-}  // namespace solver_option
+/// The settings of `options` that differ from their defaults, as "key value" text in order:
+/// the shared ones (max_iterations, tolerances, loss, bounds) then the backend's. Not the
+/// threads: they do not change the result (fixed chunks, base/parallel.hpp), and a report
+/// should read the same on any machine. What a text report lists (its JSON lists every one).
+std::vector<std::string> changed_settings(const SolverOptions& options);
+
+/// A backend's settings of type S from `options` (its defaults when none are given), checked:
+/// throws InvalidSolverOptions when they are another backend's or not valid.
+template <class S>
+S settings_for(const std::string& solver, const SolverOptions& options) {
+  if (!options.backend) return S{};
+  const S* settings = dynamic_cast<const S*>(options.backend.get());
+  if (!settings)
+    throw InvalidSolverOptions(solver + ": the backend settings given are another solver's");
+  const std::string error = settings->validity_error();
+  if (!error.empty()) throw InvalidSolverOptions(solver + ": " + error);
+  return *settings;
+}
 
 }  // namespace kincal

@@ -81,38 +81,33 @@ bool check_calibration_model(const MeasurementModel& model, const RobustLoss& lo
   return with_prior;
 }
 
-RobustLoss add_robust_loss(const std::string& text, const Solver& solver,
-                           const std::string& solver_name, SolverOptions& options,
-                           const std::string& option, const std::string& remedy) {
-  RobustLoss loss;
+void add_robust_loss(const std::string& text, const Solver& solver, const std::string& solver_name,
+                     SolverOptions& options, const std::string& option, const std::string& remedy) {
   try {
-    loss = RobustLoss::parse(text);
+    options.loss = RobustLoss::parse(text);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(option + " '" + text + "': " + e.what());
   }
-  options.backend_options["loss"] = text;
   try {
     solver.check_options(options);
   } catch (const InvalidSolverOptions& e) {
     throw std::invalid_argument(option + ": solver '" + solver_name +
                                 "' does not take a robust loss (" + e.what() + "); " + remedy);
   }
-  return loss;
 }
 
 CalibrateResult calibrate(const CalibrateRequest& request) {
   if (!request.model) throw std::invalid_argument("calibrate: the request has no model");
   if (request.starts < 1) throw std::invalid_argument("calibrate: starts must be at least 1");
   const std::shared_ptr<const MeasurementModel>& model = request.model;
-  const bool with_prior = check_calibration_model(*model, request.loss, request.model_file);
+  const bool with_prior =
+      check_calibration_model(*model, request.solver_options.loss, request.model_file);
   std::shared_ptr<const Solver> solver = request.solver;
   if (!solver) solver = SolverRegistry::global().create("lm");
   SolverOptions options = request.solver_options;
-  // The backends take the loss as an option; a caller that parsed it from text may have put
-  // that text there already (the report then records it as given).
-  if (request.loss.kind != RobustLoss::Kind::kNone && !options.backend_options.count("loss"))
-    options.backend_options["loss"] = request.loss.to_string();
   solver->check_options(options);
+  // The report records every setting in force, the backend's defaults included.
+  options.backend = solver->settings_in_force(options);
 
   CalibrateResult result;
   const auto say = [&](const std::string& text) {
@@ -198,7 +193,7 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
   const NominalBranch branch = map_to_nominal_branch(problem, x);
   x = branch.x;
   CalibrationReport& report = result.report;
-  report = make_calibration_report(problem, x, result.summary, lines, request.loss,
+  report = make_calibration_report(problem, x, result.summary, lines, options.loss,
                                    request.identifiability,
                                    prior.any() ? prior.precision() : VectorXd());
   report.branch_mapped = branch.mapped;

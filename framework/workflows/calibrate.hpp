@@ -47,8 +47,6 @@ struct CalibrateRequest {
   /// every iteration and may stop the solve (Ctrl-C in the program).
   std::shared_ptr<const Solver> solver;
   SolverOptions solver_options;
-  /// A robust loss (lm and ceres take one); not with a prior.
-  RobustLoss loss;
   /// nested or implicit (calibration_solve.hpp); unset: default_formulation(model).
   std::optional<Formulation> formulation;
   IdentifiabilityOptions identifiability;
@@ -95,14 +93,12 @@ struct CalibrateResult {
 bool check_calibration_model(const MeasurementModel& model, const RobustLoss& loss,
                              const std::string& model_file);
 
-/// The robust loss `text` ("huber:0.02", "cauchy:1") parsed and added to `options` (its
-/// backend_options' "loss") for `solver`, which must take one; returns it for
-/// CalibrateRequest::loss. Throws std::invalid_argument "<option> '<text>': <why>" for a
+/// The robust loss `text` ("huber:0.02", "cauchy:1") parsed into `options.loss` for `solver`,
+/// which must take one. Throws std::invalid_argument "<option> '<text>': <why>" for a
 /// malformed loss, and "<option>: solver '<solver_name>' does not take a robust loss (<why>);
 /// <remedy>" for a backend without one. `option` is how the face names it ("--loss", "loss").
-RobustLoss add_robust_loss(const std::string& text, const Solver& solver,
-                           const std::string& solver_name, SolverOptions& options,
-                           const std::string& option, const std::string& remedy);
+void add_robust_loss(const std::string& text, const Solver& solver, const std::string& solver_name,
+                     SolverOptions& options, const std::string& option, const std::string& remedy);
 
 /// Runs the calibrate workflow (see the file's comment). Throws std::invalid_argument for a
 /// request that cannot be solved: no free parameter, fewer readings than free parameters,

@@ -104,6 +104,7 @@ def _solve(
     lower: Optional[ArrayLike],
     upper: Optional[ArrayLike],
     backend_options: Dict[str, str],
+    loss: str,
     verbosity: int,
     catch_sigint: bool,
 ) -> Dict[str, Any]: ...

@@ -53,10 +53,12 @@ def solve(
     lower: Optional[np.ndarray] = None,
     upper: Optional[np.ndarray] = None,
     options: Optional[Dict[str, Union[str, int, float]]] = None,
+    loss: str = "none",
     verbosity: int = 0,
 ) -> SolveResult:
     """Minimises 1/2 |r(x)|^2 from ``x0`` with backend ``solver`` (gn, lm, ceres, ipopt,
-    nlopt:<ALGORITHM>; ``options`` are its key=value settings, docs/solvers.md). The GIL is
+    nlopt:<ALGORITHM>; ``options`` are its key=value settings, docs/solvers.md; ``loss`` a
+    robust loss, huber:DELTA or cauchy:DELTA, for lm and ceres). The GIL is
     released between evaluations; Ctrl-C raises KincalInterrupt whose ``result`` is the
     SolveResult at the best point so far. An exception in a callable propagates."""
     backend_options = {str(k): str(v) for k, v in (options or {}).items()}
@@ -71,6 +73,7 @@ def solve(
         lower,
         upper,
         backend_options,
+        loss,
         verbosity,
         _on_main_thread(),
     )

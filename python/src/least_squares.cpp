@@ -167,7 +167,7 @@ py::dict solve(const CallableProblem& callables, const py::object& x0,
                const std::string& solver_name, int max_iterations, double function_tolerance,
                double parameter_tolerance, double gradient_tolerance, const py::object& lower,
                const py::object& upper, const std::map<std::string, std::string>& backend_options,
-               int verbosity, bool catch_sigint) {
+               const std::string& loss, int verbosity, bool catch_sigint) {
   CallableSolve problem(callables);
   const int n = problem.num_parameters();
   const auto start = as_vector(x0, "x0", n);
@@ -178,7 +178,10 @@ py::dict solve(const CallableProblem& callables, const py::object& x0,
   options.parameter_tolerance = parameter_tolerance;
   options.gradient_tolerance = gradient_tolerance;
   options.verbosity = verbosity;
-  options.backend_options = backend_options;
+  // The settings are parsed once, here, with the solver they are for.
+  const std::unique_ptr<Solver> solver = SolverRegistry::global().create(solver_name);
+  options.backend = solver->parse_settings(backend_options);
+  options.loss = RobustLoss::parse(loss);
   if (lower.is_none() != upper.is_none())
     throw py::value_error("lower, upper: give both bounds or neither");
   if (!lower.is_none()) {
@@ -186,7 +189,6 @@ py::dict solve(const CallableProblem& callables, const py::object& x0,
     options.lower_bounds = Eigen::Map<const VectorXd>(lo.data(), n);
     options.upper_bounds = Eigen::Map<const VectorXd>(hi.data(), n);
   }
-  const std::unique_ptr<Solver> solver = SolverRegistry::global().create(solver_name);
   solver->check_options(options);
   Summary summary;
   bool interrupted = false;
@@ -226,7 +228,7 @@ held. A callable that raises stops the solve and the exception propagates from s
   m.def("_solve", &solve, py::arg("problem"), py::arg("x0"), py::arg("solver"),
         py::arg("max_iterations"), py::arg("function_tolerance"), py::arg("parameter_tolerance"),
         py::arg("gradient_tolerance"), py::arg("lower"), py::arg("upper"),
-        py::arg("backend_options"), py::arg("verbosity"), py::arg("catch_sigint"),
+        py::arg("backend_options"), py::arg("loss"), py::arg("verbosity"), py::arg("catch_sigint"),
         "Solves `problem` from x0 with a registered backend (kincal.solve wraps this).");
   m.def(
       "solvers",

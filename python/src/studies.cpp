@@ -48,7 +48,8 @@ ReproduceSetup reproduce_setup(const py::dict& spec) {
   setup.options.max_iterations = spec["max_iterations"].cast<int>();
   if (setup.options.max_iterations < 1)
     throw std::invalid_argument("max_iterations must be at least 1");
-  setup.options.backend_options = spec["solver_option"].cast<std::map<std::string, std::string>>();
+  setup.options.backend = setup.solver->parse_settings(
+      spec["solver_option"].cast<std::map<std::string, std::string>>());
   setup.solver->check_options(setup.options);  // a trial always runs to its end: no callback
   return setup;
 }

@@ -116,7 +116,7 @@ void choose_solver(CalibrateRequest& request, const std::string& name, int max_i
                                 "deviations)");
   request.solver = SolverRegistry::global().create(name);
   SolverOptions& options = request.solver_options;
-  options.backend_options = backend_options;
+  options.backend = request.solver->parse_settings(backend_options);
   if (max_iterations < 1) throw std::invalid_argument("max_iterations must be at least 1");
   options.max_iterations = max_iterations;
   if (threads < 0 || threads > 1024) throw std::invalid_argument("threads must be from 0 to 1024");
@@ -127,8 +127,7 @@ void choose_solver(CalibrateRequest& request, const std::string& name, int max_i
     };
   request.solver->check_options(options);
   if (!loss.empty())
-    request.loss =
-        add_robust_loss(loss, *request.solver, name, options, "loss", "use solver=\"lm\"");
+    add_robust_loss(loss, *request.solver, name, options, "loss", "use solver=\"lm\"");
 }
 
 // free, then fix: each pattern must match a parameter.
@@ -189,7 +188,7 @@ py::dict calibrate_workflow(
   apply_noise_std(*model, noise_std);
   apply_prior_std(*model, prior_std);
   request.model_file = model_path.empty() ? handle.source : model_path;
-  check_calibration_model(*model, request.loss, request.model_file);
+  check_calibration_model(*model, request.solver_options.loss, request.model_file);
   request.measurements =
       measurements_for(*model, model->parameters().nominal_values(), data_path, actuators, readings,
                        skip_bad_rows, request.model_file, request.data_file);

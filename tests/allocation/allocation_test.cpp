@@ -55,7 +55,8 @@ TEST(LevenbergMarquardt, TheIterationLoopDoesNotAllocate) {
     VectorXd x(3);
     x << 1, 2, 0;
     SolverOptions options;
-    options.backend_options = {{"linear_solver", linear_solver}, {"loss", "huber:0.5"}};
+    options.backend = lm()->parse_settings({{"linear_solver", linear_solver}});
+    options.loss = RobustLoss::parse("huber:0.5");
     long at_first_step = -1, at_last_step = -1;
     options.callback = [&](const IterationRecord& record, const VectorXd&) {
       if (record.iteration > 0 && at_first_step < 0) at_first_step = g_allocations.load();

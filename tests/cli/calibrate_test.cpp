@@ -172,15 +172,17 @@ TEST_F(CliCalibrate, RobustLossNeedsABackendThatTakesIt) {
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
   const Json with_loss = Json::parse(ok.out);
   EXPECT_EQ(with_loss["loss"], "cauchy:0.02");
-  // Every setting in force is in the report (issue 36): limits, tolerances, threads and the
-  // backend's options, the loss among them as the backend received it.
+  // Every setting in force is in the report (issue 36): limits, tolerances, threads, the loss
+  // and the backend's settings, those left at their defaults too.
   const Json& settings = with_loss["solver_options"];
   EXPECT_EQ(settings["max_iterations"], 150);
   EXPECT_EQ(settings["function_tolerance"], 1e-12);
   EXPECT_EQ(settings["gradient_tolerance"], 1e-12);
   EXPECT_EQ(settings["num_threads"], 1);
-  EXPECT_EQ(settings["backend_options"]["initial_trust_radius"], "1e3");
-  EXPECT_EQ(settings["backend_options"]["loss"], "cauchy:0.02");
+  EXPECT_EQ(settings["backend_options"]["initial_trust_radius"], "1000");
+  EXPECT_EQ(settings["backend_options"]["max_radius_growth"], "10");
+  EXPECT_EQ(settings["backend_options"]["linear_solver"], "cholesky");
+  EXPECT_FALSE(settings["backend_options"].contains("loss"));
   // The loss has one way in, so the report always names the loss the solve used.
   for (const char* extra : {"", " --loss cauchy:0.02"}) {
     const auto backdoor =

@@ -90,7 +90,7 @@ void expect_std_matches_scatter(const std::string& loss_name) {
   const RobustLoss loss = RobustLoss::parse(loss_text);
   const auto solver = SolverRegistry::global().create("lm");
   SolverOptions solver_options;
-  solver_options.backend_options["loss"] = loss_text;
+  solver_options.loss = loss;
   solver_options.max_iterations = 200;
   const int trials = 150;
   const int n = static_cast<int>(exact.free_indices.size());

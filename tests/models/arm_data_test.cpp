@@ -192,7 +192,7 @@ Solved calibrate(const Scenario& s, const Measurements& data, const std::string&
   const auto solver = SolverRegistry::global().create("lm");
   SolverOptions options;
   options.max_iterations = 200;
-  if (!loss.empty()) options.backend_options["loss"] = loss;
+  if (!loss.empty()) options.loss = RobustLoss::parse(loss);
   const Summary summary = solver->solve(problem, x, options);
   EXPECT_EQ(summary.termination, TerminationType::kConverged) << summary.message;
   return {make_calibration_report(problem, x, summary, {},

@@ -47,8 +47,8 @@ TEST_F(CeresSolver, EveryOptionCombinationRecoversCase1) {
             std::string(linear) == "cgnr" || std::string(linear) == "iterative_schur";
         SolverOptions options;
         options.max_iterations = 200;
-        options.backend_options = {
-            {"linear_solver", linear}, {"trust_region", region}, {"dogleg_type", dogleg}};
+        options.backend = ceres_solver()->parse_settings(
+            {{"linear_solver", linear}, {"trust_region", region}, {"dogleg_type", dogleg}});
         const std::string what = std::string(linear) + " " + region + " " + dogleg;
         if (is_dogleg && iterative) {
           // Ceres' own rule, surfaced by check_options before any work.
@@ -71,20 +71,20 @@ TEST_F(CeresSolver, RejectsBadOptionValues) {
        std::vector<std::pair<std::string, std::string>>{{"linear_solver", "magic"},
                                                         {"trust_region", "line_search"},
                                                         {"dogleg_type", "x"},
-                                                        {"loss", "tukey:1"},
-                                                        {"loss", "huber:-1"},
+                                                        {"loss", "huber:1"},
                                                         {"initial_trust_region_radius", "-5"},
-                                                        {"initial_trust_region_radius", "x"}}) {
-    SolverOptions options;
-    options.backend_options[key] = value;
-    EXPECT_THROW(solver->check_options(options), InvalidSolverOptions) << key << "=" << value;
-  }
-  SolverOptions fine;
-  fine.backend_options = {{"linear_solver", "dense_schur"},
-                          {"dogleg_type", "subspace"},
-                          {"loss", "cauchy:0.1"},
-                          {"initial_trust_region_radius", "100"}};
+                                                        {"initial_trust_region_radius", "x"}})
+    EXPECT_TRUE(kincal::testing::refuses(*solver, {{key, value}})) << key << "=" << value;
+  SolverOptions fine =
+      kincal::testing::with_settings(*solver, {{"linear_solver", "dense_schur"},
+                                               {"dogleg_type", "subspace"},
+                                               {"initial_trust_region_radius", "100"}});
+  fine.loss = RobustLoss::parse("cauchy:0.1");
   EXPECT_NO_THROW(solver->check_options(fine));
+  // Another backend's settings are refused, not read as these.
+  SolverOptions foreign;
+  foreign.backend = SolverRegistry::global().create("lm")->parse_settings({});
+  EXPECT_THROW(solver->check_options(foreign), InvalidSolverOptions);
 }
 
 TEST_F(CeresSolver, RobustLossesDownWeightOutliers) {
@@ -96,7 +96,7 @@ TEST_F(CeresSolver, RobustLossesDownWeightOutliers) {
     VectorXd x = problem.initial_free_parameters();
     SolverOptions options;
     options.max_iterations = 300;
-    if (!loss.empty()) options.backend_options["loss"] = loss;
+    if (!loss.empty()) options.loss = RobustLoss::parse(loss);
     const Summary summary = ceres_solver()->solve(problem, x, options);
     // The plain fit ends stalled, honestly: Ceres' relative cost test fires where the
     // Gauss-Newton model still promises a relative decrease of 1e-11 (> 1e-12).

@@ -158,7 +158,8 @@ TEST_P(Conformance, NoiseFreeCase1ReachesTheTruth) {
   } else if (family() == Family::kSmall) {
     options.max_iterations = 4000;
     if (is_derivative_free(GetParam())) {
-      options.backend_options["initial_step"] = "1";  // mm; NLopt's default is far too large
+      // mm; NLopt's default is far too large
+      options.backend = solver()->parse_settings({{"initial_step", "1"}});
       tolerance = 1e-3;
     }
   }
@@ -300,10 +301,25 @@ TEST_P(Conformance, FailuresInTheMiddleOfTheSolveAreReported) {
   }
 }
 
-// (d) Unknown backend options are rejected before any work.
-TEST_P(Conformance, UnknownBackendOptionIsRejected) {
+// (d) Settings that are not this backend's are rejected before any work: an unknown key when
+// the text is parsed, another backend's typed settings by check_options and solve. What the
+// reports list as in force reads back to the same settings.
+struct ForeignSettings final : TypedBackendSettings<ForeignSettings> {
+  double surely_not_an_option = 1;
+  static const std::vector<SettingField<ForeignSettings>>& fields() {
+    static const std::vector<SettingField<ForeignSettings>> fields = {
+        {"surely_not_an_option", &ForeignSettings::surely_not_an_option}};
+    return fields;
+  }
+};
+
+TEST_P(Conformance, ForeignBackendSettingsAreRejected) {
+  EXPECT_THROW(solver()->parse_settings({{"surely_not_an_option", "1"}}), InvalidSolverOptions);
+  const auto defaults = solver()->default_settings()->in_force();
+  const std::map<std::string, std::string> text(defaults.begin(), defaults.end());
+  EXPECT_EQ(solver()->parse_settings(text)->in_force(), defaults);
   SolverOptions options;
-  options.backend_options["surely_not_an_option"] = "1";
+  options.backend = std::make_shared<ForeignSettings>();
   EXPECT_THROW(solver()->check_options(options), InvalidSolverOptions);
   const Scenario& scenario = scenario_for(family());
   const auto problem = scenario.make_problem();
@@ -368,7 +384,8 @@ TEST_P(Conformance, KeepsTheContractOnNoisyCasesFromFarStarts) {
       SolverOptions options;
       if (family() == Family::kSmall) {
         options.max_iterations = 300;
-        if (is_derivative_free(GetParam())) options.backend_options["initial_step"] = "1";
+        if (is_derivative_free(GetParam()))
+          options.backend = solver()->parse_settings({{"initial_step", "1"}});
       } else if (family() == Family::kGradient) {
         options.max_iterations = 200;
       }

@@ -5,6 +5,7 @@
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
+#include "kincal/solvers/gauss_newton.hpp"
 #include "solver_fixtures.hpp"
 
 namespace kincal {
@@ -55,7 +56,9 @@ TEST(GaussNewton, ReportsDivergedWhenTheParametersRunAway) {
   const Scenario scenario = paper_scenario(1, 3);
   SolverOptions options;
   // The first step moves some parameter by millimetres; allow 1e-3 * (1 + |x0|) ~ 0.3 mm.
-  options.backend_options["runaway_factor"] = "1e-3";
+  GaussNewtonSettings settings;
+  settings.runaway_factor = 1e-3;
+  options.backend = std::make_shared<GaussNewtonSettings>(settings);
   const CalibrationRun run =
       run_calibration(scenario, *SolverRegistry::global().create("gn"), options, false);
   EXPECT_EQ(run.summary.termination, TerminationType::kDiverged) << run.summary.brief_report();

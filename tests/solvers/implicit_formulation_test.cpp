@@ -16,6 +16,7 @@
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/framework/least_squares/stationarity.hpp"
 #include "kincal/models/presets.hpp"
+#include "kincal/solvers/levenberg_marquardt.hpp"
 #include "kincal/solvers/schur_levenberg_marquardt.hpp"
 #include "newton_polish.hpp"
 #include "solver_fixtures.hpp"
@@ -235,8 +236,7 @@ TEST(ImplicitFormulation, TakesLmsTrustRegionSchedule) {
   const CalibrationSolve by_default =
       solve_calibration(*lm, *problem, Prior{}, default_x, {}, Formulation::kImplicit);
   SolverOptions open;
-  open.backend_options["initial_trust_radius"] = "1e8";
-  open.backend_options["max_radius_growth"] = "10";
+  open.backend = lm->parse_settings({{"initial_trust_radius", "1e8"}, {"max_radius_growth", "10"}});
   const CalibrationSolve opened =
       solve_calibration(*lm, *problem, Prior{}, open_x, open, Formulation::kImplicit);
   ASSERT_EQ(opened.formulation, Formulation::kImplicit) << opened.note;
@@ -244,8 +244,11 @@ TEST(ImplicitFormulation, TakesLmsTrustRegionSchedule) {
   EXPECT_LT(opened.summary.iterations, by_default.summary.iterations);
   EXPECT_LE((open_x - default_x).lpNorm<Eigen::Infinity>(), 1e-3);
   EXPECT_LE(opened.summary.final_cost, by_default.summary.final_cost * (1 + 1e-9));
+  // Settings filled in code are held to the rules text is.
+  LevenbergMarquardtSettings negative;
+  negative.initial_trust_radius = -1;
   SolverOptions bad;
-  bad.backend_options["initial_trust_radius"] = "-1";
+  bad.backend = std::make_shared<LevenbergMarquardtSettings>(negative);
   VectorXd x = problem->initial_free_parameters();
   EXPECT_THROW(solve_calibration(*lm, *problem, Prior{}, x, bad, Formulation::kImplicit),
                InvalidSolverOptions);
@@ -327,7 +330,7 @@ TEST(ImplicitFormulation, WhatItDoesNotHandleIsSolvedNestedWithANote) {
   const Scenario scenario = paper_scenario(1, 1, 5, 0);
   const auto problem = scenario.make_problem();
   SolverOptions with_loss;
-  with_loss.backend_options["loss"] = "huber:1";
+  with_loss.loss = RobustLoss::parse("huber:1");
   for (const auto& [name, options] :
        std::vector<std::pair<std::string, SolverOptions>>{{"gn", {}}, {"lm", with_loss}}) {
     const auto solver = SolverRegistry::global().create(name);

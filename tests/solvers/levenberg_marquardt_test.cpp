@@ -9,6 +9,7 @@
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
+#include "kincal/solvers/levenberg_marquardt.hpp"
 #include "solver_fixtures.hpp"
 
 namespace kincal {
@@ -172,7 +173,7 @@ TEST(LevenbergMarquardt, RobustLossesDownWeightOutliers) {
     VectorXd x = problem.initial_free_parameters();
     SolverOptions options;
     options.max_iterations = 300;
-    if (!loss.empty()) options.backend_options["loss"] = loss;
+    if (!loss.empty()) options.loss = RobustLoss::parse(loss);
     const Summary summary = lm()->solve(problem, x, options);
     // The plain fit ends stalled, honestly: with three gross errors its trust region
     // collapses next to configurations where forward kinematics fails, at a point that is
@@ -196,7 +197,7 @@ TEST(LevenbergMarquardt, LossNoneMatchesNoLoss) {
   const Scenario scenario = paper_scenario(3, 2);
   SolverOptions options;
   const CalibrationRun plain = run_calibration(scenario, *lm(), options, false);
-  options.backend_options["loss"] = "none";
+  options.loss = RobustLoss::parse("none");
   const CalibrationRun none = run_calibration(scenario, *lm(), options, false);
   EXPECT_EQ(plain.estimate, none.estimate);
 }
@@ -271,7 +272,9 @@ TEST(LevenbergMarquardt, DivergesAfterManyUnusableTrials) {
   VectorXd x(1);
   x << 0.5;
   SolverOptions options;
-  options.backend_options["max_invalid_steps"] = "4";
+  LevenbergMarquardtSettings settings;
+  settings.max_invalid_steps = 4;
+  options.backend = std::make_shared<LevenbergMarquardtSettings>(settings);
   const Summary summary = lm()->solve(problem, x, options);
   EXPECT_EQ(summary.termination, TerminationType::kDiverged) << summary.brief_report();
   EXPECT_NE(summary.message.find("outside the valid region"), std::string::npos);
@@ -287,8 +290,8 @@ TEST(LevenbergMarquardt, FitsAGenericProblemWithEitherLinearSolver) {
       VectorXd x(3);
       x << 1, 2, 0;
       SolverOptions options;
-      options.backend_options = {{"linear_solver", linear_solver},
-                                 {"geodesic_acceleration", acceleration}};
+      options.backend = lm()->parse_settings(
+          {{"linear_solver", linear_solver}, {"geodesic_acceleration", acceleration}});
       const Summary summary = lm()->solve(problem, x, options);
       EXPECT_TRUE(summary.converged()) << summary.brief_report();
       EXPECT_NEAR(x[0], 3.0, 1e-2);
@@ -326,35 +329,46 @@ TEST(LevenbergMarquardt, ReportsTraceAndEvaluationsConsistently) {
 TEST(LevenbergMarquardt, RejectsBadOptions) {
   const auto solver = lm();
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"loss", "tukey:1"},
-      {"loss", "huber:-1"},
-      {"loss", "cauchy:"},
-      {"linear_solver", "lu"},
-      {"initial_trust_radius", "abc"},
-      {"initial_trust_radius", "0"},
-      {"max_invalid_steps", "0"},
-      {"max_radius_growth", "1"},
-      {"geodesic_acceleration", "yes"},
-      {"geodesic_step", "2"},
-      {"min_relative_decrease", "1"},
-      {"uphill_steps", "yes"},
-      {"max_uphill_ratio", "0.5"},
-      {"max_uphill_ratio", "inf"},
-      {"no_such_option", "1"},
+      {"loss", "huber:1"},  // the loss is SolverOptions::loss, not lm's own
+      {"linear_solver", "lu"},       {"initial_trust_radius", "abc"},
+      {"initial_trust_radius", "0"}, {"max_invalid_steps", "0"},
+      {"max_radius_growth", "1"},    {"geodesic_acceleration", "yes"},
+      {"geodesic_step", "2"},        {"min_relative_decrease", "1"},
+      {"uphill_steps", "yes"},       {"max_uphill_ratio", "0.5"},
+      {"max_uphill_ratio", "inf"},   {"no_such_option", "1"},
   };
-  for (const auto& [key, value] : bad) {
+  for (const auto& [key, value] : bad)
+    EXPECT_THROW(solver->parse_settings({{key, value}}), InvalidSolverOptions)
+        << key << "=" << value;
+  for (const char* loss : {"tukey:1", "huber:-1", "cauchy:"})
+    EXPECT_THROW(RobustLoss::parse(loss), std::invalid_argument) << loss;
+  // Settings filled in code are held to the same rules, before any work.
+  LevenbergMarquardtSettings growth;
+  growth.max_radius_growth = 1;
+  LevenbergMarquardtSettings nan_step;
+  nan_step.geodesic_step = std::nan("");
+  for (const LevenbergMarquardtSettings& settings : {growth, nan_step}) {
     SolverOptions options;
-    options.backend_options[key] = value;
-    EXPECT_THROW(solver->check_options(options), InvalidSolverOptions) << key << "=" << value;
+    options.backend = std::make_shared<LevenbergMarquardtSettings>(settings);
+    EXPECT_THROW(solver->check_options(options), InvalidSolverOptions);
     ExponentialFit problem;
     VectorXd x = VectorXd::Ones(3);
-    EXPECT_THROW(solver->solve(problem, x, options), InvalidSolverOptions) << key << "=" << value;
+    EXPECT_THROW(solver->solve(problem, x, options), InvalidSolverOptions);
   }
-  SolverOptions good;
-  good.backend_options = {{"loss", "cauchy:0.1"},          {"linear_solver", "qr"},
-                          {"initial_trust_radius", "1e3"}, {"max_invalid_steps", "3"},
-                          {"uphill_steps", "false"},       {"max_uphill_ratio", "1"}};
+  SolverOptions good = kincal::testing::with_settings(*solver, {{"linear_solver", "qr"},
+                                                                {"initial_trust_radius", "1e3"},
+                                                                {"max_invalid_steps", "3"},
+                                                                {"uphill_steps", "false"},
+                                                                {"max_uphill_ratio", "1"}});
+  good.loss = RobustLoss::parse("cauchy:0.1");
   EXPECT_NO_THROW(solver->check_options(good));
+  // Every setting in force, defaults included, as text that reads back.
+  const auto in_force = solver->settings_in_force(good)->in_force();
+  ASSERT_EQ(in_force.size(), LevenbergMarquardtSettings::fields().size());
+  EXPECT_EQ(in_force[0], (std::pair<std::string, std::string>{"linear_solver", "qr"}));
+  EXPECT_EQ(in_force[1], (std::pair<std::string, std::string>{"initial_trust_radius", "1000"}));
+  EXPECT_EQ(in_force[7], (std::pair<std::string, std::string>{"runaway_factor", "none"}));
+  EXPECT_EQ(in_force[9], (std::pair<std::string, std::string>{"geodesic_step", "0.1"}));
 
   SolverOptions wrong_size;
   wrong_size.lower_bounds = VectorXd::Zero(2);

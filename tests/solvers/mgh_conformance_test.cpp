@@ -69,9 +69,11 @@ TEST(MghContractOptions, HoldsAwayFromTheDefaultsToo) {
       {"nlopt:LD_LBFGS", {{"scaling", "none"}}, false}};
   for (const Variant& v : variants) {
     if (!why_not_built(v.solver).empty()) continue;
+    const auto settings =
+        SolverRegistry::global().create(v.solver)->parse_settings(v.backend_options);
     const auto results =
         problems::run_suite(v.solver, problems::mgh_problems(), [&](SolverOptions& options) {
-          options.backend_options = v.backend_options;
+          options.backend = settings;
           if (v.tight)
             options.function_tolerance = options.parameter_tolerance = options.gradient_tolerance =
                 2.2e-16;

@@ -83,7 +83,8 @@ TEST_P(PriorConformance, LinearProblemReachesTheClosedFormMap) {
   SolverOptions options;
   const bool exact = is_least_squares(GetParam());
   options.max_iterations = exact ? 100 : 20000;
-  if (GetParam().rfind("nlopt:LN_", 0) == 0) options.backend_options["initial_step"] = "0.1";
+  if (GetParam().rfind("nlopt:LN_", 0) == 0)
+    options.backend = solver()->parse_settings({{"initial_step", "0.1"}});
   VectorXd x = VectorXd::Zero(4);
   const Summary summary = solver()->solve(problem, x, options);
   if (exact) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include <cctype>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -16,6 +17,25 @@
 #include "kincal/models/presets.hpp"
 
 namespace kincal::testing {
+
+/// `options` with `solver`'s settings parsed from key=value text, as the faces do.
+inline SolverOptions with_settings(const Solver& solver,
+                                   const std::map<std::string, std::string>& text,
+                                   SolverOptions options = {}) {
+  options.backend = solver.parse_settings(text);
+  return options;
+}
+
+/// Whether `solver` refuses the settings `text`: when parsing them, or when checking them
+/// together with the other options (Ceres' own rules).
+inline bool refuses(const Solver& solver, const std::map<std::string, std::string>& text) {
+  try {
+    solver.check_options(with_settings(solver, text));
+    return false;
+  } catch (const InvalidSolverOptions&) {
+    return true;
+  }
+}
 
 /// The paper's Table 2 case `case_id` on `model` (the cube hexapod, or a variant of it with
 /// other free parameters), drawn from `seed`.

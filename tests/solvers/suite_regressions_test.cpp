@@ -41,13 +41,14 @@ TEST(LmOnTheSuite, ReachesAMinimumAMillionUnitsFromTheStart) {
   EXPECT_TRUE(r.summary.converged()) << r.summary.brief_report();
   EXPECT_LT(r.summary.final_cost, 1e-10);
   EXPECT_TRUE(r.contract.ok()) << r.contract.report();
+  const auto lm = SolverRegistry::global().create("lm");
   SolverOptions guarded;
-  guarded.backend_options["runaway_factor"] = "1e3";
+  guarded.backend = lm->parse_settings({{"runaway_factor", "1e3"}});
   const CheckedSolve g = run("lm", "mgh04_brown_badly_scaled", "x0", guarded);
   EXPECT_EQ(g.summary.termination, TerminationType::kDiverged) << g.summary.brief_report();
   EXPECT_TRUE(contains(g.summary.message, "ran away")) << g.summary.message;
-  guarded.backend_options["runaway_factor"] = "none";
-  EXPECT_NO_THROW(SolverRegistry::global().create("lm")->check_options(guarded));
+  guarded.backend = lm->parse_settings({{"runaway_factor", "none"}});
+  EXPECT_NO_THROW(lm->check_options(guarded));
 }
 
 // From 100 x0 the product residual's derivatives fall from 2e15 to 3e5 on the way; with the
@@ -66,8 +67,8 @@ TEST(LmOnTheSuite, ResetsStaleScalesAndReachesTheMinimum) {
 // claim "converged" outlived it. The verdict is now judged where the step ends.
 TEST(LmOnTheSuite, TheLastStepIsJudgedWhereItEnds) {
   SolverOptions options;
-  options.backend_options["initial_trust_radius"] = "1e5";
-  options.backend_options["max_radius_growth"] = "30";
+  options.backend = SolverRegistry::global().create("lm")->parse_settings(
+      {{"initial_trust_radius", "1e5"}, {"max_radius_growth", "30"}});
   const CheckedSolve r = run("lm", "mgh18_biggs_exp6", "100x0", options);
   EXPECT_TRUE(r.contract.ok()) << r.contract.report() << "\n" << r.summary.brief_report();
 }
@@ -131,7 +132,8 @@ TEST(LmOnTheSuite, UphillStepsFollowACurvedValley) {
   EXPECT_GT(uphill, 0);
 
   SolverOptions downhill_only;
-  downhill_only.backend_options["uphill_steps"] = "false";
+  downhill_only.backend =
+      SolverRegistry::global().create("lm")->parse_settings({{"uphill_steps", "false"}});
   const CheckedSolve d = run("lm", "mgh17_osborne_1", "100x0", downhill_only);
   EXPECT_NE(problems::classify(*osborne, d.summary.final_cost),
             problems::Outcome::kPublishedMinimum)
