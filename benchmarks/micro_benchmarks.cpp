@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/calibration/calibration_solve.hpp"
@@ -16,6 +17,7 @@
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
+#include "kincal/models/urdf_arm.hpp"
 #include "tests/models/autodiff_twins.hpp"
 
 namespace kincal {
@@ -67,6 +69,25 @@ const Scenario& puma560(bool autodiff) {
     return s;
   }();
   return autodiff ? twin : hand;
+}
+
+// The other two serial arms, drawn the same way: the UR5 (DH and Hayati links, pose tracker)
+// and the UR5 imported from its URDF (6-DOF origin errors, point tracker). With the PUMA 560
+// they time the serial-chain walk (models/serial_chain.hpp) under both link parametrisations.
+const Scenario& serial_arm_scenario(const std::string& preset) {
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<Scenario>> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = cache[preset];
+  if (!slot) {
+    ScenarioOptions o;
+    o.num_configurations = 60;
+    o.num_validation = 0;
+    o.seed = 1;
+    slot = std::make_unique<Scenario>(
+        make_scenario(preset == "ur5" ? make_ur5() : make_ur5_urdf(), o));
+  }
+  return *slot;
 }
 
 void BM_ForwardKinematics(benchmark::State& state) {
@@ -138,6 +159,8 @@ BENCHMARK_CAPTURE(BM_MechanismWithJacobian, hexapod_hand, case5_of(false));
 BENCHMARK_CAPTURE(BM_MechanismWithJacobian, hexapod_autodiff, case5_of(true));
 BENCHMARK_CAPTURE(BM_MechanismWithJacobian, puma560_hand, puma560(false));
 BENCHMARK_CAPTURE(BM_MechanismWithJacobian, puma560_autodiff, puma560(true));
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, ur5_hand, serial_arm_scenario("ur5"));
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, ur5_urdf_hand, serial_arm_scenario("ur5-urdf"));
 
 // The whole per-configuration kernel of a calibration: forward kinematics, the readings and
 // the reading Jacobian (adjoint form for the hexapod).
@@ -160,6 +183,39 @@ BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, hexapod_hand, case5_of(false));
 BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, hexapod_autodiff, case5_of(true));
 BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, puma560_hand, puma560(false));
 BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, puma560_autodiff, puma560(true));
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, ur5_hand, serial_arm_scenario("ur5"));
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, ur5_urdf_hand, serial_arm_scenario("ur5-urdf"));
+
+// A serial arm's inverse kinematics from home (serial_chain::inverse_kinematics: forward
+// kinematics and the joint Jacobian J_pose_q at every step) to the poses of the scenario's
+// configurations. `ik_iterations` is the mean number of steps.
+void BM_SerialInverseKinematics(benchmark::State& state, const Scenario& s) {
+  const Mechanism& mechanism = s.model->mechanism();
+  const VectorXd truth = s.truth.head(mechanism.num_parameters());
+  std::vector<Pose> poses;
+  for (Eigen::Index j = 0; j < s.calibration.actuators.rows(); ++j)
+    poses.push_back(mechanism
+                        .forward_kinematics(truth, s.calibration.actuators.row(j).transpose(),
+                                            mechanism.home_pose())
+                        .pose);
+  VectorXd q(static_cast<Eigen::Index>(mechanism.actuators().size()));
+  std::size_t j = 0;
+  double iterations = 0;
+  for (auto _ : state) {
+    const InverseKinematicsResult ik = mechanism.inverse_kinematics(truth, poses[j], q);
+    if (!ik.ok()) state.SkipWithError("inverse kinematics failed");
+    benchmark::DoNotOptimize(q.data());
+    iterations += ik.iterations;
+    j = (j + 1) % poses.size();
+  }
+  state.counters["ik_iterations"] = iterations / static_cast<double>(state.iterations());
+}
+BENCHMARK_CAPTURE(BM_SerialInverseKinematics, puma560, puma560(false))
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SerialInverseKinematics, ur5, serial_arm_scenario("ur5"))
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SerialInverseKinematics, ur5_urdf, serial_arm_scenario("ur5-urdf"))
+    ->Unit(benchmark::kMicrosecond);
 
 SolverOptions calibration_options(const std::string& solver, int threads) {
   SolverOptions o;

@@ -7,10 +7,6 @@
 namespace kincal {
 
 using serial_chain::add_frame_parameters;
-using serial_chain::finish_columns;
-using serial_chain::frame_block_columns;
-using serial_chain::rotation_column;
-using serial_chain::translation_column;
 
 const char* to_string(JointType type) {
   return type == JointType::kRevolute ? "revolute" : "prismatic";
@@ -114,25 +110,36 @@ InverseKinematicsResult SerialArm::home_actuators(const ParamsRef&, Eigen::Ref<V
   return {};
 }
 
-// One pass from base to tool: the end pose and, when asked for, J_pose_params (columns in
-// the parameter layout) and J_pose_q. Every parameter is an elementary motion somewhere in
-// the chain: a translation along a unit axis u moves the end by u (no rotation); a rotation
-// about u through o turns it by u and moves it by u x (t_end - o).
-template <class Visit>
-Pose SerialArm::walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit&& visit) const {
-  const auto base = params.segment<6>(base_index());
-  Pose frame = frame_from_parameters(base);
-  visit.base(frame, base.tail<3>());
-  for (int i = 0; i < num_joints(); ++i) {
-    const SerialJoint& joint = geometry_.joints[i];
-    const auto link = params.segment<4>(joint_index(i));
+// Link i for serial_chain::walk: A_i(q_i) and its parameters' elementary motions. Every
+// parameter is a rotation or translation about an axis the walk passes: theta turns about
+// frame i-1's z axis through its origin (as a revolute joint does), d slides along it (as a
+// prismatic joint does), a slides along the x axis after Rz(theta), alpha turns about that x
+// axis and beta about the final y axis, both through the new origin (Rx leaves x fixed, Ry
+// leaves y fixed).
+struct SerialArm::Links {
+  // The arm's data rather than the arm: one load less per use in the walk's loop.
+  const SerialJoint* joints;
+  int count;
+
+  explicit Links(const SerialArm& arm)
+      : joints(arm.geometry_.joints.data()), count(arm.num_joints()) {}
+  int size() const { return count; }
+  int tool_index() const { return joint_index(count); }
+  void to_tip(Pose&) const {}
+
+  template <class Record>
+  void advance(int i, const ParamsRef& params, double q, Pose& frame, Record& record) const {
+    const SerialJoint& joint = joints[i];
+    const int c = joint_index(i);
+    const auto link = params.segment<4>(c);
     const bool revolute = joint.type == JointType::kRevolute;
-    const double theta = link[kTheta] + (revolute ? q[i] : 0.0);
+    const bool dh = joint.convention == LinkConvention::kDh;
+    const double theta = link[kTheta] + (revolute ? q : 0.0);
     const Vector3d z_prev = frame.rotation.col(2), o_prev = frame.translation;
     rotate_z(frame.rotation, std::cos(theta), std::sin(theta));
     const Vector3d x_new = frame.rotation.col(0);  // x after Rz(theta): a's and alpha's axis
-    if (joint.convention == LinkConvention::kDh) {
-      const double d = link[kDOrBeta] + (revolute ? 0.0 : q[i]);
+    if (dh) {
+      const double d = link[kDOrBeta] + (revolute ? 0.0 : q);
       frame.translation += d * z_prev + link[kA] * x_new;
       rotate_x(frame.rotation, std::cos(link[kAlpha]), std::sin(link[kAlpha]));
     } else {
@@ -140,69 +147,16 @@ Pose SerialArm::walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit
       rotate_x(frame.rotation, std::cos(link[kAlpha]), std::sin(link[kAlpha]));
       rotate_y(frame.rotation, std::cos(link[kDOrBeta]), std::sin(link[kDOrBeta]));
     }
-    visit.link(i, revolute, joint.convention, z_prev, o_prev, x_new, frame);
-  }
-  const auto tool = params.segment<6>(tool_index());
-  const Pose tool_frame = frame_from_parameters(tool);
-  Pose end;
-  end.rotation = frame.rotation * tool_frame.rotation;
-  end.translation = frame.translation + frame.rotation * tool_frame.translation;
-  visit.tool(frame, end, tool.tail<3>());
-  return end;
-}
-
-namespace {
-
-struct NoVisit {
-  void base(const Pose&, const Vector3d&) {}
-  void link(int, bool, LinkConvention, const Vector3d&, const Vector3d&, const Vector3d&,
-            const Pose&) {}
-  void tool(const Pose&, const Pose&, const Vector3d&) {}
-};
-
-// Fills J_pose_params in the moment form (see rotation_column); finish_columns completes it.
-struct ParamsJacobianVisit {
-  Eigen::Ref<Matrix6Xd>& J;
-  int tool_column;
-
-  void base(const Pose& frame, const Vector3d& angles) {
-    frame_block_columns(J.middleCols<6>(SerialArm::base_index()), Pose{}, frame, angles);
-  }
-  void link(int i, bool, LinkConvention convention, const Vector3d& z_prev, const Vector3d& o_prev,
-            const Vector3d& x_new, const Pose& frame) {
-    const int c = SerialArm::joint_index(i);
-    translation_column(J.col(c + SerialArm::kA), x_new);
-    // alpha turns about x_new through the new origin (Rx leaves x fixed).
-    rotation_column(J.col(c + SerialArm::kAlpha), x_new, frame.translation);
-    if (convention == LinkConvention::kDh)
-      translation_column(J.col(c + SerialArm::kDOrBeta), z_prev);
-    else  // beta turns about the final y axis (Ry leaves y fixed) through the new origin.
-      rotation_column(J.col(c + SerialArm::kDOrBeta), frame.rotation.col(1), frame.translation);
-    rotation_column(J.col(c + SerialArm::kTheta), z_prev, o_prev);
-  }
-  void tool(const Pose& frame, const Pose& end, const Vector3d& angles) {
-    // The tool's rotation turns the end about its own origin: no translation.
-    frame_block_columns(J.middleCols<6>(tool_column), frame, end, angles);
-  }
-};
-
-// J_pose_q: a revolute joint turns about its axis z_prev through o_prev, a prismatic one
-// translates along it.
-struct JointJacobianVisit {
-  Eigen::Ref<Matrix6Xd>& J;
-
-  void base(const Pose&, const Vector3d&) {}
-  void link(int i, bool revolute, LinkConvention, const Vector3d& z_prev, const Vector3d& o_prev,
-            const Vector3d&, const Pose&) {
-    if (revolute)
-      rotation_column(J.col(i), z_prev, o_prev);
+    record.joint(i, revolute, z_prev, o_prev);
+    record.parameter_translation(c + kA, x_new);
+    record.parameter_rotation(c + kAlpha, x_new, frame.translation);
+    if (dh)
+      record.parameter_translation(c + kDOrBeta, z_prev);
     else
-      translation_column(J.col(i), z_prev);
+      record.parameter_rotation(c + kDOrBeta, frame.rotation.col(1), frame.translation);
+    record.parameter_rotation(c + kTheta, z_prev, o_prev);
   }
-  void tool(const Pose&, const Pose&, const Vector3d&) {}
 };
-
-}  // namespace
 
 ForwardKinematicsResult SerialArm::forward_kinematics(const ParamsRef& params,
                                                       const ActuatorsRef& q, const Pose&,
@@ -212,7 +166,7 @@ ForwardKinematicsResult SerialArm::forward_kinematics(const ParamsRef& params,
     result.status = ForwardKinematicsStatus::kInvalidActuators;
     return result;
   }
-  result.pose = walk_chain(params, q, NoVisit{});
+  result.pose = serial_chain::walk(Links(*this), params, q, serial_chain::PoseOnly{});
   if (!result.pose.rotation.allFinite() || !result.pose.translation.allFinite()) {
     result.status = ForwardKinematicsStatus::kNonFinite;
     result.pose = Pose{};
@@ -224,15 +178,12 @@ void SerialArm::pose_jacobian_params(const ParamsRef& params, const ActuatorsRef
                                      Eigen::Ref<Matrix6Xd> J_pose_params) const {
   // The end pose is recomputed rather than taken from the argument: the columns must be
   // those of (params, q) whatever pose the caller holds.
-  const Pose end = walk_chain(params, q, ParamsJacobianVisit{J_pose_params, tool_index()});
-  finish_columns(J_pose_params, end.translation);
+  serial_chain::walk(Links(*this), params, q, serial_chain::ParameterColumns(J_pose_params));
 }
 
 Pose SerialArm::joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                                Eigen::Ref<Matrix6Xd> J_pose_q) const {
-  const Pose end = walk_chain(params, q, JointJacobianVisit{J_pose_q});
-  finish_columns(J_pose_q, end.translation);
-  return end;
+  return serial_chain::walk(Links(*this), params, q, serial_chain::JointColumns(J_pose_q));
 }
 
 InverseKinematicsResult SerialArm::inverse_kinematics(const ParamsRef& params, const Pose& pose,
@@ -250,7 +201,10 @@ InverseKinematicsResult SerialArm::inverse_kinematics_from(
     return result;
   }
   return serial_chain::inverse_kinematics(
-      pose, start, q, options, [&](const VectorXd& x) { return walk_chain(params, x, NoVisit{}); },
+      pose, start, q, options,
+      [&](const VectorXd& x) {
+        return serial_chain::walk(Links(*this), params, x, serial_chain::PoseOnly{});
+      },
       [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 

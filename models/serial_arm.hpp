@@ -20,7 +20,9 @@
 // (DH) or <name>.{a, alpha, beta, theta} (Hayati), then tool.{x,y,z,rx,ry,rz}; lengths in
 // mm, angles in rad. Forward kinematics is closed form, J_pose_params analytic (every
 // parameter is an elementary rotation or translation somewhere in the chain), inverse
-// kinematics numerical (damped least squares from the home joints). See docs/theory.md.
+// kinematics numerical (damped least squares from the home joints); the walk from base to
+// tool and the inverse kinematics are those of every serial chain (serial_chain.hpp), this
+// arm gives its links. See docs/theory.md.
 
 #include <string>
 #include <vector>
@@ -127,8 +129,8 @@ class SerialArm final : public Mechanism {
   static constexpr int kA = 0, kAlpha = 1, kDOrBeta = 2, kTheta = 3;
 
  private:
-  template <class Visit>
-  Pose walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit&& visit) const;
+  /// The DH/Hayati links, for serial_chain::walk (models/serial_arm.cpp).
+  struct Links;
 
   SerialArmGeometry geometry_;
   std::vector<Actuator> actuators_;

@@ -1,7 +1,10 @@
 #pragma once
 // What every serial chain shares, whatever its link parametrisation (the DH/Hayati arm, the
-// URDF arm): the Jacobian columns of elementary motions, the columns of a six-parameter frame
-// block, the frame parameters' names, and the inverse kinematics.
+// URDF arm): the walk from base to tool that gives forward kinematics, J_pose_params and
+// J_pose_q in one pass, the Jacobian columns of elementary motions, the columns of a
+// six-parameter frame block, the frame parameters' names, and the inverse kinematics. An arm
+// keeps only its links: how one link moves the frame and which elementary motion each of its
+// parameters is (a Links policy of walk below).
 //
 // Jacobian columns are built in the "moment" form while walking from base to tool: a rotation
 // about the unit axis w through the point o is the column [o x w; w], a translation along u is
@@ -66,6 +69,106 @@ void frame_block_columns(Block&& J, const Pose& parent, const Pose& after, const
   J.template bottomLeftCorner<3, 3>().setZero();
   const Matrix3d W = parent.rotation * euler_zyx_angular_jacobian(angles);
   for (int k = 0; k < 3; ++k) rotation_column(J.col(3 + k), W.col(k), after.translation);
+}
+
+/// What walk() does with the elementary motions it passes: nothing (forward kinematics, and
+/// the base of the records below). A record has these members; walk is a template over it,
+/// so that an empty one costs nothing.
+struct PoseOnly {
+  /// Parameter `column` turns the end about the unit axis w through o.
+  void parameter_rotation(int /*column*/, const Vector3d& /*w*/, const Vector3d& /*o*/) {}
+  /// Parameter `column` moves the end along u.
+  void parameter_translation(int /*column*/, const Vector3d& /*u*/) {}
+  /// Parameters first_column .. + 5 are a frame block with Euler angles `angles` that
+  /// follows the frame `parent` and ends at `after` (frame_block_columns).
+  void parameter_frame(int /*first_column*/, const Pose& /*parent*/, const Pose& /*after*/,
+                       const Vector3d& /*angles*/) {}
+  /// Joint i turns the end about the unit axis through `origin` (revolute) or moves it
+  /// along the axis (prismatic).
+  void joint(int /*i*/, bool /*revolute*/, const Vector3d& /*axis*/, const Vector3d& /*origin*/) {}
+  /// The walk is done: `tip` is the frame the tool block follows, `end` the chain's end.
+  void finish(const Pose& /*tip*/, const Pose& /*end*/) {}
+};
+
+/// Records J_pose_params: a column per parameter, in the parameter layout.
+class ParameterColumns : public PoseOnly {
+ public:
+  explicit ParameterColumns(Eigen::Ref<Matrix6Xd>& J) : J_(J) {}
+  void parameter_rotation(int column, const Vector3d& w, const Vector3d& o) {
+    rotation_column(J_.col(column), w, o);
+  }
+  void parameter_translation(int column, const Vector3d& u) {
+    translation_column(J_.col(column), u);
+  }
+  void parameter_frame(int first_column, const Pose& parent, const Pose& after,
+                       const Vector3d& angles) {
+    frame_block_columns(J_.middleCols<6>(first_column), parent, after, angles);
+  }
+  void finish(const Pose&, const Pose& end) { finish_columns(J_, end.translation); }
+
+ private:
+  Eigen::Ref<Matrix6Xd>& J_;
+};
+
+/// Records J_pose_q: a column per joint.
+class JointColumns : public PoseOnly {
+ public:
+  explicit JointColumns(Eigen::Ref<Matrix6Xd>& J) : J_(J) {}
+  void joint(int i, bool revolute, const Vector3d& axis, const Vector3d& origin) {
+    if (revolute)
+      rotation_column(J_.col(i), axis, origin);
+    else
+      translation_column(J_.col(i), axis);
+  }
+  void finish(const Pose&, const Pose& end) { finish_columns(J_, end.translation); }
+
+ private:
+  Eigen::Ref<Matrix6Xd>& J_;
+};
+
+/// The walk from base to tool of a serial chain
+///
+///   T(q) = B  L_1(q_1) ... L_N(q_N)  C_tip  T_tool
+///
+/// with the base frame block B in parameters 0 .. 5 and the tool frame block T_tool in the
+/// last six, links.tool_index() .. + 5 (frame_from_parameters, both). The links are the
+/// arm's own; `links` is a small policy with
+///
+///   int size() const                          N
+///   int tool_index() const                    the tool block's first parameter
+///   template <class Record>
+///   void advance(int i, const ParamsRef& params, double q_i, Pose& frame, Record& record) const
+///                                             moves `frame` across link i (joint i at q_i
+///                                             included) and tells `record` the elementary
+///                                             motion of each of the link's parameters and of
+///                                             the joint (PoseOnly's members)
+///   void to_tip(Pose& frame) const            C_tip (identity: nothing)
+///
+/// Returns the end's pose; `record` (PoseOnly, ParameterColumns, JointColumns or the caller's
+/// own) gets the columns and, last, finish(). Fixed-size types, nothing allocated. Always
+/// inlined into the caller, which makes the record and the links: out of line (its
+/// instantiations with these shared records are not local to one file, so GCC does not inline
+/// them by itself) the record's Jacobian would be reloaded from memory after every call to
+/// sin and cos, 1-3 % more instructions per walk than with the record in registers.
+template <class Links, class Record>
+__attribute__((always_inline)) inline Pose walk(const Links& links, const ParamsRef& params,
+                                                const ActuatorsRef& q, Record&& record) {
+  const auto base = params.segment<6>(0);
+  Pose frame = frame_from_parameters(base);
+  record.parameter_frame(0, Pose{}, frame, base.tail<3>());
+  const int n = links.size();
+  for (int i = 0; i < n; ++i) links.advance(i, params, q[i], frame, record);
+  links.to_tip(frame);
+  const int tool_index = links.tool_index();
+  const auto tool = params.segment<6>(tool_index);
+  const Pose tool_frame = frame_from_parameters(tool);
+  Pose end;
+  end.rotation = frame.rotation * tool_frame.rotation;
+  end.translation = frame.translation + frame.rotation * tool_frame.translation;
+  // The tool's rotation turns the end about its own origin: no translation.
+  record.parameter_frame(tool_index, frame, end, tool.tail<3>());
+  record.finish(frame, end);
+  return end;
 }
 
 /// Appends a frame block's six parameters, `prefix`.x, .y, .z (mm), .rx, .ry, .rz (rad).

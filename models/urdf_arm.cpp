@@ -10,10 +10,6 @@
 namespace kincal {
 
 using serial_chain::add_frame_parameters;
-using serial_chain::finish_columns;
-using serial_chain::frame_block_columns;
-using serial_chain::rotation_column;
-using serial_chain::translation_column;
 
 const char* to_string(UrdfJointType type) {
   switch (type) {
@@ -110,77 +106,50 @@ InverseKinematicsResult UrdfArm::home_actuators(const ParamsRef&, Eigen::Ref<Vec
   return {};
 }
 
-// One pass from base to tool. Every parameter is an elementary motion somewhere in the
-// chain: a translation along a unit axis u moves the end by u; a rotation about u through o
-// turns it by u and moves it by u x (t_end - o).
-template <class Visit>
-Pose UrdfArm::walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit&& visit) const {
-  const auto base = params.segment<6>(base_index());
-  Pose frame = frame_from_parameters(base);
-  visit.base(frame, base.tail<3>());
-  for (int i = 0; i < num_joints(); ++i) {
-    const UrdfArmJoint& joint = geometry_.joints[i];
-    const Pose before = compose(frame, origins_[i]);
-    const auto error = params.segment<6>(joint_index(i));
+// Link i for serial_chain::walk: C_i E_i M_i(q_i + o_i). The origin error E_i is a frame
+// block after C_i; the offset o_i turns about (or slides along) the joint's axis through the
+// joint frame's origin, as the joint does.
+struct UrdfArm::Links {
+  // The arm's data rather than the arm: one load less per use in the walk's loop.
+  const UrdfArmJoint* joints;
+  const Pose* origins;
+  const Pose& tip;
+  int count;
+
+  explicit Links(const UrdfArm& arm)
+      : joints(arm.geometry_.joints.data()),
+        origins(arm.origins_.data()),
+        tip(arm.tip_),
+        count(arm.num_joints()) {}
+  int size() const { return count; }
+  int tool_index() const { return joint_index(count); }
+  void to_tip(Pose& frame) const { frame = compose(frame, tip); }
+
+  template <class Record>
+  void advance(int i, const ParamsRef& params, double q, Pose& frame, Record& record) const {
+    const UrdfArmJoint& joint = joints[i];
+    const int c = joint_index(i);
+    const Pose before = compose(frame, origins[i]);
+    const auto error = params.segment<6>(c);
     frame = compose(before, frame_from_parameters(error));
-    visit.origin_error(i, before, frame, error.tail<3>());
+    record.parameter_frame(c, before, frame, error.tail<3>());
     const Vector3d axis = frame.rotation * joint.axis;
     const bool revolute = is_revolute(joint.type);
-    visit.joint(i, revolute, axis, frame.translation);
-    frame = compose(frame, urdf_joint_motion(joint, q[i] + params[joint_index(i) + kOffset]));
+    record.joint(i, revolute, axis, frame.translation);
+    if (revolute)
+      record.parameter_rotation(c + kOffset, axis, frame.translation);
+    else
+      record.parameter_translation(c + kOffset, axis);
+    frame = compose(frame, urdf_joint_motion(joint, q + params[c + kOffset]));
   }
-  frame = compose(frame, tip_);
-  const auto tool = params.segment<6>(tool_index());
-  const Pose end = compose(frame, frame_from_parameters(tool));
-  visit.tool(frame, end, tool.tail<3>());
-  return end;
-}
+};
 
 namespace {
 
-struct NoVisit {
-  void base(const Pose&, const Vector3d&) {}
-  void origin_error(int, const Pose&, const Pose&, const Vector3d&) {}
-  void joint(int, bool, const Vector3d&, const Vector3d&) {}
-  void tool(const Pose&, const Pose&, const Vector3d&) {}
-};
-
-struct TipVisit : NoVisit {
-  Pose* tip;
-  void tool(const Pose& frame, const Pose&, const Vector3d&) { *tip = frame; }
-};
-
-struct ParamsJacobianVisit {
-  Eigen::Ref<Matrix6Xd>& J;
-  int tool_column;
-
-  void base(const Pose& frame, const Vector3d& angles) {
-    frame_block_columns(J.middleCols<6>(UrdfArm::base_index()), Pose{}, frame, angles);
-  }
-  void origin_error(int i, const Pose& before, const Pose& after, const Vector3d& angles) {
-    frame_block_columns(J.middleCols<6>(UrdfArm::joint_index(i)), before, after, angles);
-  }
-  void joint(int i, bool revolute, const Vector3d& axis, const Vector3d& origin) {
-    auto column = J.col(UrdfArm::joint_index(i) + UrdfArm::kOffset);
-    if (revolute)
-      rotation_column(column, axis, origin);
-    else
-      translation_column(column, axis);
-  }
-  void tool(const Pose& frame, const Pose& end, const Vector3d& angles) {
-    frame_block_columns(J.middleCols<6>(tool_column), frame, end, angles);
-  }
-};
-
-struct JointJacobianVisit : NoVisit {
-  Eigen::Ref<Matrix6Xd>& J;
-  explicit JointJacobianVisit(Eigen::Ref<Matrix6Xd>& j) : J(j) {}
-  void joint(int i, bool revolute, const Vector3d& axis, const Vector3d& origin) {
-    if (revolute)
-      rotation_column(J.col(i), axis, origin);
-    else
-      translation_column(J.col(i), axis);
-  }
+// The tip link's pose: the frame the tool block follows.
+struct TipRecord : serial_chain::PoseOnly {
+  Pose tip;
+  void finish(const Pose& tip_frame, const Pose&) { tip = tip_frame; }
 };
 
 }  // namespace
@@ -193,7 +162,7 @@ ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, con
     result.status = ForwardKinematicsStatus::kInvalidActuators;
     return result;
   }
-  result.pose = walk_chain(params, q, NoVisit{});
+  result.pose = serial_chain::walk(Links(*this), params, q, serial_chain::PoseOnly{});
   if (!finite(result.pose)) {
     result.status = ForwardKinematicsStatus::kNonFinite;
     result.pose = Pose{};
@@ -202,24 +171,19 @@ ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, con
 }
 
 Pose UrdfArm::tip_pose(const ParamsRef& params, const ActuatorsRef& q) const {
-  Pose tip;
-  TipVisit visit;
-  visit.tip = &tip;
-  walk_chain(params, q, visit);
-  return tip;
+  TipRecord record;
+  serial_chain::walk(Links(*this), params, q, record);
+  return record.tip;
 }
 
 void UrdfArm::pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose&,
                                    Eigen::Ref<Matrix6Xd> J_pose_params) const {
-  const Pose end = walk_chain(params, q, ParamsJacobianVisit{J_pose_params, tool_index()});
-  finish_columns(J_pose_params, end.translation);
+  serial_chain::walk(Links(*this), params, q, serial_chain::ParameterColumns(J_pose_params));
 }
 
 Pose UrdfArm::joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                              Eigen::Ref<Matrix6Xd> J_pose_q) const {
-  const Pose end = walk_chain(params, q, JointJacobianVisit(J_pose_q));
-  finish_columns(J_pose_q, end.translation);
-  return end;
+  return serial_chain::walk(Links(*this), params, q, serial_chain::JointColumns(J_pose_q));
 }
 
 InverseKinematicsResult UrdfArm::inverse_kinematics(const ParamsRef& params, const Pose& pose,
@@ -237,7 +201,10 @@ InverseKinematicsResult UrdfArm::inverse_kinematics_from(
     return result;
   }
   return serial_chain::inverse_kinematics(
-      pose, start, q, options, [&](const VectorXd& x) { return walk_chain(params, x, NoVisit{}); },
+      pose, start, q, options,
+      [&](const VectorXd& x) {
+        return serial_chain::walk(Links(*this), params, x, serial_chain::PoseOnly{});
+      },
       [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 

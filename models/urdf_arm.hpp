@@ -23,7 +23,9 @@
 // and so on. The redundancy is resolved for the data at hand (QR with column pivoting on the
 // scaled identification Jacobian; kincal calibrate); docs/theory.md derives it.
 // Lengths mm, angles rad. Forward kinematics closed form, J_pose_params analytic, inverse
-// kinematics damped least squares from the home joints.
+// kinematics damped least squares from the home joints; the walk from base to tool and the
+// inverse kinematics are those of every serial chain (serial_chain.hpp), this arm gives its
+// links.
 
 #include <string>
 #include <vector>
@@ -132,8 +134,9 @@ class UrdfArm final : public Mechanism {
   bool is_revolute_joint(int joint) const {
     return geometry_.joints[joint].type != UrdfJointType::kPrismatic;
   }
-  template <class Visit>
-  Pose walk_chain(const ParamsRef& params, const ActuatorsRef& q, Visit&& visit) const;
+  /// The links (origin, origin error, joint motion), for serial_chain::walk
+  /// (models/urdf_arm.cpp).
+  struct Links;
 
   UrdfArmGeometry geometry_;
   std::vector<Actuator> actuators_;

@@ -12,6 +12,7 @@
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
+#include "kincal/models/urdf_arm.hpp"
 #include "models/autodiff_twins.hpp"
 #include "solvers/solver_fixtures.hpp"
 
@@ -147,6 +148,27 @@ TEST(AutoDiffEvaluation, AllocatesNothingOnceWarm) {
     ASSERT_TRUE(problem->evaluate(x, &r, &J));
     ASSERT_TRUE(problem->evaluate(x, &r, nullptr));
     EXPECT_EQ(g_allocations.load(), before) << scenario->model->mechanism().type();
+  }
+}
+
+// The hand-written serial arms (the chain walk of models/serial_chain.hpp: forward kinematics
+// and J_pose_params) allocate nothing per configuration: the PUMA 560 (DH links), the UR5
+// (DH and Hayati links) and the UR5 imported from its URDF.
+TEST(SerialArmEvaluation, AllocatesNothingOnceWarm) {
+  ScenarioOptions options;
+  options.num_configurations = 20;
+  options.num_validation = 0;
+  for (const auto& make : {make_puma560, make_ur5, make_ur5_urdf}) {
+    const Scenario scenario = make_scenario(make(), options);
+    const auto problem = scenario.make_problem();
+    const VectorXd x = problem->initial_free_parameters();
+    VectorXd r;
+    MatrixXd J;
+    ASSERT_TRUE(problem->evaluate(x, &r, &J));
+    const long before = g_allocations.load();
+    ASSERT_TRUE(problem->evaluate(x, &r, &J));
+    ASSERT_TRUE(problem->evaluate(x, &r, nullptr));
+    EXPECT_EQ(g_allocations.load(), before) << scenario.model->mechanism().type();
   }
 }
 

@@ -29,7 +29,7 @@ inline UrdfArmJoint joint(const std::string& name, UrdfJointType type, const Vec
   return j;
 }
 
-// FK as the URDF defines it, independently of UrdfArm::walk_chain: a product of Isometry3d.
+// FK as the URDF defines it, independently of serial_chain::walk: a product of Isometry3d.
 inline Eigen::Isometry3d independent_fk(const UrdfArmGeometry& g, const VectorXd& q) {
   auto iso = [](const Vector6d& f) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
