@@ -8,7 +8,6 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/html_report.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sensitivity_option.hpp"
@@ -16,6 +15,7 @@
 #include "kincal/cli/starts_option.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/io/sha256.hpp"
+#include "kincal/framework/report/calibration_page.hpp"
 #include "kincal/framework/workflows/calibrate_report.hpp"
 #include "kincal/models/model_io.hpp"
 
@@ -157,30 +157,33 @@ int run_calibrate(const Args& args) {
                                         result.free)
              : std::nullopt;
   // The program's own sections, between the starts and the verdict.
+  const std::optional<TargetJudgement> judged =
+      target ? std::optional<TargetJudgement>(
+                   judge_predicted_target(*target, report.predicted_accuracy))
+             : std::nullopt;
   nlohmann::ordered_json extra = nlohmann::ordered_json::object();
   std::string extra_text;
-  if (target) {
-    extra["target"] = predicted_target(*target, to_json(report.predicted_accuracy), "calibrated");
-    if (extra["target"]["meets"] == false)
+  if (judged) {
+    extra["target"] = to_json(*judged);
+    if (judged->meets == false)
       result.verdict.findings.push_back(
           {"target", Finding::Level::kDoNotLoad,
-           "The calibration does not meet the target: " +
-               extra["target"]["verdict"].get<std::string>() + ".",
+           "The calibration does not meet the target: " + judged->verdict + ".",
            "Measure more, or better chosen, configurations (kincal design --target), or state "
            "what you know as prior_std."});
   }
   if (sensitivity) {
-    extra["sensitivity"] = sensitivity_json(*sensitivity);
+    extra["sensitivity"] = to_json(*sensitivity);
     extra_text += sensitivity_text(*sensitivity);
   }
-  if (target) extra_text += "target: " + extra["target"]["verdict"].get<std::string>() + "\n";
+  if (judged) extra_text += "target: " + judged->verdict + "\n";
   if (!report_to_stdout) out() << calibration_text(result, extra_text);
   nlohmann::ordered_json report_json = calibration_json(result, extra);
   // Model and report are written together or not at all while the process runs. Under a
   // crash between the two renames the report, renamed first, is new and the model old: the
   // report records the SHA-256 of the model written with it, and `kincal verify` tells.
   std::vector<std::pair<std::string, std::string>> outputs;
-  std::string model_text;
+  std::string model_text, model_sha256;
   if (solved && vm.count("out")) {
     // It lists what this run estimated as free: a model written after --allow-rank-deficient
     // must not stop again on the parameters that had to be fixed.
@@ -192,13 +195,23 @@ int run_calibrate(const Args& args) {
                std::to_string(model->parameters().num_free() - static_cast<int>(fixed.size())) +
                " estimated parameters as free (the " + std::to_string(fixed.size()) +
                " fixed above are fixed there)");
+    model_sha256 = sha256_hex(model_text);
     report_json["calibrated_model"] = {{"file", vm["out"].as<std::string>()},
-                                       {"sha256", sha256_hex(model_text)}};
+                                       {"sha256", model_sha256}};
   } else {
     report_json["calibrated_model"] = nullptr;
   }
   if (!report_file.empty()) outputs.push_back({"--json", report_json.dump(2) + "\n"});
-  if (vm.count("html")) outputs.push_back({"--html", render_calibration_html(report_json)});
+  if (vm.count("html")) {
+    report::CalibrationPageExtras page;
+    page.target = judged;
+    page.sensitivity = sensitivity;
+    if (!model_sha256.empty()) {
+      page.calibrated_model_file = vm["out"].as<std::string>();
+      page.calibrated_model_sha256 = model_sha256;
+    }
+    outputs.push_back({"--html", report::calibration_html(result, page)});
+  }
   if (!model_text.empty()) outputs.push_back({"--out", model_text});
   plan.write(outputs);
   if (!solved) {

@@ -5,11 +5,11 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/framework/kinematics/model_pair.hpp"
+#include "kincal/framework/report/pages.hpp"
 #include "kincal/framework/workflows/compare.hpp"
 
 namespace kincal::cli {
@@ -76,7 +76,7 @@ int run_compare(const Args& args) {
   const nlohmann::ordered_json j = comparison_json(result);
   std::vector<std::pair<std::string, std::string>> outputs;
   if (!json_file.empty()) outputs.push_back({"--json", j.dump(2) + "\n"});
-  if (vm.count("html")) outputs.push_back({"--html", render_compare_html(j)});
+  if (vm.count("html")) outputs.push_back({"--html", report::compare_html(result)});
   plan.write(outputs);
   return 0;
 }

@@ -12,7 +12,6 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/design_progress.hpp"
-#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
@@ -24,6 +23,7 @@
 #include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/framework/design/experiment_design.hpp"
 #include "kincal/framework/kinematics/units.hpp"
+#include "kincal/framework/report/pages.hpp"
 #include "kincal/framework/workflows/design.hpp"
 
 namespace kincal::cli {
@@ -178,24 +178,21 @@ int run_design(const Args& args) {
     return 130;  // the shell's code for a run ended by SIGINT
   }
   const std::string template_path = vm["out"].as<std::string>();
-  const Json target_json =
-      target ? predicted_target(*target, {{"designed", to_json(result.designed_pose)}}, "designed")
-             : Json();
+  const std::optional<TargetJudgement> judged =
+      target ? std::optional<TargetJudgement>(judge_predicted_target(*target, result.designed_pose))
+             : std::nullopt;
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     out() << design_text(result, template_path);
-    if (target)
-      out() << format_text("target: %s\n", target_json["verdict"].get<std::string>().c_str());
+    if (judged) out() << format_text("target: %s\n", judged->verdict.c_str());
   }
   std::vector<std::pair<std::string, std::string>> outputs;
   if (vm.count("json") || vm.count("html")) {
-    Json j = design_json(result, template_path, Json());
-    if (target)
-      j = design_json(result, template_path,
-                      predicted_target(*target, j["predicted_pose_error"], "designed"));
+    const Json j = design_json(result, template_path, judged ? to_json(*judged) : Json());
     if (vm.count("json")) outputs.push_back({"--json", j.dump(2) + "\n"});
-    if (vm.count("html")) outputs.push_back({"--html", render_design_html(j)});
+    if (vm.count("html"))
+      outputs.push_back({"--html", report::design_html(result, template_path, judged)});
   }
   outputs.push_back({"--out", design_template_csv(result)});
   plan.write(outputs);

@@ -7,13 +7,13 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/calibration/prior_and_noise.hpp"
+#include "kincal/framework/report/pages.hpp"
 #include "kincal/framework/workflows/observability.hpp"
 
 namespace kincal::cli {
@@ -99,11 +99,12 @@ int run_observability(const Args& args) {
   }
   if (vm.count("json") || vm.count("html")) {
     nlohmann::ordered_json extra = nlohmann::ordered_json::object();
-    if (sensitivity) extra["sensitivity"] = sensitivity_json(*sensitivity);
+    if (sensitivity) extra["sensitivity"] = to_json(*sensitivity);
     const nlohmann::ordered_json out = observability_json(result, extra);
     std::vector<std::pair<std::string, std::string>> outputs;
     if (vm.count("json")) outputs.push_back({"--json", out.dump(2) + "\n"});
-    if (vm.count("html")) outputs.push_back({"--html", render_observability_html(out)});
+    if (vm.count("html"))
+      outputs.push_back({"--html", report::observability_html(result, sensitivity)});
     plan.write(outputs);
   }
   return 0;

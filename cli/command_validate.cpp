@@ -11,7 +11,6 @@
 
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/html_pages.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/cli/shared_options.hpp"
@@ -19,6 +18,7 @@
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/sha256.hpp"
+#include "kincal/framework/report/pages.hpp"
 #include "kincal/framework/workflows/report_prediction.hpp"
 #include "kincal/framework/workflows/validate_report.hpp"
 #include "kincal/models/model_io.hpp"
@@ -140,23 +140,28 @@ int run_validate(const Args& args) {
   const ValidateResult result = validate(request);
   for (const std::string& text : result.notes) note("validate", text);
   const PositionComparison& position = result.position;
-  const Json target_result =
-      target ? measured_target(
-                   *target, position.computed ? Json{{"after", to_json(position.after)}} : Json(),
-                   "these held-out readings measure no point of the mechanism")
-             : Json();
+  const std::optional<TargetJudgement> judged =
+      target ? std::optional<TargetJudgement>(judge_measured_target(
+                   *target, position.computed ? &position.after : nullptr,
+                   "these held-out readings measure no point of the mechanism"))
+             : std::nullopt;
+  const Json target_result = judged ? to_json(*judged) : Json();
   const bool json_to_stdout = (vm.count("json") && plan.to_stdout("--json")) ||
                               (vm.count("html") && plan.to_stdout("--html"));
   if (!json_to_stdout) {
     out() << validation_text(request, result, printable(model_file), printable(data_file));
-    if (target) out() << "target: " << target_result["verdict"].get<std::string>() << "\n";
+    if (judged) out() << "target: " << judged->verdict << "\n";
   }
   if (vm.count("json") || vm.count("html")) {
     const Json out = validation_json(
         request, result, vm.count("report") ? vm["report"].as<std::string>() : "", target_result);
     std::vector<std::pair<std::string, std::string>> outputs;
     if (vm.count("json")) outputs.push_back({"--json", out.dump(2) + "\n"});
-    if (vm.count("html")) outputs.push_back({"--html", render_validation_html(out)});
+    if (vm.count("html"))
+      outputs.push_back(
+          {"--html",
+           report::validation_html(
+               request, result, vm.count("report") ? vm["report"].as<std::string>() : "", judged)});
     plan.write(outputs);
   }
   // As verify: a check that fails is exit code 1.

@@ -61,18 +61,4 @@ std::string sensitivity_text(const SensitivityResult& s) {
   return out;
 }
 
-nlohmann::ordered_json sensitivity_json(const SensitivityResult& s) {
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const auto& r : s.rows)
-    rows.push_back({{"name", r.name},
-                    {"unit", r.unit},
-                    {"error", r.delta},
-                    {"residual_rms", r.residual_rms},
-                    {"position_mean_mm", r.position_mean},
-                    {"position_max_mm", r.position_max},
-                    {"orientation_mean_rad", r.orientation_mean},
-                    {"orientation_max_rad", r.orientation_max}});
-  return rows;
-}
-
 }  // namespace kincal::cli

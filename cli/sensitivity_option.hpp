@@ -5,7 +5,6 @@
 // after calibrating the free ones (framework/analysis/fixed_parameter_sensitivity.hpp).
 
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,8 +26,5 @@ std::optional<SensitivityResult> sensitivity_from_options(
 
 /// The table for the terminal.
 std::string sensitivity_text(const SensitivityResult& s);
-/// One object per fixed parameter: name, unit, error, residual_rms, position_mean_mm,
-/// position_max_mm, orientation_mean_rad, orientation_max_rad.
-nlohmann::ordered_json sensitivity_json(const SensitivityResult& s);
 
 }  // namespace kincal::cli

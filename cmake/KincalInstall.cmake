@@ -8,8 +8,8 @@ set(KINCAL_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/kincal")
 
 # ---- the library and its headers -------------------------------------------
 # Headers are installed as the build tree includes them: <kincal/<folder>/x.hpp>, plus the
-# generated <kincal/version.hpp>. Of cli/ only run.hpp and html_report.hpp are public (the
-# rest is the commands' internals, and includes Boost).
+# generated <kincal/version.hpp>. Of cli/ only run.hpp is public (the rest is the commands'
+# internals, and includes Boost); the pages for people are the library's (framework/report/).
 install(TARGETS kincal EXPORT kincalTargets
         ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT development)
 foreach(folder IN LISTS KINCAL_HEADER_FOLDERS)
@@ -32,7 +32,7 @@ if(KINCAL_BUILD_CLI)
           RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT runtime)
   install(TARGETS kincal_cli EXPORT kincalCliTargets
           ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT development)
-  install(FILES "${PROJECT_SOURCE_DIR}/cli/run.hpp" "${PROJECT_SOURCE_DIR}/cli/html_report.hpp"
+  install(FILES "${PROJECT_SOURCE_DIR}/cli/run.hpp"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/kincal/cli" COMPONENT development)
   install(EXPORT kincalCliTargets NAMESPACE kincal:: DESTINATION "${KINCAL_INSTALL_CMAKEDIR}"
           COMPONENT development)

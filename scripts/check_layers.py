@@ -4,7 +4,8 @@
 Top level: framework/ includes no model, backend, test problem or program file; models/,
 solvers/ and problems/ include only framework/ (and themselves): nothing of each other, no
 program file.
-Inside framework/: a folder includes only folders below it (ALLOWED). Exit 1, one line per
+Inside framework/: a folder includes only folders below it (ALLOWED); report/ (the pages for
+people) is included by no other framework folder and no model, backend or test problem. Exit 1, one line per
 offending include (file:line: what it includes and why that is not allowed)."""
 import os
 import re
@@ -21,7 +22,12 @@ ALLOWED = {  # framework folder -> the framework folders it may include (besides
     "design": {"base", "least_squares", "kinematics", "calibration", "analysis"},
     "extension": {"base", "least_squares", "kinematics", "io"},
     "workflows": {"base", "least_squares", "kinematics", "io", "calibration", "analysis", "design"},
+    "report": {"base", "least_squares", "kinematics", "io", "calibration", "analysis", "design",
+               "workflows"},
 }
+# Framework folders only the faces (cli/, python/) and programs on top may include: no other
+# framework folder, model, backend or test problem.
+TOP_ONLY = {"report"}
 TOP_FORBIDDEN = {  # top-level folder -> the kincal folders it must not include
     "framework": {"models", "solvers", "problems", "cli"},
     "models": {"solvers", "problems", "cli"},
@@ -57,6 +63,8 @@ def main() -> int:
                         folder, sub = m.group(1), m.group(2)
                         if folder in TOP_FORBIDDEN[top]:
                             problems.append(f"{rel}:{number}: includes kincal/{folder}/: {top}/ must not depend on {folder}/")
+                        elif folder == "framework" and sub in TOP_ONLY and top != "framework":
+                            problems.append(f"{rel}:{number}: includes framework/{sub}/: only the faces (cli/, python/) may include it")
                         elif here and folder == "framework" and sub != here and sub not in ALLOWED.get(here, set()):
                             problems.append(f"{rel}:{number}: includes framework/{sub}/: framework/{here}/ may include only {', '.join(sorted(ALLOWED[here])) or 'nothing else'}")
     for p in problems:

@@ -104,4 +104,18 @@ SensitivityResult fixed_parameter_sensitivity(std::shared_ptr<const MeasurementM
   return result;
 }
 
+nlohmann::ordered_json to_json(const SensitivityResult& s) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const auto& r : s.rows)
+    rows.push_back({{"name", r.name},
+                    {"unit", r.unit},
+                    {"error", r.delta},
+                    {"residual_rms", r.residual_rms},
+                    {"position_mean_mm", r.position_mean},
+                    {"position_max_mm", r.position_max},
+                    {"orientation_mean_rad", r.orientation_mean},
+                    {"orientation_max_rad", r.orientation_max}});
+  return rows;
+}
+
 }  // namespace kincal

@@ -13,6 +13,7 @@
 // against a real, nonlinear re-calibration.
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -48,5 +49,9 @@ SensitivityResult fixed_parameter_sensitivity(std::shared_ptr<const MeasurementM
                                               const Measurements& workspace,
                                               const std::vector<int>& free, double delta_mm,
                                               double delta_rad);
+
+/// One object per fixed parameter: name, unit, error, residual_rms, position_mean_mm,
+/// position_max_mm, orientation_mean_rad, orientation_max_rad.
+nlohmann::ordered_json to_json(const SensitivityResult& s);
 
 }  // namespace kincal

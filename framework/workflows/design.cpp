@@ -389,7 +389,7 @@ nlohmann::ordered_json design_json(const ExperimentDesignResult& r,
       {"random", r.random_pose.position_1sigma},
       {"nominal", r.nominal_pose.position_1sigma}};
   j["exchange"]["pass_values"] = result.pass_values;
-  j["configuration_map"] = design_configuration_map(candidates, result.chosen);
+  j["configuration_map"] = to_json(design_configuration_map(candidates, result.chosen));
   if (!target.is_null()) j["target"] = target;
   j["template"] = template_path;
   return j;

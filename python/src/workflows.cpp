@@ -19,8 +19,6 @@
 #include "bindings.hpp"
 #include "interrupt.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/html_pages.hpp"
-#include "kincal/cli/html_report.hpp"
 #include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/parallel.hpp"
@@ -31,6 +29,8 @@
 #include "kincal/framework/kinematics/model_pair.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/report/calibration_page.hpp"
+#include "kincal/framework/report/pages.hpp"
 #include "kincal/framework/workflows/calibrate_report.hpp"
 #include "kincal/framework/workflows/compare.hpp"
 #include "kincal/framework/workflows/design.hpp"
@@ -213,15 +213,18 @@ py::dict calibrate_workflow(
   }
   Json report = calibration_json(result, Json::object());
   std::string model_text;
+  kincal::report::CalibrationPageExtras page;
   if (result.solved && !out.empty()) {
     model_text = calibrated_model_text(*model, result.parameters, result.fixed_by_identifiability);
-    report["calibrated_model"] = {{"file", out}, {"sha256", sha256_hex(model_text)}};
+    page.calibrated_model_file = out;
+    page.calibrated_model_sha256 = sha256_hex(model_text);
+    report["calibrated_model"] = {{"file", out}, {"sha256", page.calibrated_model_sha256}};
   } else {
     report["calibrated_model"] = nullptr;
   }
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", report.dump(2) + "\n"});
-  if (!html.empty()) contents.push_back({"html", cli::render_calibration_html(report)});
+  if (!html.empty()) contents.push_back({"html", kincal::report::calibration_html(result, page)});
   if (!model_text.empty()) contents.push_back({"out", model_text});
   write_outputs(plan, contents);
 
@@ -309,7 +312,9 @@ py::dict validate_workflow(const ModelHandle& handle, const std::optional<std::s
   const Json out = validation_json(request, result, report_json ? report_name : "", Json());
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", out.dump(2) + "\n"});
-  if (!html.empty()) contents.push_back({"html", cli::render_validation_html(out)});
+  if (!html.empty())
+    contents.push_back(
+        {"html", kincal::report::validation_html(request, result, report_json ? report_name : "")});
   write_outputs(plan, contents);
   py::dict answer;
   answer["report"] = out.dump();
@@ -368,7 +373,7 @@ py::dict observability_workflow(
   const Json out = observability_json(result, Json::object());
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", out.dump(2) + "\n"});
-  if (!html.empty()) contents.push_back({"html", cli::render_observability_html(out)});
+  if (!html.empty()) contents.push_back({"html", kincal::report::observability_html(result)});
   write_outputs(plan, contents);
   py::dict answer;
   answer["report"] = out.dump();
@@ -409,7 +414,7 @@ py::dict compare_workflow(const ModelHandle& truth, const ModelHandle& handle,
   const Json out = comparison_json(result);
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", out.dump(2) + "\n"});
-  if (!html.empty()) contents.push_back({"html", cli::render_compare_html(out)});
+  if (!html.empty()) contents.push_back({"html", kincal::report::compare_html(result)});
   write_outputs(plan, contents);
   py::dict answer;
   answer["report"] = out.dump();
@@ -635,7 +640,7 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
   const Json report = design_json(result, out, Json());
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", report.dump(2) + "\n"});
-  if (!html.empty()) contents.push_back({"html", cli::render_design_html(report)});
+  if (!html.empty()) contents.push_back({"html", kincal::report::design_html(result, out)});
   if (!out.empty()) contents.push_back({"out", design_template_csv(result)});
   write_outputs(plan, contents);
   answer["report"] = report.dump();

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "kincal/cli/html_report.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 
 namespace kincal {
@@ -63,15 +62,6 @@ TEST(PagesForPeople, TheCheckerFindsJsonInText) {
   EXPECT_EQ(json_in(visible_text("<p>position 1.5 mm; \"quoted\" words: fine</p>")), "");
 }
 
-TEST(PagesForPeople, NestedValuesInTablesArePlainText) {
-  const Json nested = {
-      {"bound", {{"value", 1.5}, {"iterations", 3}}}, {"names", {"a", "b"}}, {"missing", nullptr}};
-  const std::string html = cli::json_table_html(nested);
-  EXPECT_EQ(json_in(visible_text(html)), "") << html;
-  EXPECT_NE(html.find("value 1.5; iterations 3"), std::string::npos) << html;
-  EXPECT_NE(html.find("a, b"), std::string::npos) << html;
-}
-
 TEST(PagesForPeople, TargetIsALengthWithItsUnit) {
   TempDir dir("target");
   const std::string m = dir / "m.json";
@@ -83,20 +73,20 @@ TEST(PagesForPeople, TargetIsALengthWithItsUnit) {
     EXPECT_NE(r.err.find("--target '" + bad + "'"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "t.csv")) << bad;
   }
-  cli::TargetAccuracy target;
+  TargetAccuracy target;
   target.position_mm = 0.1;
-  EXPECT_EQ(cli::judge_target(target, 0.05, NAN, "error", "").meets, std::optional<bool>(true));
-  const cli::TargetVerdict worse = cli::judge_target(target, 0.35, NAN, "predicted error", "");
+  EXPECT_EQ(judge_target(target, 0.05, NAN, "error", "").meets, std::optional<bool>(true));
+  const TargetJudgement worse = judge_target(target, 0.35, NAN, "predicted error", "");
   EXPECT_EQ(worse.meets, std::optional<bool>(false));
   EXPECT_EQ(worse.verdict, "does not meet the 0.1 mm target: predicted error 0.35 mm");
-  const cli::TargetVerdict unknown = cli::judge_target(target, NAN, NAN, "e", "no point measured");
+  const TargetJudgement unknown = judge_target(target, NAN, NAN, "e", "no point measured");
   EXPECT_FALSE(unknown.meets.has_value());
   EXPECT_NE(unknown.verdict.find("no point measured"), std::string::npos);
   // With an angle: both must hold.
   target.has_orientation = true;
   target.orientation_rad = 1e-3;
-  EXPECT_EQ(cli::judge_target(target, 0.05, 2e-3, "e", "").meets, std::optional<bool>(false));
-  EXPECT_EQ(cli::judge_target(target, 0.05, 5e-4, "e", "").meets, std::optional<bool>(true));
+  EXPECT_EQ(judge_target(target, 0.05, 2e-3, "e", "").meets, std::optional<bool>(false));
+  EXPECT_EQ(judge_target(target, 0.05, 5e-4, "e", "").meets, std::optional<bool>(true));
 }
 
 // One campaign (the cube hexapod's single gauge, the paper's case 5) and every page of it.

@@ -1,10 +1,10 @@
-#include "kincal/cli/svg_plot.hpp"
+#include "kincal/framework/report/svg_plot.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-namespace kincal::cli {
+namespace kincal::report {
 
 std::string xml_escape(std::string_view text) {
   std::string out;
@@ -200,4 +200,4 @@ std::string diverging_colour(double value) {
   return buf;
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal::report

@@ -1,6 +1,6 @@
 #pragma once
-// A small SVG plotting helper for reports a person reads (cli/html_report): charts drawn as
-// inline SVG, no script, every text escaped. A chart has a plot area with linear or
+// A small SVG plotting helper for reports a person reads (framework/report: the pages for people):
+// charts drawn as inline SVG, no script, every text escaped. A chart has a plot area with linear or
 // logarithmic axes; callers draw points, lines, rectangles and text in data coordinates and
 // get one <svg> element back. Tooltips are SVG <title> children (shown on hover, no script).
 
@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace kincal::cli {
+namespace kincal::report {
 
 /// Text made safe for XML/HTML content and attribute values (& < > " ').
 std::string xml_escape(std::string_view text);
@@ -88,4 +88,4 @@ class SvgChart {
 /// A diverging colour for a value in [-1, 1]: blue (-1), white (0), red (+1), as "#rrggbb".
 std::string diverging_colour(double value);
 
-}  // namespace kincal::cli
+}  // namespace kincal::report
