@@ -1,6 +1,6 @@
 #pragma once
 // Helpers shared by the sub-commands: option parsing, solver choice; files go through
-// OutputPlan (output_plan.hpp).
+// OutputPlan (framework/io/output_plan.hpp) with console_output() (console.hpp).
 
 #include <boost/program_options.hpp>
 #include <cstdint>
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "kincal/cli/commands.hpp"
-#include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/calibration/calibration_solve.hpp"
+#include "kincal/framework/io/output_plan.hpp"
 #include "kincal/framework/least_squares/solver.hpp"
 
 namespace kincal::cli {

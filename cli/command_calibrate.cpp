@@ -48,7 +48,7 @@ void loss_option(const po::variables_map& vm, SolverChoice& choice) {
 // The files of this run: no output may be an input or the other output. Checked before
 // the data is read, so a typo does not cost a solve.
 OutputPlan plan_files(const po::variables_map& vm) {
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   for (const char* option : {"model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("out")) plan.output("--out", vm["out"].as<std::string>());

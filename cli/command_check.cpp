@@ -59,7 +59,7 @@ int run_check(const Args& args) {
                          static_cast<int>(vm["all"].as<bool>());
   if (selections > 1) throw CliError("give one of --preset, --model and --all");
   const std::string json_file = json_output(vm);
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
   if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();

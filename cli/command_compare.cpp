@@ -41,7 +41,7 @@ int run_compare(const Args& args) {
     throw CliError("--data gives the configurations: give it without --poses");
   if (poses < 1) throw CliError("--poses must be at least 1");
   if (poses > 1000000) throw CliError("--poses must be at most 1000000");
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   for (const char* option : {"truth", "model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   const std::string json_file = json_output(vm);

@@ -114,7 +114,7 @@ int run_design(const Args& args) {
       throw CliError("--orientation-length '" + vm["orientation-length"].as<std::string>() +
                      "': expected a finite length >= 0");
   }
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   for (const char* option : {"model", "existing"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   plan.output("--out", vm["out"].as<std::string>());

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/sha256.hpp"
@@ -21,7 +22,7 @@ int run_export(const Args& args) {
   if (!vm.count("model")) throw CliError("--model FILE is required");
   if (!vm.count("format")) throw CliError("--format urdf|csv|json is required");
   const std::string format = vm["format"].as<std::string>();
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   plan.input("--model", vm["model"].as<std::string>());
   plan.output("--out", vm["out"].as<std::string>());
   plan.check();

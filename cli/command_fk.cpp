@@ -96,7 +96,7 @@ int run_fk(const Args& args) {
   add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("fk", args, options, vm)) return 0;
-  OutputPlan plan;  // standard output must not be an input
+  OutputPlan plan(console_output());  // standard output must not be an input
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
   const std::string option = "actuators";
   if (vm.count("data")) {

@@ -32,7 +32,7 @@ int run_ik(const Args& args) {
   add_data_size_option(options);
   po::variables_map vm;
   if (!parse_command_line("ik", args, options, vm)) return 0;
-  OutputPlan plan;  // standard output must not be an input
+  OutputPlan plan(console_output());  // standard output must not be an input
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
   if (vm.count("data")) {
     if (vm.count("pose")) throw CliError("give --pose or --data, not both");

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "kincal/cli/cli_util.hpp"
-#include "kincal/cli/kinematics_rows.hpp"
+#include "kincal/framework/workflows/kinematics_rows.hpp"
 
 namespace kincal::cli {
 

@@ -131,7 +131,7 @@ int run_list(const Args& args) {
     throw CliError("cannot list '" + what +
                    "' (expected solvers, models, mechanisms, sensors or constraints)");
   const std::string json_file = json_output(vm);
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();
   const bool json_to_stdout = !json_file.empty() && plan.to_stdout("--json");

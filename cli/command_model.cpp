@@ -1,6 +1,7 @@
 // kincal model: writes a built-in model, or a robot imported from its URDF, as a model file
 // for users to edit.
 
+#include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
@@ -73,7 +74,7 @@ int run_model(const Args& args) {
   add_free_fix_options(options);
   po::variables_map vm;
   if (!parse_command_line("model", args, options, vm)) return 0;
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   if (vm.count("urdf")) plan.input("--urdf", vm["urdf"].as<std::string>());
   plan.output("--out", vm["out"].as<std::string>());
   std::shared_ptr<MeasurementModel> model;

@@ -48,7 +48,7 @@ int run_observability(const Args& args) {
   IdentifiabilityOptions id_options;
   id_options.rcond = vm["rcond"].as<double>();
   if (!(id_options.rcond > 0 && id_options.rcond < 1)) throw CliError("--rcond must be in (0, 1)");
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   for (const char* option : {"model", "data"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());

@@ -69,7 +69,7 @@ int run_reproduce(const Args& args) {
                    std::to_string(std::numeric_limits<int>::max() / num_cases));
   // The directory is replaced whole at the end, so a crash leaves the old tables or the
   // new ones, never a mix.
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   plan.output_directory("--out", out_dir, {"summary.csv", "trials.csv", "trace.csv"});
   const std::string json_file = json_output(vm);
   if (!json_file.empty()) plan.output("--json", json_file);

@@ -95,7 +95,7 @@ int run_simulate(const Args& args) {
   const int starts = starts_option(vm);
 
   // Every file is checked before the run, so a typo does not cost a solve.
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   for (const char* option : {"model", "configs", "truth"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   for (const char* option : {"json", "trace"})

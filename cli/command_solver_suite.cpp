@@ -12,8 +12,8 @@
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/model_args.hpp"
-#include "kincal/cli/output_plan.hpp"
 #include "kincal/cli/progress.hpp"
+#include "kincal/framework/io/output_plan.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
 #include "kincal/problems/suite_runner.hpp"
@@ -119,7 +119,7 @@ int run_solver_suite(const Args& args) {
     }
   }
   const bool json = vm.count("json") > 0;
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   if (json) plan.output("--json", vm["json"].as<std::string>());
   plan.check();
   const bool json_to_stdout = json && plan.to_stdout("--json");

@@ -77,7 +77,7 @@ int run_validate(const Args& args) {
   const std::optional<TargetAccuracy> target = target_option(vm);
   if (!vm.count("model")) throw CliError("--model FILE is required (the calibrated model)");
   if (!vm.count("data")) throw CliError("--data FILE is required (held-out measurements)");
-  OutputPlan plan;
+  OutputPlan plan(console_output());
   for (const char* option : {"model", "data", "report", "before"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   if (vm.count("json")) plan.output("--json", vm["json"].as<std::string>());

@@ -26,7 +26,7 @@ int run_verify(const Args& args) {
   if (!parse_command_line("verify", args, options, vm)) return 0;
   if (!vm.count("report")) throw CliError("--report FILE is required");
   const std::string report_file = vm["report"].as<std::string>();
-  OutputPlan plan;  // no outputs; standard output must not be an input
+  OutputPlan plan(console_output());  // no outputs; standard output must not be an input
   plan.input("--report", report_file);
   if (vm.count("model")) plan.input("--model", vm["model"].as<std::string>());
   const std::string json_file = json_output(vm);

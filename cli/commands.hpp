@@ -3,7 +3,8 @@
 // the arguments after its name, prints to its standard output (out(), console.hpp), and
 // returns the exit code. Bad input is thrown as std::exception (usually CliError) and run()
 // (cli/run.cpp) turns it into one line on its standard error (err()) and exit code 2. Every file a
-// command reads or writes goes through an OutputPlan (output_plan.hpp).
+// command reads or writes goes through an OutputPlan (framework/io/output_plan.hpp), whose
+// OutputError is bad input too.
 
 #include <functional>
 #include <stdexcept>

@@ -29,6 +29,16 @@ std::ostream& err() {
 bool out_is_process_stdout() { return g_out.load() == nullptr; }
 bool err_is_process_stderr() { return g_err.load() == nullptr; }
 
+const StandardOutput& console_output() {
+  class Console final : public StandardOutput {
+   public:
+    std::ostream& stream() const override { return out(); }
+    bool is_process_stdout() const override { return out_is_process_stdout(); }
+  };
+  static const Console console;
+  return console;
+}
+
 ConsoleScope::ConsoleScope(std::ostream& out, std::ostream& err)
     : saved_out_(g_out.exchange(&out)), saved_err_(g_err.exchange(&err)) {}
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "kincal/framework/base/format_text.hpp"
+#include "kincal/framework/io/standard_output.hpp"
 
 namespace kincal::cli {
 
@@ -22,6 +23,11 @@ std::ostream& err();
 bool out_is_process_stdout();
 /// Whether err() is the process's standard error (then a terminal there shows progress).
 bool err_is_process_stderr();
+
+/// out() as the output writers take it (framework/io/output_plan.hpp): what a command printed
+/// is flushed before its files are replaced, and its "-" outputs go there. Follows out()
+/// (looked up on each use), so it is the same object for every command.
+const StandardOutput& console_output();
 
 /// Points out() and err() at `out` and `err` while it lives, for every thread (a command's
 /// workers print progress): one at a time in a process, held by whoever runs the command.

@@ -14,10 +14,10 @@
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
-#include "kincal/cli/output_files.hpp"
-#include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/plugin.hpp"
+#include "kincal/framework/io/output_files.hpp"
+#include "kincal/framework/io/output_plan.hpp"
 
 namespace kincal::cli {
 
@@ -108,7 +108,7 @@ int run(int argc, const char* const* argv) {
     else
       print_usage(out());
     try {
-      check_standard_output();
+      check_standard_output(console_output());
     } catch (const std::exception& e) {
       print_error(name, e.what());
       return 2;
@@ -123,7 +123,8 @@ int run(int argc, const char* const* argv) {
       // (cli/plugin_option.hpp): never from a token that is another option's value.
       const Args args(argv + 2, argv + argc);
       const int code = command.run(args);
-      check_standard_output();  // what was printed after the last file: never lost silently
+      // What was printed after the last file: never lost silently.
+      check_standard_output(console_output());
       for (const std::string& line : deprecation_notes()) err() << line << "\n";
       return code;
     } catch (const OptionsChecked&) {

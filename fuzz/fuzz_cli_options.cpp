@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "kincal/cli/output_plan.hpp"
 #include "kincal/cli/run.hpp"
+#include "kincal/framework/io/output_plan.hpp"
 
 namespace {
 
@@ -45,7 +45,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   std::cout.rdbuf(out);
   std::ofstream("D.csv") << "leg1,leg2,leg3,leg4,leg5,leg6,gauge\n"
                             "354,354,354,354,354,382,310\n";
-  kincal::cli::stop_after_option_checks(true);
+  kincal::stop_after_option_checks(true);
   return 0;
 }
 

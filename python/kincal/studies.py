@@ -67,7 +67,7 @@ def _directory_step(step: Callable[..., None], *args: str) -> None:
     KincalError with the program's message."""
     try:
         step(*args)
-    except _kincal.CliError as e:
+    except _kincal.OutputError as e:
         raise KincalError(str(e)) from None
 
 

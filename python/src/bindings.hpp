@@ -6,10 +6,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>  // in every file: the casters of std::vector must agree (ODR)
 
-#include <mutex>
 #include <string>
 
 #include "kincal/framework/base/types.hpp"
+#include "kincal/framework/io/standard_output.hpp"
 
 namespace kincal::python {
 
@@ -24,9 +24,10 @@ void bind_mechanisms(py::module_& m);
 void bind_studies(py::module_& m);
 void bind_workflows(py::module_& m);
 
-/// Held while the CLI's file writers run (cli/output_plan.hpp): they flush the console
-/// (cli/console.hpp), process state that one caller at a time may point elsewhere.
-std::mutex& command_mutex();
+/// The module's standard output as the output writers take it
+/// (framework/io/standard_output.hpp): a stream of its own that nothing reads, since the
+/// module prints nothing and passes "-" as the file "./-".
+const StandardOutput& python_output();
 
 /// Row-major view of a float64 matrix: what numpy gives without a copy.
 using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

@@ -4,16 +4,13 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
-#include <mutex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "bindings.hpp"
-#include "kincal/cli/console.hpp"
-#include "kincal/cli/output_files.hpp"
 #include "kincal/framework/calibration/calibration_problem.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
+#include "kincal/framework/io/output_files.hpp"
 #include "model_handle.hpp"
 
 namespace kincal::python {
@@ -109,14 +106,10 @@ void bind_measurements(py::module_& m) {
         const auto r = as_rows(readings, "readings", py::ssize_t(reading_names.size()));
         const std::string text =
             measurements_to_csv(measurements_of(a, r), actuator_names, reading_names, comment);
-        // As the program writes its files: whole or not at all (cli/output_files.hpp). "-"
-        // is a file here, not standard output. The writer first flushes the command's
-        // standard output, which is none here: a console of its own, as a command has.
+        // As the program writes its files: whole or not at all
+        // (framework/io/output_files.hpp). "-" is a file here, not standard output.
         py::gil_scoped_release release;
-        const std::lock_guard<std::mutex> lock(command_mutex());
-        std::ostringstream nothing;
-        const cli::ConsoleScope console(nothing, nothing);
-        cli::write_files_atomically({{path == "-" ? "./-" : path, text}});
+        write_files_atomically({{path == "-" ? "./-" : path, text}}, python_output());
       },
       py::arg("path"), py::arg("actuators"), py::arg("readings"), py::arg("actuator_names"),
       py::arg("reading_names"), py::arg("comment") = "",

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "kincal/cli/kinematics_rows.hpp"
 #include "kincal/framework/extension/plugin.hpp"
 #include "kincal/framework/kinematics/units.hpp"
+#include "kincal/framework/workflows/kinematics_rows.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
 #include "model_handle.hpp"
@@ -41,15 +41,14 @@ VectorXd parameter_field(const MeasurementModel& model, F field) {
 }
 
 // Rows of a kinematics table as arrays; a failed row is NaN with its status and reason.
-py::tuple rows_to_arrays(const MeasurementModel& model,
-                         const std::vector<cli::KinematicsRow>& rows) {
+py::tuple rows_to_arrays(const MeasurementModel& model, const std::vector<KinematicsRow>& rows) {
   const int n = static_cast<int>(rows.size());
   MatrixXd actuators = MatrixXd::Constant(n, model.mechanism().num_actuators(), kNaN);
   MatrixXd poses = MatrixXd::Constant(n, 6, kNaN);
   MatrixXd readings = MatrixXd::Constant(n, model.num_readings(), kNaN);
   std::vector<std::string> status(n), reason(n);
   for (int i = 0; i < n; ++i) {
-    const cli::KinematicsRow& r = rows[i];
+    const KinematicsRow& r = rows[i];
     if (r.actuators_known) actuators.row(i) = r.actuators.transpose();
     if (r.pose_known)
       for (int k = 0; k < 6; ++k) poses(i, k) = r.pose[k];
@@ -192,11 +191,11 @@ kincal.Model.from_json().)doc")
           [](const ModelHandle& h, const py::object& actuators) {
             const auto a = as_rows(actuators, "actuators", h.model->mechanism().num_actuators());
             const ConstRowMap q = rows_view(a);
-            std::vector<cli::KinematicsRow> rows(q.rows());
+            std::vector<KinematicsRow> rows(q.rows());
             {
               py::gil_scoped_release release;
               for (Eigen::Index i = 0; i < q.rows(); ++i)
-                rows[i] = cli::forward_row(*h.model, q.row(i).transpose());
+                rows[i] = forward_row(*h.model, q.row(i).transpose());
             }
             const py::tuple t = rows_to_arrays(*h.model, rows);
             return py::make_tuple(t[1], t[2], t[3], t[4]);
@@ -210,13 +209,13 @@ kincal.Model.from_json().)doc")
           [](const ModelHandle& h, const py::object& poses) {
             const auto a = as_rows(poses, "poses", 6);
             const ConstRowMap p = rows_view(a);
-            std::vector<cli::KinematicsRow> rows(p.rows());
+            std::vector<KinematicsRow> rows(p.rows());
             {
               py::gil_scoped_release release;
               for (Eigen::Index i = 0; i < p.rows(); ++i) {
                 std::array<double, 6> pose;
                 for (int k = 0; k < 6; ++k) pose[k] = p(i, k);
-                rows[i] = cli::inverse_row(*h.model, pose);
+                rows[i] = inverse_row(*h.model, pose);
               }
             }
             const py::tuple t = rows_to_arrays(*h.model, rows);

@@ -3,14 +3,14 @@
 // and domain_error are ValueError, other std::exception RuntimeError); nothing here aborts.
 
 #include "bindings.hpp"
-#include "kincal/cli/commands.hpp"
+#include "kincal/framework/io/output_files.hpp"
 #include "kincal/version.hpp"
 
 PYBIND11_MODULE(_kincal, m) {
   m.doc() = "kincal's compiled core; use the kincal package, not this module.";
   namespace kp = kincal::python;
-  // The CLI's output checks' error (one line naming what and where) is a ValueError.
-  pybind11::register_exception<kincal::cli::CliError>(m, "CliError", PyExc_ValueError);
+  // The output checks' error (one line naming what and where) is a ValueError.
+  pybind11::register_exception<kincal::OutputError>(m, "OutputError", PyExc_ValueError);
   kp::bind_interrupt(m);
   kp::bind_models(m);
   kp::bind_measurements(m);

@@ -14,8 +14,8 @@
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
-#include "kincal/cli/output_files.hpp"
 #include "kincal/framework/base/parallel.hpp"
+#include "kincal/framework/io/output_files.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/framework/workflows/reproduce.hpp"
 #include "kincal/framework/workflows/simulate.hpp"
@@ -157,20 +157,20 @@ py::tuple reproduce_report(const py::dict& spec, int num_trials, const py::list&
                         tables.trials_csv, tables.trace_csv);
 }
 
-// reproduce's out directory: the program's rule (cli/output_files.hpp, docs/reliability.md
+// reproduce's out directory: the program's rule (framework/io/output_files.hpp, docs/reliability.md
 // "A directory: replaced in one step"). It may hold only the three tables, is checked before
 // the work and again just before it is swapped, whole, with the new one.
 const std::vector<std::string> kReproduceTables = {"summary.csv", "trials.csv", "trace.csv"};
 
-cli::DirectoryTarget reproduce_directory(const std::string& path, const std::string& what) {
-  return cli::resolve_output_directory(path, what + " '" + path + "'", kReproduceTables);
+DirectoryTarget reproduce_directory(const std::string& path, const std::string& what) {
+  return resolve_output_directory(path, what + " '" + path + "'", kReproduceTables);
 }
 
 void write_reproduce_directory(const std::string& path, const std::string& summary,
                                const std::string& trials, const std::string& trace) {
-  const cli::DirectoryTarget target = reproduce_directory(path, "cannot write out");
+  const DirectoryTarget target = reproduce_directory(path, "cannot write out");
   py::gil_scoped_release release;
-  cli::write_directory_atomically(
+  write_directory_atomically(
       target, {{"summary.csv", summary}, {"trials.csv", trials}, {"trace.csv", trace}});
 }
 
@@ -180,7 +180,7 @@ void bind_studies(py::module_& m) {
   m.def(
       "check_reproduce_directory",
       [](const std::string& path) { reproduce_directory(path, "out"); }, py::arg("path"),
-      "Raises CliError (a ValueError) unless `path` may be reproduce's out directory: a new "
+      "Raises OutputError (a ValueError) unless `path` may be reproduce's out directory: a new "
       "directory, or one holding only summary.csv, trials.csv and trace.csv (it is replaced "
       "whole), not the current directory or a parent of it, the root or a mount point.");
   m.def("write_reproduce_directory", &write_reproduce_directory, py::arg("path"),

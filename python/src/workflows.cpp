@@ -10,7 +10,6 @@
 
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -18,13 +17,12 @@
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
-#include "kincal/cli/console.hpp"
-#include "kincal/cli/output_plan.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/framework/calibration/prior_and_noise.hpp"
 #include "kincal/framework/io/json_input.hpp"
+#include "kincal/framework/io/output_plan.hpp"
 #include "kincal/framework/io/sha256.hpp"
 #include "kincal/framework/kinematics/model_pair.hpp"
 #include "kincal/framework/kinematics/names.hpp"
@@ -78,30 +76,23 @@ LoadedMeasurements measurements_for(const MeasurementModel& model, const VectorX
 }
 
 // The outputs asked for, checked before any work against the files read (`inputs`) and each
-// other: labels are the keyword names.
-cli::OutputPlan plan_outputs(const std::vector<std::string>& inputs,
-                             const std::vector<std::pair<std::string, std::string>>& outputs) {
-  cli::OutputPlan plan;
+// other: labels are the keyword names. "-" is a file here, not standard output, and the
+// module prints nothing: its standard output is a stream of its own (python_output()).
+OutputPlan plan_outputs(const std::vector<std::string>& inputs,
+                        const std::vector<std::pair<std::string, std::string>>& outputs) {
+  OutputPlan plan(python_output());
   for (const auto& path : inputs) plan.input("input", path);
   for (const auto& [label, path] : outputs)
     if (!path.empty()) plan.output(label, path == "-" ? "./-" : path);
-  // "-" is a file here, not standard output: the check runs with a console of its own.
-  const std::lock_guard<std::mutex> lock(command_mutex());
-  std::ostringstream nothing;
-  const cli::ConsoleScope console(nothing, nothing);
   plan.check();
   return plan;
 }
 
-// Writes (label, content) pairs as the program does (whole or not at all). The writer flushes
-// the console: a console of its own here, as a command has.
-void write_outputs(const cli::OutputPlan& plan,
+// Writes (label, content) pairs as the program does (whole or not at all).
+void write_outputs(const OutputPlan& plan,
                    const std::vector<std::pair<std::string, std::string>>& contents) {
   if (contents.empty()) return;
   py::gil_scoped_release release;
-  const std::lock_guard<std::mutex> lock(command_mutex());
-  std::ostringstream nothing;
-  const cli::ConsoleScope console(nothing, nothing);
   plan.write(contents);
 }
 
@@ -181,7 +172,7 @@ py::dict calibrate_workflow(
   if (starts < 1) throw std::invalid_argument("starts must be at least 1");
   CalibrateRequest request;
   choose_solver(request, solver, max_iterations, solver_options, loss, threads, catch_sigint);
-  const cli::OutputPlan plan = plan_outputs(inputs, {{"out", out}, {"json", json}, {"html", html}});
+  const OutputPlan plan = plan_outputs(inputs, {{"out", out}, {"json", json}, {"html", html}});
 
   auto model = std::make_shared<MeasurementModel>(*handle.model);
   apply_free_fix(*model, free, fix);
@@ -251,7 +242,7 @@ py::dict validate_workflow(const ModelHandle& handle, const std::optional<std::s
                            const std::string& before_name, const std::string& noise_std,
                            bool skip_bad_rows, const std::string& json, const std::string& html,
                            const std::string& model_path, const std::vector<std::string>& inputs) {
-  const cli::OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
+  const OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
 
   const std::shared_ptr<const MeasurementModel> model = handle.model;
   const VectorXd values = model->parameters().nominal_values();
@@ -337,7 +328,7 @@ py::dict observability_workflow(
         "give exactly one of data and poses (a number of random "
         "configurations, at least 1)");
   if (!(rcond > 0 && rcond < 1)) throw std::invalid_argument("rcond must be in (0, 1)");
-  const cli::OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
+  const OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
   auto model = std::make_shared<MeasurementModel>(*handle.model);
   apply_free_fix(*model, free, fix);
   apply_noise_std(*model, noise_std);
@@ -386,7 +377,7 @@ py::dict compare_workflow(const ModelHandle& truth, const ModelHandle& handle,
                           int poses, std::uint64_t seed, const std::string& json,
                           const std::string& html, const std::string& truth_path,
                           const std::string& model_path, const std::vector<std::string>& inputs) {
-  const cli::OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
+  const OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
   CompareRequest request;
   request.truth = truth.model;
   request.model = handle.model;
@@ -484,7 +475,7 @@ py::dict simulate_workflow(const ModelHandle& handle, const std::string& model_n
     outputs.push_back({"write_data", write_data});
     outputs.push_back({"write_data's true model", truth_file});
   }
-  const cli::OutputPlan plan = plan_outputs(inputs, outputs);
+  const OutputPlan plan = plan_outputs(inputs, outputs);
 
   SimulateRequest request;
   if (truth) {
@@ -590,7 +581,7 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
                                   "': expected a finite length, e.g. 300mm");
     design.orientation_length = length.get(kMillimetre);
   }
-  const cli::OutputPlan plan = plan_outputs(inputs, {{"out", out}, {"json", json}, {"html", html}});
+  const OutputPlan plan = plan_outputs(inputs, {{"out", out}, {"json", json}, {"html", html}});
   auto model = std::make_shared<MeasurementModel>(*handle.model);
   apply_free_fix(*model, free, fix);
   apply_prior_std(*model, prior_std);
@@ -653,7 +644,7 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
 // as the program does; a Model in memory with that of its JSON as Model.to_json writes it.
 std::string export_workflow(const ModelHandle& handle, const std::string& format,
                             const std::string& model_path, const std::string& out) {
-  const cli::OutputPlan plan = plan_outputs(
+  const OutputPlan plan = plan_outputs(
       model_path.empty() ? std::vector<std::string>{} : std::vector{model_path}, {{"out", out}});
   ExportSource source;
   source.model_file = model_path.empty() ? handle.source : model_path;
@@ -704,9 +695,11 @@ ModelHandle urdf_model(const std::string& path, const std::string& tip, const st
 
 }  // namespace
 
-std::mutex& command_mutex() {
-  static std::mutex mutex;
-  return mutex;
+const StandardOutput& python_output() {
+  // One per thread: a call writes its files with the GIL released.
+  thread_local std::ostringstream nothing;
+  thread_local const StreamOutput output(nothing);
+  return output;
 }
 
 void bind_workflows(py::module_& m) {

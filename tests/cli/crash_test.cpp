@@ -1,6 +1,6 @@
 // What a crash leaves behind (docs/reliability.md, "Outputs"). Each command is killed with
 // SIGKILL at every step of writing its files in turn (KINCAL_TEST_KILL_AT_WRITE_STEP, see
-// cli/output_files.hpp), until a run gets through; after each kill the outputs must be in
+// framework/io/output_files.hpp), until a run gets through; after each kill the outputs must be in
 // one of the states the documentation promises. Then real `kill -9`s from outside, at
 // spread-out moments of a run. Temporary files of killed writers must be cleaned up by the
 // next write.

@@ -1,4 +1,4 @@
-// No output may be an input or another output (cli/output_plan.hpp), whatever names them:
+// No output may be an input or another output (framework/io/output_plan.hpp), whatever names them:
 // the same name, "./" forms, symbolic and hard links, "-" and /dev/stdout, a redirection of
 // standard output. Every refused run leaves every file as it was and writes nothing.
 

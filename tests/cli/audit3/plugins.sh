@@ -106,9 +106,9 @@ check "3: a sensor's predict() throws 42" 2 $? e.txt \
   "a plug-in threw an exception that is not a std::exception \(loaded: '.*misbehaving"
 
 # ---- 4. two calibrations on the same --out/--json leave a consistent pair --------------------
-# The first run sleeps between its two renames (a test hook, cli/output_files.hpp); the second
-# starts meanwhile with other data. Without the lock, the second's report and model land in
-# the first one's window: the first's model is renamed last, beside the second's report.
+# The first run sleeps between its two renames (a test hook, framework/io/output_files.hpp);
+# the second starts meanwhile with other data. Without the lock, the second's report and model
+# land in the first one's window: the first's model is renamed last, beside the second's report.
 listing() { ls -A | grep -v -x -e C.json -e R.json -e 'o.txt' -e 'e[12]*.txt' | sort; }
 before=$(listing)
 for round in 1 2 3 4 5; do

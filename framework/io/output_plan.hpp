@@ -1,11 +1,12 @@
 #pragma once
-// The one place where a command's files are checked and written. A command declares every
-// file it reads and writes, calls check() before any work, and writes through write():
+// The one place where a task's files are checked and written, for the program's commands and
+// the Python module alike. A caller declares every file it reads and writes, calls check()
+// before any work, and writes through write():
 //
-//   OutputPlan plan;
+//   OutputPlan plan(standard_output);      // where the caller prints (output_files.hpp)
 //   plan.input("--data", data);            // files read
 //   plan.output("--out", out);             // files written ("-" is standard output)
-//   plan.check();                          // throws CliError: collisions, unwritable paths
+//   plan.check();                          // throws OutputError: collisions, unwritable paths
 //   ... work ...
 //   plan.write({{"--report", report_text}, {"--out", model_text}});
 //
@@ -14,17 +15,22 @@
 // links are the same inode (device + inode number), "-", /dev/stdout and /proc/self/fd/1
 // are all standard output, and standard output itself, where every command prints, must not
 // be an input either (kincal ... >> D.csv). The null device may be named any number of times.
+// The labels name the files in messages: the program's options ("--out"), Python's keywords.
 
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "kincal/cli/output_files.hpp"
+#include "kincal/framework/io/output_files.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 class OutputPlan {
  public:
+  /// `standard_output` is where the caller prints, and where "-" outputs go; it must outlive
+  /// the plan.
+  explicit OutputPlan(const StandardOutput& standard_output) : standard_output_(&standard_output) {}
+
   /// A file the command reads; `label` names it in messages ("--data").
   void input(const std::string& label, const std::string& path);
   /// A file the command writes, or "-" for standard output.
@@ -33,7 +39,7 @@ class OutputPlan {
   void output_directory(const std::string& label, const std::string& path,
                         const std::vector<std::string>& files);
 
-  /// Resolves every path and throws CliError when an output is an input or another
+  /// Resolves every path and throws OutputError when an output is an input or another
   /// output, or cannot be written (missing directory, a directory given as a file, a
   /// read-only directory). Call it before any work.
   void check();
@@ -60,13 +66,15 @@ class OutputPlan {
   };
   const Entry& find(const std::string& label, bool directory) const;
 
+  const StandardOutput* standard_output_;
   std::vector<Entry> entries_;
   bool checked_ = false;
 };
 
-/// The option-parsing fuzzer runs commands in-process and must stop them before they do any
-/// work: when set, OutputPlan::check() throws OptionsChecked after its checks.
+/// The program's option-parsing fuzzer (fuzz/fuzz_cli_options.cpp) runs commands in-process
+/// and must stop them before they do any work: when set, OutputPlan::check() throws
+/// OptionsChecked after its checks.
 void stop_after_option_checks(bool stop);
 struct OptionsChecked {};  ///< deliberately not a std::exception
 
-}  // namespace kincal::cli
+}  // namespace kincal

@@ -1,6 +1,7 @@
 #pragma once
 // Forward and inverse kinematics of a model, one pose at a time or a table of them (kincal fk
-// and ik, cli/command_fk.cpp and command_ik.cpp), and their CSV and JSON forms.
+// and ik, cli/command_fk.cpp and command_ik.cpp; Model.forward_kinematics and
+// inverse_kinematics in Python), and their CSV and JSON forms.
 //
 // The angle rule (docs/calibrating-a-machine.md, "Units and angles"): every option, column
 // and JSON field that holds an angle says its unit in its name. Poses a person writes or
@@ -15,7 +16,7 @@
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 /// The pose columns of a poses file (ik --data) and of fk's table output, in order.
 inline const std::vector<std::string> kPoseColumns = {"x_mm",   "y_mm",   "z_mm",
@@ -52,4 +53,4 @@ nlohmann::ordered_json rows_json(const std::string& format, const std::string& m
                                  const std::string& input_file, const MeasurementModel& model,
                                  const std::vector<KinematicsRow>& rows);
 
-}  // namespace kincal::cli
+}  // namespace kincal

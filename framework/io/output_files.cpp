@@ -1,4 +1,4 @@
-#include "kincal/cli/output_files.hpp"
+#include "kincal/framework/io/output_files.hpp"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -7,18 +7,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <iostream>
 #include <random>
 
-#include "kincal/cli/commands.hpp"
-#include "kincal/cli/console.hpp"
-
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -29,7 +26,18 @@ std::string errno_text(int error) {
 }
 
 [[noreturn]] void fail_errno(const std::string& path, int error) {
-  throw CliError("cannot write '" + path + "': " + errno_text(error));
+  throw OutputError("cannot write '" + path + "': " + errno_text(error));
+}
+
+// Test hook for the crash tests (output_files.hpp): with KINCAL_TEST_KILL_AT_WRITE_STEP=N in
+// the environment, the process kills itself at the N-th step of writing files.
+void write_step() {
+  static const long kill_at = [] {
+    const char* text = std::getenv("KINCAL_TEST_KILL_AT_WRITE_STEP");
+    return text ? std::atol(text) : 0L;
+  }();
+  static std::atomic<long> step{0};
+  if (kill_at > 0 && ++step == kill_at) std::raise(SIGKILL);
 }
 
 // ---- temporary names ---------------------------------------------------------------------
@@ -39,7 +47,7 @@ constexpr const char* kTempTag = ".kincal-tmp-";
 // ".<name>.kincal-tmp-<pid>-<random hex>". The name is shortened so that the whole stays
 // within the 255 bytes a file name may have.
 std::string temporary_name(const std::string& target_name) {
-  static std::random_device rd;
+  thread_local std::random_device rd;  // the library may write from several threads
   char suffix[40];
   std::snprintf(suffix, sizeof suffix, "%s%ld-%08x", kTempTag, static_cast<long>(::getpid()),
                 static_cast<unsigned>(rd()));
@@ -114,25 +122,25 @@ fs::path real_directory(const fs::path& p, const std::string& what) {
     struct stat st {};
     if (::stat(existing.c_str(), &st) == 0) {
       if (!S_ISDIR(st.st_mode))
-        throw CliError(what + ": '" + existing.string() + "' is not a directory");
+        throw OutputError(what + ": '" + existing.string() + "' is not a directory");
       break;
     }
     const int error = errno;
     if (error != ENOENT && error != ENOTDIR)
-      throw CliError(what + ": directory '" + given.string() + "': " + errno_text(error));
+      throw OutputError(what + ": directory '" + given.string() + "': " + errno_text(error));
     if (::lstat(existing.c_str(), &st) == 0)
-      throw CliError(what + ": '" + existing.string() + "' is a broken symbolic link");
+      throw OutputError(what + ": '" + existing.string() + "' is a broken symbolic link");
     const fs::path name = existing.filename();
     if (name.empty() || name == "." || name == "..")
-      throw CliError(what + ": directory '" + given.string() +
-                     "' does not exist (and goes through '" + name.string() +
-                     "'); expected a path to an existing or new directory without . or ..");
+      throw OutputError(what + ": directory '" + given.string() +
+                        "' does not exist (and goes through '" + name.string() +
+                        "'); expected a path to an existing or new directory without . or ..");
     missing = missing.empty() ? name : name / missing;
     existing = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
   }
   std::error_code ec;
   const fs::path dir = fs::canonical(existing, ec);
-  if (ec) throw CliError(what + ": directory '" + existing.string() + "': " + ec.message());
+  if (ec) throw OutputError(what + ": directory '" + existing.string() + "': " + ec.message());
   return missing.empty() ? dir : dir / missing;
 }
 
@@ -155,8 +163,8 @@ std::vector<fs::path> create_missing_directories(const fs::path& dir, const std:
     if (::mkdir(missing[i].c_str(), 0777) != 0 && errno != EEXIST) {
       const int error = errno;
       for (std::size_t k = i; k-- > 0;) ::rmdir(missing[k].c_str());
-      throw CliError("cannot write '" + shown + "': cannot create directory '" +
-                     missing[i].string() + "' (" + errno_text(error) + ")");
+      throw OutputError("cannot write '" + shown + "': cannot create directory '" +
+                        missing[i].string() + "' (" + errno_text(error) + ")");
     }
   }
   return missing;
@@ -165,7 +173,7 @@ std::vector<fs::path> create_missing_directories(const fs::path& dir, const std:
 OutputTarget stream_target(OutputTarget t, const fs::path& p, const std::string& what) {
   struct stat st {};
   if (::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
-    throw CliError(what + ": is a directory, expected a file path");
+    throw OutputError(what + ": is a directory, expected a file path");
   t.kind = OutputTarget::Kind::kStream;
   t.real = p.string();
   return t;
@@ -183,32 +191,33 @@ void write_all(int fd, const std::string& content, const std::string& path) {
   }
 }
 
-// Whatever the command printed so far, then `content`, on standard output, checked: a full
-// disk, a closed standard output or a broken device is an error, never a silent loss.
-// Through out() (cli/console.hpp): std::cout, which a caller of run() may have pointed
-// elsewhere (the fuzzers do), or the stream an in-process caller gave the command.
-void write_standard_output(const std::string& content) {
+// Whatever the caller printed so far, then `content`, on its standard output, checked: a full
+// disk, a closed standard output or a broken device is an error, never a silent loss. The
+// program's is its out() (cli/console.hpp): std::cout, which a caller of run() may have
+// pointed elsewhere (the fuzzers do), or the stream an in-process caller gave the command.
+void write_standard_output(const StandardOutput& standard_output, const std::string& content) {
   errno = 0;
-  std::ostream& stream = out();
+  std::ostream& stream = standard_output.stream();
   stream << content;
   stream.flush();
   bool failed = !stream;
   // What anything else in the process wrote on stdio's stdout comes before the files too.
-  const bool process = out_is_process_stdout();
+  const bool process = standard_output.is_process_stdout();
   if (process) failed = std::fflush(stdout) != 0 || failed;
   const int error = errno;
   if (failed || (process && std::ferror(stdout))) {
     stream.clear();
     if (process) std::clearerr(stdout);
-    throw CliError("cannot write standard output" +
-                   (error != 0 ? ": " + errno_text(error) : std::string()));
+    throw OutputError("cannot write standard output" +
+                      (error != 0 ? ": " + errno_text(error) : std::string()));
   }
 }
 
 // A character device or FIFO: no temporary file, no rename. O_APPEND so that a /dev/stdout
 // redirected to a file continues after what was printed before instead of overwriting it.
-void write_stream(const OutputTarget& t, const std::string& content) {
-  write_standard_output("");  // what was printed before comes first
+void write_stream(const OutputTarget& t, const std::string& content,
+                  const StandardOutput& standard_output) {
+  write_standard_output(standard_output, "");  // what was printed before comes first
   const int fd = ::open(t.real.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd < 0) fail_errno(t.path, errno);
   try {
@@ -227,8 +236,8 @@ void write_new_file(const std::string& path, const std::string& content, bool se
   // 0666 minus the umask, as for any new file; an existing file's bits are copied below.
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0)
-    throw CliError("cannot write '" + shown + "': cannot create a file in its directory (" +
-                   errno_text(errno) + ")");
+    throw OutputError("cannot write '" + shown + "': cannot create a file in its directory (" +
+                      errno_text(errno) + ")");
   write_step();
   try {
     if (set_permissions && ::fchmod(fd, static_cast<mode_t>(permissions)) != 0)
@@ -320,15 +329,6 @@ void pause_between_renames() {
 
 }  // namespace
 
-void write_step() {
-  static const long kill_at = [] {
-    const char* text = std::getenv("KINCAL_TEST_KILL_AT_WRITE_STEP");
-    return text ? std::atol(text) : 0L;
-  }();
-  static long step = 0;
-  if (kill_at > 0 && ++step == kill_at) std::raise(SIGKILL);
-}
-
 OutputTarget resolve_output(const std::string& path, const std::string& what) {
   OutputTarget t;
   t.path = path;
@@ -337,32 +337,32 @@ OutputTarget resolve_output(const std::string& path, const std::string& what) {
     return t;
   }
   fs::path p(path);
-  if (path.empty()) throw CliError(what + ": empty path, expected a file path");
+  if (path.empty()) throw OutputError(what + ": empty path, expected a file path");
   for (int links = 0; links <= 40; ++links) {
     const fs::path name = p.filename();
     if (name.empty() || name == "." || name == "..")
-      throw CliError(what + ": names a directory, expected a file path");
+      throw OutputError(what + ": names a directory, expected a file path");
     p = real_directory(p, what) / name;
     if (under_proc(p)) return stream_target(t, p, what);
     struct stat st {};
     if (::lstat(p.c_str(), &st) != 0) {
-      if (errno != ENOENT) throw CliError(what + ": " + errno_text(errno));
+      if (errno != ENOENT) throw OutputError(what + ": " + errno_text(errno));
       t.real = p.string();  // a new file
       return t;
     }
     if (S_ISLNK(st.st_mode)) {
       std::error_code ec;
       const fs::path link = fs::read_symlink(p, ec);
-      if (ec) throw CliError(what + ": " + ec.message());
+      if (ec) throw OutputError(what + ": " + ec.message());
       p = link.is_absolute() ? link : p.parent_path() / link;
       continue;
     }
-    if (S_ISDIR(st.st_mode)) throw CliError(what + ": is a directory, expected a file path");
+    if (S_ISDIR(st.st_mode)) throw OutputError(what + ": is a directory, expected a file path");
     if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) return stream_target(t, p, what);
     if (!S_ISREG(st.st_mode))
-      throw CliError(what + ": is a special file (" +
-                     (S_ISBLK(st.st_mode) ? "block device" : "socket") +
-                     "), expected a regular file path");
+      throw OutputError(what + ": is a special file (" +
+                        (S_ISBLK(st.st_mode) ? "block device" : "socket") +
+                        "), expected a regular file path");
     t.real = p.string();
     t.exists = true;
     t.permissions = st.st_mode & 07777;
@@ -370,7 +370,7 @@ OutputTarget resolve_output(const std::string& path, const std::string& what) {
     t.writable = (st.st_mode & 0222) != 0 && (::getuid() == 0 || ::access(p.c_str(), W_OK) == 0);
     return t;
   }
-  throw CliError(what + ": too many levels of symbolic links");
+  throw OutputError(what + ": too many levels of symbolic links");
 }
 
 std::pair<std::string, std::string> split_at_existing_directory(const std::string& real) {
@@ -382,12 +382,12 @@ std::pair<std::string, std::string> split_at_existing_directory(const std::strin
 void check_replaceable(const OutputTarget& target, const std::string& what) {
   if (!target.exists) return;
   if (!target.writable)
-    throw CliError(what + ": is read-only (mode " + octal_mode(target.permissions) +
-                   "); make it writable or choose another output");
+    throw OutputError(what + ": is read-only (mode " + octal_mode(target.permissions) +
+                      "); make it writable or choose another output");
   if (target.links > 1)
-    throw CliError(what + ": has " + std::to_string(target.links) +
-                   " names (hard links); replacing it would leave the other names with the "
-                   "old content; expected a file with one name");
+    throw OutputError(what + ": has " + std::to_string(target.links) +
+                      " names (hard links); replacing it would leave the other names with the "
+                      "old content; expected a file with one name");
 }
 
 void check_can_create_beside(const OutputTarget& target, const std::string& what) {
@@ -399,8 +399,8 @@ void check_can_create_beside(const OutputTarget& target, const std::string& what
     const fs::path dir = nearest_existing_directory(parent);
     const std::string probe = (dir / temporary_name("write-check")).string();
     if (::mkdir(probe.c_str(), 0700) != 0)
-      throw CliError(what + ": cannot create directory '" + parent.string() + "' (" +
-                     errno_text(errno) + " in '" + dir.string() + "')");
+      throw OutputError(what + ": cannot create directory '" + parent.string() + "' (" +
+                        errno_text(errno) + " in '" + dir.string() + "')");
     ::rmdir(probe.c_str());
     return;
   }
@@ -409,13 +409,14 @@ void check_can_create_beside(const OutputTarget& target, const std::string& what
   const std::string probe = (dir / temporary_name("write-check")).string();
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0)
-    throw CliError(what + ": cannot create a file in '" + dir.string() + "' (" + errno_text(errno) +
-                   ")");
+    throw OutputError(what + ": cannot create a file in '" + dir.string() + "' (" +
+                      errno_text(errno) + ")");
   ::close(fd);
   ::unlink(probe.c_str());
 }
 
-void write_files_atomically(const std::vector<OutputFile>& files) {
+void write_files_atomically(const std::vector<OutputFile>& files,
+                            const StandardOutput& standard_output) {
   std::vector<OutputTarget> targets;
   for (const auto& f : files) {
     targets.push_back(resolve_output(f.path, "cannot write '" + f.path + "'"));
@@ -452,12 +453,12 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
     // Phase 2: what cannot be replaced, written before anything is: standard output (what
     // the command printed and any output "-") and the devices and FIFOs. A failure there
     // leaves every file as it was, so exit 2 always means "nothing replaced".
-    write_standard_output("");
+    write_standard_output(standard_output, "");
     for (std::size_t i = 0; i < files.size(); ++i) {
       if (targets[i].kind == OutputTarget::Kind::kStdout)
-        write_standard_output(files[i].content);
+        write_standard_output(standard_output, files[i].content);
       else if (targets[i].kind == OutputTarget::Kind::kStream)
-        write_stream(targets[i], files[i].content);
+        write_stream(targets[i], files[i].content, standard_output);
     }
   } catch (...) {
     remove_temps();
@@ -487,7 +488,9 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
   }
 }
 
-void check_standard_output() { write_standard_output(""); }
+void check_standard_output(const StandardOutput& standard_output) {
+  write_standard_output(standard_output, "");
+}
 
 // ---- a directory replaced whole --------------------------------------------------------
 
@@ -495,33 +498,33 @@ DirectoryTarget resolve_output_directory(const std::string& path, const std::str
                                          const std::vector<std::string>& owned) {
   DirectoryTarget t;
   t.path = path;
-  if (path.empty()) throw CliError(what + ": empty path, expected a directory");
+  if (path.empty()) throw OutputError(what + ": empty path, expected a directory");
   std::error_code ec;
   const fs::path absolute = fs::absolute(path, ec);
-  if (ec) throw CliError(what + ": " + ec.message());
+  if (ec) throw OutputError(what + ": " + ec.message());
   // Resolve what exists; the rest (a new directory and maybe new parents) is appended.
   fs::path real = fs::weakly_canonical(absolute, ec);
-  if (ec) throw CliError(what + ": " + ec.message());
+  if (ec) throw OutputError(what + ": " + ec.message());
   if (real.filename().empty()) real = real.parent_path();  // "new/" when "new" does not exist
   t.real = real.string();
   if (!real.has_parent_path() || real == real.root_path())
-    throw CliError(what + ": is the root directory; expected a directory of its own");
+    throw OutputError(what + ": is the root directory; expected a directory of its own");
   const fs::path cwd = fs::current_path(ec);
   if (!ec) {
     const auto [mismatch, unused] = std::mismatch(real.begin(), real.end(), cwd.begin(), cwd.end());
     if (mismatch == real.end())
-      throw CliError(what +
-                     ": is the current directory or one of its parents; reproduce "
-                     "replaces the whole directory, expected a directory of its own");
+      throw OutputError(what +
+                        ": is the current directory or one of its parents; reproduce "
+                        "replaces the whole directory, expected a directory of its own");
   }
   struct stat st {};
   if (::lstat(real.c_str(), &st) == 0) {
-    if (!S_ISDIR(st.st_mode)) throw CliError(what + ": exists and is not a directory");
+    if (!S_ISDIR(st.st_mode)) throw OutputError(what + ": exists and is not a directory");
     struct stat parent {};
     if (::stat(real.parent_path().c_str(), &parent) == 0 && parent.st_dev != st.st_dev)
-      throw CliError(what +
-                     ": is a mount point, which cannot be replaced; expected a "
-                     "directory inside it");
+      throw OutputError(what +
+                        ": is a mount point, which cannot be replaced; expected a "
+                        "directory inside it");
     for (const auto& entry : fs::directory_iterator(real, ec)) {
       const std::string name = entry.path().filename().string();
       bool known = false;
@@ -529,13 +532,13 @@ DirectoryTarget resolve_output_directory(const std::string& path, const std::str
       if (!known || !entry.is_regular_file(ec) || entry.is_symlink(ec)) {
         std::string list;
         for (const auto& o : owned) list += (list.empty() ? "" : ", ") + o;
-        throw CliError(what + ": holds '" + name + "', which is not one of the files this " +
-                       "command writes (" + list +
-                       "); the whole directory is replaced, so expected a new directory or "
-                       "one that only this command wrote");
+        throw OutputError(what + ": holds '" + name + "', which is not one of the files this " +
+                          "command writes (" + list +
+                          "); the whole directory is replaced, so expected a new directory or "
+                          "one that only this command wrote");
       }
     }
-    if (ec) throw CliError(what + ": cannot list it (" + ec.message() + ")");
+    if (ec) throw OutputError(what + ": cannot list it (" + ec.message() + ")");
     t.exists = true;
     t.permissions = st.st_mode & 07777;
   }
@@ -544,11 +547,12 @@ DirectoryTarget resolve_output_directory(const std::string& path, const std::str
   while (::stat(parent.c_str(), &st) != 0 && parent.has_parent_path() &&
          parent != parent.root_path())
     parent = parent.parent_path();
-  if (!S_ISDIR(st.st_mode)) throw CliError(what + ": '" + parent.string() + "' is not a directory");
+  if (!S_ISDIR(st.st_mode))
+    throw OutputError(what + ": '" + parent.string() + "' is not a directory");
   const std::string probe = (parent / temporary_name("write-check")).string();
   if (::mkdir(probe.c_str(), 0700) != 0)
-    throw CliError(what + ": cannot create a directory in '" + parent.string() + "' (" +
-                   errno_text(errno) + ")");
+    throw OutputError(what + ": cannot create a directory in '" + parent.string() + "' (" +
+                      errno_text(errno) + ")");
   ::rmdir(probe.c_str());
   return t;
 }
@@ -566,8 +570,8 @@ void write_directory_atomically(const DirectoryTarget& target,
   if (::mkdir(temp.c_str(), static_cast<mode_t>(target.exists ? 0700 : 0777)) != 0) {
     const int error = errno;
     remove_created();
-    throw CliError("cannot write '" + target.path + "': cannot create a directory beside it (" +
-                   errno_text(error) + ")");
+    throw OutputError("cannot write '" + target.path + "': cannot create a directory beside it (" +
+                      errno_text(error) + ")");
   }
   write_step();
   try {
@@ -584,9 +588,9 @@ void write_directory_atomically(const DirectoryTarget& target,
     if (swapped != 0) {
       const int error = errno;
       if (error == EINVAL && target.exists)
-        throw CliError("cannot write '" + target.path +
-                       "': this file system cannot swap directories atomically (no "
-                       "RENAME_EXCHANGE); remove the old directory first or choose another");
+        throw OutputError("cannot write '" + target.path +
+                          "': this file system cannot swap directories atomically (no "
+                          "RENAME_EXCHANGE); remove the old directory first or choose another");
       fail_errno(target.path, error);
     }
   } catch (...) {
@@ -609,4 +613,4 @@ void write_directory_atomically(const DirectoryTarget& target,
   }
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

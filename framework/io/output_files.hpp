@@ -1,19 +1,32 @@
 #pragma once
-// How the commands write files: through temporary files (and, for a directory, a temporary
-// directory) beside the target, flushed to disk and renamed into place. Commands do not call
-// these directly but through OutputPlan (output_plan.hpp), which first checks that no output
-// is an input or another output. docs/reliability.md states what holds after a crash.
+// How kincal writes files, for the program and the Python module alike: through temporary
+// files (and, for a directory, a temporary directory) beside the target, flushed to disk and
+// renamed into place. The program's commands do not call these directly but through
+// OutputPlan (output_plan.hpp), which first checks that no output is an input or another
+// output. docs/reliability.md states what holds after a crash.
 //
 // Temporary names are ".<target name>.kincal-tmp-<pid>-<random>", in the target's
 // directory. A write first removes such names whose process no longer runs (a write killed
 // half-way), so they do not pile up.
 
 #include <sys/types.h>
+
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace kincal::cli {
+#include "kincal/framework/io/standard_output.hpp"
+
+namespace kincal {
+
+/// An output that cannot be written, or may not be: one line naming it and why ("--out
+/// 'C.json': is a directory, expected a file path"). The program exits with 2 on it, as on
+/// any bad input; Python raises a ValueError.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// Where an output path really leads. Symbolic links are followed, so a link to a file
 /// writes that file and stays a link.
@@ -35,19 +48,19 @@ struct OutputTarget {
 };
 
 /// Resolves `path`. A missing directory on the way is fine: it is created (with its missing
-/// parents) when the file is written, as for every output. Throws CliError "<what>: <reason>"
+/// parents) when the file is written, as for every output. Throws OutputError "<what>: <reason>"
 /// when it names a directory, another kind of special file (block device, socket), a path
 /// through a file or a broken symbolic link, or a symlink loop;
 /// `what` names the path in the message (e.g. "--out 'C.json'" or "cannot write 'C.json'").
 OutputTarget resolve_output(const std::string& path, const std::string& what);
 
-/// Throws CliError "<what>: is read-only ..." or "<what>: has N names (hard links) ..." when
+/// Throws OutputError "<what>: is read-only ..." or "<what>: has N names (hard links) ..." when
 /// `target` is an existing file kincal does not replace: one its owner made read-only (a
 /// rename would replace it regardless), or one with several names (a rename would give the
 /// new content to this name only). docs/reliability.md.
 void check_replaceable(const OutputTarget& target, const std::string& what);
 
-/// Throws CliError "<what>: cannot create a file in '<dir>' (...)" when a new file cannot be
+/// Throws OutputError "<what>: cannot create a file in '<dir>' (...)" when a new file cannot be
 /// created beside `target` (a read-only directory), or its missing directory cannot be
 /// created: checked before long work.
 void check_can_create_beside(const OutputTarget& target, const std::string& what);
@@ -75,12 +88,13 @@ struct OutputFile {
 /// refused by resolve_output. The renames hold an exclusive flock on each target directory
 /// (taken in a fixed order, released at the end): two kincal processes writing the same files
 /// rename their sets one after the other, so the files left all come from one of them.
-/// Throws CliError "cannot write '<path>': <reason>".
-void write_files_atomically(const std::vector<OutputFile>& files);
+/// Standard output is `standard_output`. Throws OutputError "cannot write '<path>': <reason>".
+void write_files_atomically(const std::vector<OutputFile>& files,
+                            const StandardOutput& standard_output);
 
-/// Flushes what the command printed on standard output and throws CliError "cannot write
+/// Flushes what the caller printed on `standard_output` and throws OutputError "cannot write
 /// standard output: <reason>" when it could not be written (a full disk, a closed stream).
-void check_standard_output();
+void check_standard_output(const StandardOutput& standard_output);
 
 /// A directory that a command owns and replaces whole (reproduce --out).
 struct DirectoryTarget {
@@ -91,7 +105,7 @@ struct DirectoryTarget {
 };
 
 /// Resolves `path` as a directory that may hold only the files named in `owned` (and is
-/// replaced whole): throws CliError "<what>: <reason>" when it is not a directory, holds
+/// replaced whole): throws OutputError "<what>: <reason>" when it is not a directory, holds
 /// anything else, is the current directory or one of its parents, or is a mount point.
 /// A missing directory is fine (its parents are created when written); its nearest
 /// existing parent must allow creating a directory.
@@ -106,14 +120,12 @@ DirectoryTarget resolve_output_directory(const std::string& path, const std::str
 void write_directory_atomically(const DirectoryTarget& target,
                                 const std::vector<OutputFile>& files);
 
-/// Test hook for the concurrency test (tests/cli/audit3/plugins.sh): with
-/// KINCAL_TEST_PAUSE_BETWEEN_RENAMES_MS=N in the environment, write_files_atomically sleeps N
-/// milliseconds (at most 10 s) between two renames, a window in which another process may
-/// write the same files. Without it, nothing happens.
-///
-/// Test hook for the crash tests: with KINCAL_TEST_KILL_AT_WRITE_STEP=N in the environment,
-/// the process kills itself with SIGKILL at the N-th step of writing files (each creation,
-/// write, flush, rename and removal is a step). Without it, nothing happens.
-void write_step();
+// Two test hooks, read from the environment (without them, nothing happens):
+// - KINCAL_TEST_PAUSE_BETWEEN_RENAMES_MS=N: write_files_atomically sleeps N milliseconds (at
+//   most 10 s) between two renames, a window in which another process may write the same
+//   files (the concurrency test, tests/cli/audit3/plugins.sh);
+// - KINCAL_TEST_KILL_AT_WRITE_STEP=N: the process kills itself with SIGKILL at the N-th step
+//   of writing files, each creation, write, flush, rename and removal being a step (the
+//   crash tests, tests/cli/crash_test.cpp).
 
-}  // namespace kincal::cli
+}  // namespace kincal

@@ -1,4 +1,4 @@
-#include "kincal/cli/output_plan.hpp"
+#include "kincal/framework/io/output_plan.hpp"
 
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
@@ -8,12 +8,10 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "kincal/cli/commands.hpp"
-#include "kincal/cli/console.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/kinematics/names.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -29,7 +27,7 @@ struct Identity {
     kNewName,  // a file to be created: its directory's device + inode, and its name
     kNull,     // the null device: writing it twice or reading it loses nothing
     kStdout,   // standard output when it is no file to compare: closed, or a stream of the
-               // caller's (cli/console.hpp), which no file named by the command can be
+               // caller's (StandardOutput), which no file named by the caller can be
   };
   Kind kind = Kind::kNone;
   dev_t dev = 0;
@@ -54,8 +52,8 @@ Identity identity_of(const struct stat& st) {
   return id;
 }
 
-Identity stdout_identity() {
-  if (!out_is_process_stdout()) return {Identity::Kind::kStdout, 0, 0, {}};
+Identity stdout_identity(const StandardOutput& standard_output) {
+  if (!standard_output.is_process_stdout()) return {Identity::Kind::kStdout, 0, 0, {}};
   struct stat st {};
   if (::fstat(STDOUT_FILENO, &st) != 0) return {Identity::Kind::kStdout, 0, 0, {}};
   return identity_of(st);
@@ -68,8 +66,8 @@ Identity existing_identity(const std::string& path) {
   return identity_of(st);
 }
 
-Identity output_identity(const OutputTarget& t) {
-  if (t.kind == OutputTarget::Kind::kStdout) return stdout_identity();
+Identity output_identity(const OutputTarget& t, const StandardOutput& standard_output) {
+  if (t.kind == OutputTarget::Kind::kStdout) return stdout_identity(standard_output);
   if (t.kind == OutputTarget::Kind::kStream || t.exists) return existing_identity(t.real);
   // A new file, maybe in directories still to be created: the nearest existing directory
   // and the path below it.
@@ -117,9 +115,10 @@ void OutputPlan::check() {
         (e.is_output && (e.label == "--json" || e.label == "--report" || e.label == "--html"));
   for (const Entry& e : entries_)
     if (names_files && !is_valid_utf8(e.path))
-      throw CliError(e.label + ": the file name is not valid UTF-8 ('" + message_excerpt(e.path) +
-                     "'); kincal's reports name their files in JSON, so expected a UTF-8 name "
-                     "(rename the file)");
+      throw OutputError(e.label + ": the file name is not valid UTF-8 ('" +
+                        message_excerpt(e.path) +
+                        "'); kincal's reports name their files in JSON, so expected a UTF-8 name "
+                        "(rename the file)");
   // Every output must be writable where it is.
   std::vector<Identity> ids(entries_.size());
   std::vector<std::string> reals(entries_.size());  // absolute, links resolved; "" if none
@@ -142,7 +141,7 @@ void OutputPlan::check() {
       const OutputTarget t = resolve_output(e.path, what);
       check_can_create_beside(t, what);
       targets[i] = t;
-      ids[i] = output_identity(t);
+      ids[i] = output_identity(t, *standard_output_);
       if (t.kind == OutputTarget::Kind::kFile) reals[i] = t.real;
     } else {
       ids[i] = existing_identity(e.path);
@@ -151,12 +150,12 @@ void OutputPlan::check() {
     }
   }
   // Then no output may be an input or another output.
-  const Identity out = stdout_identity();
+  const Identity out = stdout_identity(*standard_output_);
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     const Entry& a = entries_[i];
     if (!a.is_output && ids[i].collides_with(out))
-      throw CliError("standard output goes to " + quoted(a.label, a.path) +
-                     ", an input; kincal prints there, expected standard output elsewhere");
+      throw OutputError("standard output goes to " + quoted(a.label, a.path) +
+                        ", an input; kincal prints there, expected standard output elsewhere");
     for (std::size_t j = 0; j < i; ++j) {
       const Entry& b = entries_[j];
       if (!a.is_output && !b.is_output) continue;
@@ -168,14 +167,14 @@ void OutputPlan::check() {
                           is_inside(reals[inner], reals[dir]);
       if (!same && !inside) continue;
       if (other.is_output)
-        throw CliError(quoted(b.label, b.path) + " and " + quoted(a.label, a.path) +
-                       (same ? " are the same file" : " lie one inside the other") +
-                       "; expected two different files");
-      throw CliError(quoted(output.label, output.path) +
-                     (same ? " is the same file as " : " contains ") +
-                     quoted(other.label, other.path) +
-                     ", an input; expected an output that is not an input (writing it would "
-                     "destroy the input)");
+        throw OutputError(quoted(b.label, b.path) + " and " + quoted(a.label, a.path) +
+                          (same ? " are the same file" : " lie one inside the other") +
+                          "; expected two different files");
+      throw OutputError(quoted(output.label, output.path) +
+                        (same ? " is the same file as " : " contains ") +
+                        quoted(other.label, other.path) +
+                        ", an input; expected an output that is not an input (writing it would "
+                        "destroy the input)");
     }
   }
   // Last, so that a collision is named as such: an existing output kincal does not replace.
@@ -191,7 +190,7 @@ bool OutputPlan::to_stdout(const std::string& label) const {
   if (e.path == "-") return true;
   const OutputTarget t = resolve_output(e.path, e.label + " '" + e.path + "'");
   if (t.kind != OutputTarget::Kind::kStream) return false;
-  const Identity id = existing_identity(t.real), out = stdout_identity();
+  const Identity id = existing_identity(t.real), out = stdout_identity(*standard_output_);
   return id.kind == out.kind && id.dev == out.dev && id.ino == out.ino;
 }
 
@@ -205,7 +204,7 @@ void OutputPlan::write(const std::vector<std::pair<std::string, std::string>>& c
   if (!checked_) throw std::logic_error("OutputPlan::write before check()");
   std::vector<OutputFile> files;
   for (const auto& [label, content] : contents) files.push_back({find(label, false).path, content});
-  write_files_atomically(files);
+  write_files_atomically(files, *standard_output_);
 }
 
 void OutputPlan::write_directory(
@@ -217,8 +216,8 @@ void OutputPlan::write_directory(
       resolve_output_directory(e.path, "cannot write " + e.label + " '" + e.path + "'", e.files);
   std::vector<OutputFile> out;
   for (const auto& [name, content] : files) out.push_back({name, content});
-  check_standard_output();  // what was printed comes first, as for files
+  check_standard_output(*standard_output_);  // what was printed comes first, as for files
   write_directory_atomically(target, out);
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal

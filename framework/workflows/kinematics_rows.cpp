@@ -1,4 +1,4 @@
-#include "kincal/cli/kinematics_rows.hpp"
+#include "kincal/framework/workflows/kinematics_rows.hpp"
 
 #include <cmath>
 #include <limits>
@@ -7,7 +7,7 @@
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
 
-namespace kincal::cli {
+namespace kincal {
 
 namespace {
 
@@ -150,4 +150,4 @@ nlohmann::ordered_json rows_json(const std::string& format, const std::string& m
           {"units", units},   {"rows", list}, {"failed", failures}};
 }
 
-}  // namespace kincal::cli
+}  // namespace kincal
