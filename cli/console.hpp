@@ -1,9 +1,9 @@
 #pragma once
 // Where a command prints: out() and err(), its standard output and standard error. The
 // program prints on the process's (std::cout, std::cerr); a caller that runs commands
-// in-process (the Python module, python/src/commands.cpp) gives a command streams of its
-// own with a ConsoleScope, so that what the command prints is captured and what other
-// threads print meanwhile (a Python thread's print()) is not mixed into it. Commands print
+// in-process may give a command streams of its own with a ConsoleScope, so that what the
+// command prints is captured and what other threads print meanwhile is not mixed into it
+// (the Python module did; it now calls the library and runs no command). Commands print
 // through these only, never through printf or std::cout directly.
 
 #include <ostream>
