@@ -1,6 +1,8 @@
 // The report layer (framework/report/): pages rendered from typed results built in memory,
 // no program and no JSON in between. Every name from the result is escaped, the findings
-// are the verdict's and the page's at their levels, a degenerate result still gives a page.
+// are the verdict's and the page's at their levels, a degenerate result still gives a page;
+// the validation and design pages of the workflows run on simulated data say what the run
+// found. The calibration page of calibrate runs: report_pages_more_test.cpp.
 
 #include <gtest/gtest.h>
 
