@@ -7,6 +7,7 @@
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/plugin_option.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/workflows/calibrate.hpp"
 
 namespace kincal::cli {
 
@@ -192,6 +193,31 @@ std::function<bool()>& solver_stop_check() {
 }  // namespace
 
 void set_solver_stop_check(std::function<bool()> check) { solver_stop_check() = std::move(check); }
+
+void add_loss_option(po::options_description& options) {
+  options.add_options()(
+      "loss", po::value<std::string>(),
+      "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)");
+}
+
+void reject_loss_as_solver_option(const po::variables_map& vm) {
+  if (vm.count("solver-option"))
+    for (const auto& entry : vm["solver-option"].as<std::vector<std::string>>())
+      if (entry.rfind("loss=", 0) == 0)
+        throw CliError("--solver-option '" + entry + "': give the robust loss as --loss " +
+                       entry.substr(5) +
+                       " (calibrate reports the loss and uses it for the standard deviations)");
+}
+
+void apply_loss_option(const po::variables_map& vm, SolverChoice& choice) {
+  if (!vm.count("loss")) return;
+  try {
+    add_robust_loss(vm["loss"].as<std::string>(), *choice.solver, choice.name, choice.options,
+                    "--loss", "use --solver lm");
+  } catch (const std::invalid_argument& e) {
+    throw CliError(e.what());
+  }
+}
 
 SolverChoice make_solver_choice(const po::variables_map& vm) {
   SolverChoice choice;

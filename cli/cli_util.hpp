@@ -91,6 +91,16 @@ SolverChoice make_solver_choice(const po::variables_map& vm);
 /// --formulation nested|implicit (calibrate, simulate): how the calibration is posed
 /// (framework/calibration/calibration_solve.hpp); without it, default_formulation(model).
 void add_formulation_option(po::options_description& options);
+/// Adds --loss SPEC, a robust loss (calibrate).
+void add_loss_option(po::options_description& options);
+/// A loss given as --solver-option loss=... is a CliError saying to use --loss (the loss is a
+/// setting of every backend, not one backend's own): before make_solver_choice, which would
+/// call it an unknown option.
+void reject_loss_as_solver_option(const po::variables_map& vm);
+/// --loss, parsed and checked against the chosen backend into `choice.options.loss`; a
+/// backend that takes no loss is a CliError.
+void apply_loss_option(const po::variables_map& vm, SolverChoice& choice);
+
 /// The formulation asked for, or the model's default; throws CliError for another value.
 Formulation formulation_choice(const po::variables_map& vm, const MeasurementModel& model);
 

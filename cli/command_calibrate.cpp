@@ -23,28 +23,6 @@ namespace kincal::cli {
 
 namespace {
 
-// The loss is a shared solver setting (SolverOptions::loss), not a backend's: lm's settings
-// would call loss= an unknown option; this says where it goes instead.
-void reject_loss_as_solver_option(const po::variables_map& vm) {
-  if (!vm.count("solver-option")) return;
-  for (const auto& entry : vm["solver-option"].as<std::vector<std::string>>())
-    if (entry.rfind("loss=", 0) == 0)
-      throw CliError("--solver-option '" + entry + "': give the robust loss as --loss " +
-                     entry.substr(5) +
-                     " (calibrate reports the loss and uses it for the standard deviations)");
-}
-
-// --loss, validated against the chosen backend and added to its options.
-void loss_option(const po::variables_map& vm, SolverChoice& choice) {
-  if (!vm.count("loss")) return;
-  try {
-    add_robust_loss(vm["loss"].as<std::string>(), *choice.solver, choice.name, choice.options,
-                    "--loss", "use --solver lm");
-  } catch (const std::invalid_argument& e) {
-    throw CliError(e.what());
-  }
-}
-
 // The files of this run: no output may be an input or the other output. Checked before
 // the data is read, so a typo does not cost a solve.
 OutputPlan plan_files(const po::variables_map& vm) {
@@ -68,8 +46,6 @@ int run_calibrate(const Args& args) {
       "out", po::value<std::string>(), "write the calibrated model (JSON, same schema) to FILE")(
       "html", po::value<std::string>(),
       "write the report for people to FILE: one self-contained HTML page with plots")(
-      "loss", po::value<std::string>(),
-      "robust loss huber:DELTA or cauchy:DELTA (mm) against outliers (lm and ceres)")(
       "skip-bad-rows", po::bool_switch(), "drop rows the model cannot reach instead of failing")(
       "folds", po::value<int>(),
       "K-fold cross-validation (K >= 2): configuration i is held out in fold i mod K, the "
@@ -88,6 +64,7 @@ int run_calibrate(const Args& args) {
                        "replaces the model's reading_std (weighs the readings against each "
                        "other and a prior, and scales the reported uncertainty)");
   add_solver_options(options);
+  add_loss_option(options);
   add_formulation_option(options);
   add_data_size_option(options);
   add_target_option(options);
@@ -113,7 +90,7 @@ int run_calibrate(const Args& args) {
   reject_loss_as_solver_option(vm);
   SolverChoice choice = make_solver_choice(vm);
   choice.options.num_threads = threads_option(vm);
-  loss_option(vm, choice);
+  apply_loss_option(vm, choice);
   const OutputPlan plan = plan_files(vm);
 
   CalibrateRequest request;
@@ -145,7 +122,6 @@ int run_calibrate(const Args& args) {
   request.on_note = [](const std::string& text) { note("calibrate", text); };
   CalibrateResult result = calibrate(request);
   const Summary& summary = result.summary;
-  const CalibrationReport& report = result.report;
   const bool solved = result.solved;
 
   const std::string report_file = json_output(vm);
@@ -158,20 +134,11 @@ int run_calibrate(const Args& args) {
              : std::nullopt;
   // The program's own sections, between the starts and the verdict.
   const std::optional<TargetJudgement> judged =
-      target ? std::optional<TargetJudgement>(
-                   judge_predicted_target(*target, report.predicted_accuracy))
+      target ? std::optional<TargetJudgement>(judge_calibration_target(result, *target))
              : std::nullopt;
   nlohmann::ordered_json extra = nlohmann::ordered_json::object();
   std::string extra_text;
-  if (judged) {
-    extra["target"] = to_json(*judged);
-    if (judged->meets == false)
-      result.verdict.findings.push_back(
-          {"target", Finding::Level::kDoNotLoad,
-           "The calibration does not meet the target: " + judged->verdict + ".",
-           "Measure more, or better chosen, configurations (kincal design --target), or state "
-           "what you know as prior_std."});
-  }
+  if (judged) extra["target"] = to_json(*judged);
   if (sensitivity) {
     extra["sensitivity"] = to_json(*sensitivity);
     extra_text += sensitivity_text(*sensitivity);

@@ -16,62 +16,10 @@
 #include "kincal/framework/io/output_plan.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/problems/mgh_problems.hpp"
+#include "kincal/problems/suite_report.hpp"
 #include "kincal/problems/suite_runner.hpp"
 
 namespace kincal::cli {
-namespace {
-
-using problems::SuiteCaseResult;
-
-void print_problem_list(const std::vector<std::shared_ptr<const problems::TestProblem>>& list) {
-  out() << format_text("%-40s %3s %3s  %-16s %s\n", "problem", "n", "m", "starts",
-                       "published minimum");
-  for (const auto& p : list) {
-    std::string starts;
-    for (const auto& s : problems::suite_starts(*p))
-      starts += (starts.empty() ? "" : ",") + s.label + (s.evaluable ? "" : "(!)");
-    out() << format_text("%-40s %3d %3d  %-16s %.6g\n", p->name().c_str(), p->num_parameters(),
-                         p->num_residuals(), starts.c_str(), p->published_minimum());
-  }
-  out() << format_text(
-      "(!) = not evaluable: the cost overflows there. Costs are 1/2 |r|^2, half the "
-      "paper's f.\n");
-}
-
-nlohmann::json case_json(const SuiteCaseResult& r) {
-  nlohmann::json j = {{"problem", r.problem},
-                      {"start", r.start},
-                      {"n", r.num_parameters},
-                      {"published_minimum", r.published_minimum},
-                      {"evaluable", r.evaluable}};
-  if (!r.evaluable) {
-    j["why_not_evaluable"] = r.why_not_evaluable;
-    return j;
-  }
-  j["termination"] = to_string(r.summary.termination);
-  j["message"] = r.summary.message;
-  j["iterations"] = r.summary.iterations;
-  j["residual_evaluations"] = r.summary.residual_evaluations;
-  j["jacobian_evaluations"] = r.summary.jacobian_evaluations;
-  j["initial_cost"] = r.summary.initial_cost;
-  j["final_cost"] = r.summary.final_cost;
-  j["outcome"] = problems::to_string(r.outcome);
-  j["seconds"] = r.seconds;
-  j["contract"] = {{"ok", r.contract.ok()}, {"violations", r.contract.violations}};
-  return j;
-}
-
-std::string tally_line(const std::string& solver, const problems::SuiteTally& t) {
-  char line[256];
-  std::snprintf(line, sizeof line,
-                "%-34s solved %3d/%d  local %2d  converged %3d  false claims %d  contract "
-                "violations %d  median %.3g ms",
-                solver.c_str(), t.solved, t.cases, t.published_local, t.converged, t.false_claims,
-                t.violations, 1e3 * t.median_seconds);
-  return line;
-}
-
-}  // namespace
 
 int run_solver_suite(const Args& args) {
   po::options_description options("kincal solver-suite");
@@ -92,7 +40,7 @@ int run_solver_suite(const Args& args) {
 
   const auto selected = problems::select_problems(vm["problem"].as<std::string>());
   if (vm.count("list")) {
-    print_problem_list(selected);
+    out() << problems::problem_list_text(selected);
     return 0;
   }
   const auto& registry = SolverRegistry::global();
@@ -180,30 +128,11 @@ int run_solver_suite(const Args& args) {
     const problems::SuiteTally t = problems::tally(results);
     finished += t.cases;
     broken += t.violations;
-    nlohmann::json entry = {{"name", name},
-                            {"cases", t.cases},
-                            {"solved", t.solved},
-                            {"published_local", t.published_local},
-                            {"converged", t.converged},
-                            {"false_claims", t.false_claims},
-                            {"contract_violations", t.violations},
-                            {"median_seconds", t.median_seconds},
-                            {"results", nlohmann::json::array()}};
-    for (const auto& r : results) {
-      entry["results"].push_back(case_json(r));
-      if (vm.count("verbose") && r.evaluable)
-        text << "  " << name << " " << r.problem << " from " << r.start << ": "
-             << to_string(r.summary.termination) << ", cost " << r.summary.final_cost << " ("
-             << problems::to_string(r.outcome) << ")"
-             << (r.contract.ok() ? "" : " CONTRACT BROKEN: " + r.contract.report()) << "\n";
-      else if (!r.contract.ok())
-        text << "  " << name << " " << r.problem << " from " << r.start
-             << ": CONTRACT BROKEN: " << r.contract.report() << "\n";
-    }
+    out["solvers"].push_back(problems::suite_json(name, t, results));
+    for (const auto& r : results) text << problems::case_line(name, r, vm.count("verbose") > 0);
     progress.finish();
-    text << tally_line(name, t) << (t.cases < runs_per_solver ? " (PARTIAL: interrupted)" : "")
-         << "\n";
-    out["solvers"].push_back(entry);
+    text << problems::tally_line(name, t)
+         << (t.cases < runs_per_solver ? " (PARTIAL: interrupted)" : "") << "\n";
   }
   out["partial"] = partial;
   if (!vm.count("solver")) {

@@ -59,8 +59,9 @@ void Solver::check_options(const SolverOptions& options) const {
     // typeid of the objects: the dynamic types (settings of a backend that takes none are
     // NoBackendSettings).
     const BackendSettings& given = *options.backend;
-    const std::unique_ptr<BackendSettings> own = default_settings();
-    if (typeid(given) != typeid(*own))
+    const std::unique_ptr<BackendSettings> own_settings = default_settings();
+    const BackendSettings& own = *own_settings;
+    if (typeid(given) != typeid(own))
       throw InvalidSolverOptions(name() + ": the backend settings given are another solver's");
     const std::string error = given.validity_error();
     if (!error.empty()) throw InvalidSolverOptions(name() + ": " + error);

@@ -223,4 +223,15 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
   return result;
 }
 
+TargetJudgement judge_calibration_target(CalibrateResult& result, const TargetAccuracy& target) {
+  TargetJudgement judged = judge_predicted_target(target, result.report.predicted_accuracy);
+  if (judged.meets == false)
+    result.verdict.findings.push_back(
+        {"target", Finding::Level::kDoNotLoad,
+         "The calibration does not meet the target: " + judged.verdict + ".",
+         "Measure more, or better chosen, configurations (kincal design --target), or state "
+         "what you know as prior_std."});
+  return judged;
+}
+
 }  // namespace kincal

@@ -28,6 +28,7 @@
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/analysis/calibration_verdict.hpp"
 #include "kincal/framework/analysis/identifiability_check.hpp"
+#include "kincal/framework/analysis/target_accuracy.hpp"
 #include "kincal/framework/calibration/calibration_solve.hpp"
 #include "kincal/framework/calibration/measurement_loading.hpp"
 #include "kincal/framework/calibration/multi_start.hpp"
@@ -99,6 +100,11 @@ bool check_calibration_model(const MeasurementModel& model, const RobustLoss& lo
 /// <remedy>" for a backend without one. `option` is how the face names it ("--loss", "loss").
 void add_robust_loss(const std::string& text, const Solver& solver, const std::string& solver_name,
                      SolverOptions& options, const std::string& option, const std::string& remedy);
+
+/// `target` judged against the calibration's predicted pose error (judge_predicted_target);
+/// a target the calibration does not meet adds a do-not-load finding to `result.verdict`, so
+/// that every report and the program's exit code say so.
+TargetJudgement judge_calibration_target(CalibrateResult& result, const TargetAccuracy& target);
 
 /// Runs the calibrate workflow (see the file's comment). Throws std::invalid_argument for a
 /// request that cannot be solved: no free parameter, fewer readings than free parameters,

@@ -61,6 +61,24 @@ def test_bad_solver_options_are_value_errors():
         kincal.solve(rosenbrock(), np.zeros(3))
 
 
+def test_a_robust_loss_is_its_own_keyword():
+    # A gross outlier in the last residual: Huber bounds its pull, the plain fit follows it.
+    def residuals(x):
+        return np.array([x[0] - 1.0, x[0] - 1.1, x[0] - 0.9, x[0] - 50.0])
+
+    def jacobian(x):
+        return np.ones((4, 1))
+
+    problem = kincal.LeastSquaresProblem(residuals, jacobian, 1, 4, ["a"])
+    plain = kincal.solve(problem, np.zeros(1), "lm")
+    robust = kincal.solve(problem, np.zeros(1), "lm", loss="huber:0.5")
+    assert plain.x[0] > 12 and abs(robust.x[0] - 1.0) < abs(plain.x[0] - 1.0) / 10
+    with pytest.raises(ValueError, match="no robust loss"):
+        kincal.solve(problem, np.zeros(1), "gn", loss="huber:0.5")
+    with pytest.raises(ValueError, match="unknown option 'loss'"):
+        kincal.solve(problem, np.zeros(1), "lm", options={"loss": "huber:0.5"})
+
+
 def test_solvers_lists_the_backends():
     names = kincal.solvers()
     assert "gn" in names and "lm" in names

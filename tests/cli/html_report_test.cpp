@@ -1,70 +1,27 @@
 // The pages for people through the program (framework/report/ renders them; its own tests are
-// tests/framework/report_pages_test.cpp): the SVG helper escapes and is well formed,
-// calibrate, validate and design --html write well-formed pages. The rendering in a real
+// tests/framework/report_pages_test.cpp and report_pages_more_test.cpp): the SVG helper
+// escapes and is well formed, calibrate, validate and design --html write well-formed pages
+// that say what their JSON says. The rendering in a real
 // browser is tests/cli/html_report_browser_test.sh (ctest html_report_renders_in_chromium).
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "kincal/framework/report/html_page.hpp"
 #include "kincal/framework/report/svg_plot.hpp"
+#include "markup_check.hpp"
 
 namespace kincal {
 namespace {
 
 using Json = nlohmann::ordered_json;
+using kincal::testing::markup_problem;
 using kincal::testing::read_text;
 using kincal::testing::run_cli;
 using kincal::testing::TempDir;
-
-// A strict reader of the markup we write: every element closed in order (or self-closed,
-// or a void HTML element), attribute values quoted, '&' only as an entity, no '<' in text.
-// Returns "" when well-formed, else what is wrong and where.
-std::string markup_problem(const std::string& s) {
-  static const std::vector<std::string> kVoid = {"meta", "br", "hr", "img", "link", "input"};
-  std::vector<std::string> open;
-  std::size_t i = 0;
-  if (s.rfind("<!DOCTYPE html>", 0) == 0) i = s.find('>') + 1;
-  while (i < s.size()) {
-    const char c = s[i];
-    if (c == '&') {
-      static const std::regex entity("^&(amp|lt|gt|quot|#[0-9]+);");
-      if (!std::regex_search(s.substr(i, 10), entity)) return "bare & at " + std::to_string(i);
-      ++i;
-      continue;
-    }
-    if (c == '>') return "bare > at " + std::to_string(i);
-    if (c != '<') {
-      ++i;
-      continue;
-    }
-    const std::size_t end = s.find('>', i);
-    if (end == std::string::npos) return "unclosed tag at " + std::to_string(i);
-    std::string tag = s.substr(i + 1, end - i - 1);
-    if (tag.find('<') != std::string::npos) return "< inside a tag at " + std::to_string(i);
-    i = end + 1;
-    if (tag.rfind("?xml", 0) == 0 || tag.rfind("!--", 0) == 0) continue;
-    if (tag[0] == '/') {
-      const std::string name = tag.substr(1);
-      if (open.empty() || open.back() != name)
-        return "</" + name + "> closes <" + (open.empty() ? "" : open.back()) + ">";
-      open.pop_back();
-      continue;
-    }
-    const bool self_closed = tag.back() == '/';
-    if (self_closed) tag.pop_back();
-    const std::string name = tag.substr(0, tag.find_first_of(" \n"));
-    // Attributes: name="value" with no quote inside the value.
-    static const std::regex attrs(R"re(^[a-zA-Z0-9:-]+(\s+[a-zA-Z0-9:-]+="[^"]*")*\s*$)re");
-    if (!std::regex_match(tag, attrs)) return "malformed tag <" + tag.substr(0, 80) + ">";
-    if (!self_closed && std::find(kVoid.begin(), kVoid.end(), name) == kVoid.end())
-      open.push_back(name);
-  }
-  return open.empty() ? "" : "<" + open.back() + "> never closed";
-}
 
 TEST(SvgPlot, EscapesAndIsWellFormed) {
   EXPECT_EQ(report::xml_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&#39;");
@@ -113,8 +70,9 @@ TEST(HtmlReport, CalibrateWritesItNextToTheJsonReport) {
   EXPECT_EQ(to_stdout.out.rfind("<!DOCTYPE html>", 0), 0u);
 }
 
-// validate --html and design --html: well-formed pages beside the JSON.
-TEST(HtmlPages, ValidateAndDesignWriteTheirPages) {
+// validate --html and design --html: well-formed pages beside the JSON, saying what it says
+// (the same result rendered twice: its verdict and figures, in words).
+TEST(HtmlPages, ValidateAndDesignWriteThePageOfTheirResult) {
   TempDir dir("html-pages");
   const std::string m = dir / "m.json", d = dir / "d.csv", c = dir / "c.json", r = dir / "r.json";
   ASSERT_EQ(run_cli("model --out " + m).exit_code, 0);
@@ -122,18 +80,51 @@ TEST(HtmlPages, ValidateAndDesignWriteTheirPages) {
   ASSERT_EQ(
       run_cli("calibrate --model " + m + " --data " + d + " --out " + c + " --json " + r).exit_code,
       0);
-  // The calibration data as "held-out" data: the verdict does not matter here, the page does.
+  // The calibration data as "held-out" data: whatever the verdict, the page says the JSON's.
   const std::string vj = dir / "v.json", vh = dir / "v.html";
   const auto v = run_cli("validate --model " + c + " --data " + d + " --report " + r + " --json " +
                          vj + " --html " + vh);
   ASSERT_NE(v.exit_code, 2) << v.err;
-  EXPECT_EQ(markup_problem(read_text(vh)), "");
+  const std::string validation = read_text(vh);
+  EXPECT_EQ(markup_problem(validation), "");
+  const Json vjson = Json::parse(read_text(vj));
+  const std::string verdict = vjson["verdict"];
+  const std::string said = verdict == "consistent" ? "are what the calibration predicts"
+                           : verdict == "larger_than_predicted" ? "are larger than predicted"
+                                                                : "are smaller than predicted";
+  EXPECT_NE(validation.find("The held-out residuals " + said + ": standardized RMS " +
+                            report::fmt(vjson["standardized_rms"].get<double>(), 3) +
+                            " (1 = as predicted), P(larger) " +
+                            report::fmt(vjson["p_larger"].get<double>(), 3)),
+            std::string::npos)
+      << verdict;
+  EXPECT_NE(validation.find("<th class=\"name\">configurations</th><td class=\"name\">" +
+                            std::to_string(vjson["configurations"].get<int>()) + " (" +
+                            std::to_string(vjson["readings"].get<int>()) + " readings)</td>"),
+            std::string::npos);
+
+  // design --bound: the gain over a random design and the bound's figures, in sentences (no
+  // JSON dump in a cell).
   const std::string t = dir / "t.csv", dj = dir / "d.json", dh = dir / "d.html";
   const auto g =
       run_cli("design --model " + m + " --poses 30 --candidates 300 --noise-std 0.0072mm --out " +
-              t + " --json " + dj + " --html " + dh);
+              t + " --json " + dj + " --html " + dh + " --bound");
   ASSERT_EQ(g.exit_code, 0) << g.err;
-  EXPECT_EQ(markup_problem(read_text(dh)), "");
+  const std::string design = read_text(dh);
+  EXPECT_EQ(markup_problem(design), "");
+  const Json djson = Json::parse(read_text(dj));
+  const Json& pose = djson["predicted_pose_error"];
+  const double designed = pose["designed"]["position_rms_mm"],
+               random = pose["random"]["position_rms_mm"];
+  EXPECT_NE(design.find("(" + report::fmt(random / designed, 3) + " times)"), std::string::npos);
+  const Json& bound = djson["exchange"]["bound"];
+  EXPECT_NE(design.find("No design of 30 from these candidates can do more than " +
+                        report::fmt(100 * (bound["std_ratio"].get<double>() - 1), 3) + " % better"),
+            std::string::npos);
+  EXPECT_NE(design.find("no design can pass " + report::fmt(bound["value"].get<double>(), 6)),
+            std::string::npos);
+  EXPECT_EQ(design.find("std_ratio"), std::string::npos);
+  EXPECT_EQ(design.find("&quot;"), std::string::npos);
 }
 
 }  // namespace

@@ -1,16 +1,28 @@
 // The report layer (framework/report/): pages rendered from typed results built in memory,
 // no program and no JSON in between. Every name from the result is escaped, the findings
-// are the verdict's and the page's at their levels, a degenerate result still gives a page.
+// are the verdict's and the page's at their levels, a degenerate result still gives a page;
+// the validation and design pages of the workflows run on simulated data say what the run
+// found. The calibration page of calibrate runs: report_pages_more_test.cpp.
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
+#include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/report/calibration_page.hpp"
+#include "kincal/framework/report/html_page.hpp"
 #include "kincal/framework/report/pages.hpp"
+#include "kincal/framework/workflows/report_prediction.hpp"
+#include "kincal/models/model_io.hpp"
+#include "kincal/models/presets.hpp"
+#include "kincal/models/serial_arm_presets.hpp"
+#include "markup_check.hpp"
 
 namespace kincal {
 namespace {
+
+using kincal::testing::markup_problem;
 
 const std::string kHostile = "<script>alert('x')</script>&\"leg";
 
@@ -138,6 +150,157 @@ TEST(ReportPages, AComparisonPageFromATypedResult) {
   EXPECT_NE(html.find("p&lt;1&gt;"), std::string::npos);
   EXPECT_NE(html.find("off by 0.15 mm on average"), std::string::npos);
   EXPECT_EQ(count(html, "<svg"), 2u);
+}
+
+// The validation page from the validate workflow run in memory: the puma560's point tracker
+// calibrated on 40 simulated configurations, validated on 20 others of the same machine.
+class ValidationPageOfARun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ScenarioOptions options;
+    options.num_configurations = 40;
+    options.noise_half_width = UnitValues{0.01, 0};
+    options.seed = 3;
+    options.num_validation = 20;
+    const Scenario calibration = make_scenario(make_puma560(), options);
+    CalibrateRequest request;
+    request.model = calibration.model;
+    request.measurements.data = calibration.calibration;
+    const CalibrateResult result = calibrate(request);
+    ASSERT_TRUE(result.solved);
+    options.num_configurations = 20;
+    options.seed = 4;
+    options.truth = calibration.truth;
+    held_out_ = new Measurements(make_scenario(make_puma560(), options).calibration);
+    calibrated_ = model_with_values(*calibration.model, result.parameters);
+    prediction_ =
+        new ValidationPrediction(prediction_from_calibration(result.report, *calibrated_));
+    nominal_ = new VectorXd(calibration.nominal);
+  }
+  static void TearDownTestSuite() {
+    delete held_out_;
+    delete prediction_;
+    delete nominal_;
+    calibrated_.reset();
+  }
+  static ValidateRequest request() {
+    ValidateRequest r;
+    r.model = calibrated_;
+    r.measurements.data = *held_out_;
+    r.prediction = *prediction_;
+    r.model_file = "<c>.json";
+    r.data_file = "held & out.csv";
+    return r;
+  }
+  static Measurements* held_out_;
+  static std::shared_ptr<MeasurementModel> calibrated_;
+  static ValidationPrediction* prediction_;
+  static VectorXd* nominal_;
+};
+Measurements* ValidationPageOfARun::held_out_ = nullptr;
+std::shared_ptr<MeasurementModel> ValidationPageOfARun::calibrated_;
+ValidationPrediction* ValidationPageOfARun::prediction_ = nullptr;
+VectorXd* ValidationPageOfARun::nominal_ = nullptr;
+
+TEST_F(ValidationPageOfARun, SaysWhetherTheResidualsAreAsPredicted) {
+  const ValidateRequest as_predicted = request();
+  const ValidateResult v = validate(as_predicted);
+  ASSERT_EQ(v.validation.verdict, "consistent");
+  ASSERT_TRUE(v.validation.parameter_uncertainty);
+  std::string html = report::validation_html(as_predicted, v, "r.json");
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_EQ(html.find("<c>"), std::string::npos);
+  EXPECT_NE(html.find("&lt;c&gt;.json"), std::string::npos);
+  EXPECT_NE(html.find("held &amp; out.csv"), std::string::npos);
+  EXPECT_NE(html.find("<li class=\"good\"><span class=\"level\">OK</span>The held-out residuals "
+                      "are what the calibration predicts: standardized RMS " +
+                      report::fmt(v.validation.standardized_rms, 3)),
+            std::string::npos);
+  EXPECT_EQ(html.find("taken as exact"), std::string::npos);
+
+  // Every reading 0.1 mm off (ten times the noise): larger than predicted, do not load.
+  ValidateRequest shifted = request();
+  shifted.measurements.data.readings.array() += 0.1;
+  const ValidateResult larger = validate(shifted);
+  ASSERT_EQ(larger.validation.verdict, "larger_than_predicted");
+  html = report::validation_html(shifted, larger, "r.json");
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("<li class=\"problem\"><span class=\"level\">Problem</span>The held-out "
+                      "residuals are larger than predicted"),
+            std::string::npos);
+
+  // The noise alone predicts them: the parameters are taken as exact.
+  ValidateRequest noise_only = request();
+  noise_only.prediction.parameters.clear();
+  noise_only.prediction.covariance = MatrixXd();
+  const ValidateResult exact = validate(noise_only);
+  ASSERT_FALSE(exact.validation.parameter_uncertainty);
+  html = report::validation_html(noise_only, exact, "");
+  EXPECT_NE(html.find("the parameters are taken as exact"), std::string::npos);
+
+  // Nothing predicts them: not tested; the 3-D position error against the values before.
+  ValidateRequest untested = request();
+  untested.prediction = ValidationPrediction();
+  untested.before_values = *nominal_;
+  untested.before_is = "the nominal model";
+  const ValidateResult not_tested = validate(untested);
+  ASSERT_EQ(not_tested.validation.verdict, "not_tested");
+  ASSERT_TRUE(not_tested.position.computed);
+  html = report::validation_html(untested, not_tested, "");
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_NE(html.find("the consistency test is not made"), std::string::npos);
+  EXPECT_NE(html.find(report::fmt(not_tested.position.after.mean) + " mm, against " +
+                      report::fmt(not_tested.position.before.mean) + " mm before calibration."),
+            std::string::npos);
+  EXPECT_LT(not_tested.position.after.mean, not_tested.position.before.mean);
+  EXPECT_EQ(html.find("taken as exact"), std::string::npos);
+}
+
+// The design page from the design workflow run in memory (the cube hexapod's gauge, 30 of 300
+// candidates, with the bound): what the design gains over a random one and the nominal model,
+// and how far any design of these candidates could go.
+TEST(DesignPageOfARun, ComparesWithRandomAndNominalAndTheBound) {
+  ExperimentDesignRequest request;
+  request.model = make_cube_hexapod();
+  request.noise_std = VectorXd::Constant(1, 0.0072);
+  request.noise_source = "--noise-std";
+  request.options.count = 30;
+  request.options.num_random = 300;
+  request.bound = true;
+  request.model_file = "m<1>.json";
+  ExperimentDesignResult result = design_experiment(request);
+  const double designed = result.designed_pose.position_rms,
+               random = result.random_pose.position_rms, nominal = result.nominal_pose.position_rms;
+  ASSERT_LT(designed, random);
+  ASSERT_LT(designed, nominal);
+  ASSERT_TRUE(std::isfinite(result.bound.bound));
+  std::string html = report::design_html(result, "t.csv");
+  EXPECT_EQ(markup_problem(html), "");
+  EXPECT_EQ(html.find("m<1>"), std::string::npos);
+  EXPECT_NE(html.find("m&lt;1&gt;.json"), std::string::npos);
+  EXPECT_NE(
+      html.find("<li class=\"good\"><span class=\"level\">OK</span>Predicted position error "
+                "over the workspace: " +
+                report::fmt(designed, 3) + " mm RMS with this design, " + report::fmt(random, 3) +
+                " mm with random configurations of the same "
+                "count (" +
+                report::fmt(random / designed, 3) + " times)."),
+      std::string::npos);
+  EXPECT_NE(html.find("Calibrating from it is expected to beat the nominal model (" +
+                      report::fmt(nominal, 3) + " mm RMS)."),
+            std::string::npos);
+  EXPECT_NE(html.find("(each in its reading&#39;s unit; from --noise-std)"), std::string::npos);
+  EXPECT_NE(html.find("No design of 30 from these candidates can do more than " +
+                      report::fmt(100 * (result.std_ratio - 1), 3) + " % better than this one"),
+            std::string::npos);
+  EXPECT_NE(html.find("no design can pass " + report::fmt(result.bound.bound, 6)),
+            std::string::npos);
+  // Worse than the nominal model (changed in code: a run with these candidates beats it).
+  result.designed_pose.position_rms = 2 * nominal;
+  html = report::design_html(result, "t.csv");
+  EXPECT_NE(html.find("<li class=\"problem\"><span class=\"level\">Problem</span>Even this design "
+                      "is not expected to beat the nominal model"),
+            std::string::npos);
 }
 
 }  // namespace

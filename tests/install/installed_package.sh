@@ -112,6 +112,11 @@ PY
     # shellcheck disable=SC2086  # the flags are words
     "${launcher[@]}" "$CXX" -std=c++17 -O2 "$example/tour.cpp" -o "$example/tour" $flags
     cd "$example" && ./tour
+    if [ "$step" = workflow ]; then
+      # The calibration report's page, rendered by the library from the typed result.
+      grep -q "</html>" report.html || fail "the workflow example wrote no report page"
+      grep -q "<h2>Verdicts</h2>" report.html || fail "the report page has no verdicts"
+    fi
     ;;
 
   plugin)
