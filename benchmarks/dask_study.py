@@ -16,7 +16,7 @@ but "out"): "same" or "DIFFERENT". Usage (with the module on PYTHONPATH, Debian'
 python3-distributed):
 
     PYTHONPATH=build/python /usr/bin/python3 benchmarks/dask_study.py build/cli/kincal \\
-        [--trials 200] [--reps 3] [--chunk 10 --chunk 0]     # 0: the default tasks
+        [--trials 200] [--reps 3] [--chunk 10 --chunk 0] [--no-profiler]   # chunk 0: the default
 """
 
 import argparse
@@ -69,10 +69,11 @@ def _whole_script(trials: int, chunk: Optional[int]) -> None:
                       "close": closed - studied, "document": doc}))
 
 
-def _whole(trials: int, chunk: Optional[int]) -> Tuple[float, Dict[str, Any]]:
+def _whole(trials: int, chunk: Optional[int], no_profiler: bool) -> Tuple[float, Dict[str, Any]]:
     start = time.perf_counter()
-    run = subprocess.run([sys.executable, __file__, "--whole-script", "--trials", str(trials), "--chunk", str(chunk or 0)],
-                         check=True, capture_output=True, text=True)
+    command = [sys.executable, __file__, "--whole-script", "--trials", str(trials), "--chunk", str(chunk or 0)]
+    run = subprocess.run(command + (["--no-profiler"] if no_profiler else []), check=True, capture_output=True,
+                         text=True)
     wall = time.perf_counter() - start
     phases = json.loads(run.stdout.strip().splitlines()[-1])
     phases["process"] = wall
@@ -95,8 +96,14 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=200)
     parser.add_argument("--reps", type=int, default=3)
     parser.add_argument("--chunk", type=int, action="append", help="0: the default tasks")
+    parser.add_argument("--no-profiler", action="store_true",
+                        help="distributed.worker.profile.enabled: False (Dask samples each worker's threads every 10 ms)")
     parser.add_argument("--whole-script", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.no_profiler:
+        import dask
+
+        dask.config.set({"distributed.worker.profile.enabled": False})  # the workers inherit it
     if args.whole_script:
         _whole_script(args.trials, (args.chunk or [0])[0] or None)
         return
@@ -123,7 +130,7 @@ def main() -> None:
             print(f"  program                 wall {wall:5.2f} s  cpu {cpu:5.2f} s", flush=True)
             for chunk in chunks:
                 tasks = f"chunk={chunk}" if chunk else "default tasks"
-                wall, phases = _whole(args.trials, chunk)
+                wall, phases = _whole(args.trials, chunk, args.no_profiler)
                 same = _without_out(phases["document"]) == _without_out(expected)
                 for phase in ("import", "start", "study", "close", "process"):
                     note(f"whole script, {tasks}: {phase}", phases[phase])
