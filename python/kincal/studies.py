@@ -64,8 +64,8 @@ def _factored_chunks(trials: int, slots: int) -> List[List[Tuple[int, int]]]:
     """Tasks for ``slots`` workers' threads, largest first: in batches of ``slots`` tasks, each
     task takes 1/(2 slots) of the trials still left (at most MAX_TRIALS_PER_TASK), so a batch
     covers half of what is left and the last tasks hold one trial each. Few tasks (each costs
-    a few Dask round trips, about 5 ms of a worker's CPU), and the workers finish within about
-    a trial of each other: equal chunks leave up to a whole chunk's time on one worker at the
+    about 5 ms of a worker's time and 5 ms of the client's CPU), and the workers finish
+    within about a trial of each other: equal chunks leave up to a whole chunk's time on one worker at the
     end, the more so when the machine's other load slows one of them (docs/benchmarks.md,
     "Studies on Dask"). client.map keeps this order (its tasks' priorities are their
     positions)."""
@@ -131,9 +131,9 @@ def reproduce(
     tasks done on stderr (with a client, also see the Dask dashboard); a callable is called
     as progress(done, total) after each task (a notebook's progress bar). ``chunk``: trials
     of every case per task; by default, with a client, tasks that shrink as the study nears
-    its end (two per worker thread cover the first half, at most 50 trials each), in this
-    process 10 (a progress step). The results do not depend on it. Ctrl-C raises KincalInterrupt whose
-    ``result`` is the partial document."""
+    its end (one per worker thread covers the first half; at most 50 trials each), in this
+    process 10 (a progress step). The results do not depend on it. Ctrl-C raises
+    KincalInterrupt whose ``result`` is the partial document."""
     if trials < 1:
         raise ValueError("trials: expected at least 1")
     if chunk is not None and chunk < 1:
