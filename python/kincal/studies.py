@@ -3,11 +3,11 @@
 ``reproduce(trials=200, client=client)`` is the paper's Monte Carlo, ``kincal reproduce``:
 it returns what ``kincal reproduce --json -`` writes, with the same numbers whatever the
 number of workers, since trial t of a case is a function of (options, case, t) alone. With a
-``dask.distributed`` Client the trials are spread over its workers in chunks (``chunk``
-trials of every case per task); a task whose worker dies is run again elsewhere
-(``retries``), and each trial's result is stored under its (case, trial) index, so nothing
-is lost or counted twice. Without a client they run on this machine's cores, the GIL
-released (``threads``).
+``dask.distributed`` Client the trials are spread over its workers in tasks of consecutive
+trials of every case (by default in shrinking batches, see ``_factored_chunks``); a task
+whose worker dies is run again elsewhere (``retries``), and each trial's result is stored
+under its (case, trial) index, so nothing is lost or counted twice. Without a client they
+run on this machine's cores, the GIL released (``threads``).
 """
 
 from __future__ import annotations
@@ -47,11 +47,44 @@ def _run_chunk(spec: Dict[str, Any], tasks: Sequence[Tuple[int, int]]) -> List[A
     return list(_kincal.reproduce_trials(spec, list(tasks), 1, False))
 
 
+def _tasks(first: int, last: int) -> List[Tuple[int, int]]:
+    """Trials first..last-1 of every case, as (case index, trial) pairs."""
+    return [(c, t) for t in range(first, last) for c in range(NUM_CASES)]
+
+
 def _chunks(trials: int, chunk: int) -> List[List[Tuple[int, int]]]:
-    out = []
-    for first in range(0, trials, chunk):
-        out.append([(c, t) for t in range(first, min(first + chunk, trials)) for c in range(NUM_CASES)])
+    """Tasks of ``chunk`` consecutive trials (the last one shorter)."""
+    return [_tasks(first, min(first + chunk, trials)) for first in range(0, trials, chunk)]
+
+
+MAX_TRIALS_PER_TASK = 50  # progress steps and a lost worker's work stay small on long studies
+
+
+def _factored_chunks(trials: int, slots: int) -> List[List[Tuple[int, int]]]:
+    """Tasks for ``slots`` workers' threads, largest first: in batches of ``slots`` tasks, each
+    task takes 1/(2 slots) of the trials still left (at most MAX_TRIALS_PER_TASK), so a batch
+    covers half of what is left and the last tasks hold one trial each. Few tasks (each costs
+    about 5 ms of a worker's time and 5 ms of the client's CPU), and the workers finish
+    within about a trial of each other: equal chunks leave up to a whole chunk's time on one worker at the
+    end, the more so when the machine's other load slows one of them (docs/benchmarks.md,
+    "Studies on Dask"). client.map keeps this order (its tasks' priorities are their
+    positions)."""
+    out: List[List[Tuple[int, int]]] = []
+    first = 0
+    while first < trials:
+        size = min(MAX_TRIALS_PER_TASK, max(1, -(-(trials - first) // (2 * slots))))  # ceil
+        for _ in range(slots):
+            if first >= trials:
+                break
+            last = min(first + size, trials)
+            out.append(_tasks(first, last))
+            first = last
     return out
+
+
+def _client_slots(client: Any) -> int:
+    """The client's worker threads (at least 1, e.g. while its workers are still starting)."""
+    return max(1, sum(client.nthreads().values()))
 
 
 def _progress(done: int, total: int) -> None:
@@ -79,7 +112,7 @@ def reproduce(
     seed: int = 1,
     validation: int = 200,
     out: Optional[Union[str, "os.PathLike[str]"]] = None,
-    chunk: int = 10,
+    chunk: Optional[int] = None,
     retries: int = 3,
     threads: int = 0,
     progress: Union[bool, Callable[[int, int], None]] = False,
@@ -96,11 +129,14 @@ def reproduce(
     directory is replaced whole, in one step, so it may hold only those three files
     (anything else is refused before any work, with KincalError). ``progress``: True reports
     tasks done on stderr (with a client, also see the Dask dashboard); a callable is called
-    as progress(done, total) after each task (a notebook's progress bar). Ctrl-C raises
+    as progress(done, total) after each task (a notebook's progress bar). ``chunk``: trials
+    of every case per task; by default, with a client, tasks that shrink as the study nears
+    its end (one per worker thread covers the first half; at most 50 trials each), in this
+    process 10 (a progress step). The results do not depend on it. Ctrl-C raises
     KincalInterrupt whose ``result`` is the partial document."""
     if trials < 1:
         raise ValueError("trials: expected at least 1")
-    if chunk < 1:
+    if chunk is not None and chunk < 1:
         raise ValueError("chunk: expected at least 1")
     spec = _study_spec(solver, seed, validation, param_error, config_range, max_iterations,
                        solver_option)
@@ -120,7 +156,12 @@ def reproduce(
     elif progress:
         report = _progress
     interrupted = False
-    chunks = _chunks(trials, chunk)
+    if chunk is not None:
+        chunks = _chunks(trials, chunk)
+    elif client is not None:
+        chunks = _factored_chunks(trials, _client_slots(client))
+    else:
+        chunks = _chunks(trials, 10)
     if client is None:
         done = 0
         for tasks in chunks if report else [[task for c in chunks for task in c]]:

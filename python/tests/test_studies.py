@@ -49,6 +49,41 @@ def test_two_workers_match_the_program_bit_for_bit(expected, cluster):
     assert without_out(doc) == without_out(expected)
 
 
+def test_the_default_tasks_on_workers_give_the_programs_numbers(expected, cluster):
+    # The default shrinking tasks (3, 3, 2, 2, 1, 1 trials on two worker threads) and one
+    # trial per task: the same document as the program's.
+    assert [len(t) // 5 for t in kincal.studies._factored_chunks(TRIALS, 2)] == [3, 3, 2, 2, 1, 1]
+    assert without_out(kincal.studies.reproduce(trials=TRIALS, client=cluster)) == without_out(expected)
+    assert without_out(kincal.studies.reproduce(trials=TRIALS, client=cluster, chunk=1)) == without_out(expected)
+
+
+def test_in_process_steps_give_the_programs_numbers(expected):
+    steps = []
+    doc = kincal.studies.reproduce(trials=TRIALS, chunk=5, progress=lambda done, total: steps.append(done))
+    assert steps == [1, 2, 3]
+    assert without_out(doc) == without_out(expected)
+
+
+@pytest.mark.parametrize("trials", [1, 2, 3, 12, 49, 50, 200, 1001])
+@pytest.mark.parametrize("slots", [1, 2, 3, 16])
+def test_factored_tasks_hold_every_trial_once_largest_first(trials, slots):
+    chunks = kincal.studies._factored_chunks(trials, slots)
+    pairs = [pair for chunk in chunks for pair in chunk]
+    assert sorted(pairs) == [(c, t) for c in range(5) for t in range(trials)]
+    assert len(set(pairs)) == len(pairs)
+    sizes = [len(chunk) // 5 for chunk in chunks]
+    assert all(5 * size == len(chunk) for size, chunk in zip(sizes, chunks))
+    # Each task holds consecutive trials of every case, in order of the trials.
+    firsts = [chunk[0][1] for chunk in chunks]
+    assert firsts == sorted(firsts) and firsts[0] == 0
+    assert sizes == sorted(sizes, reverse=True) and sizes[-1] == 1
+    assert max(sizes) <= min(kincal.studies.MAX_TRIALS_PER_TASK, -(-trials // (2 * slots)))
+    # Two tasks per worker thread, or more, and far fewer tasks than trials on long studies.
+    assert len(chunks) >= min(trials, 2 * slots)
+    if trials >= 200 and slots <= 3:
+        assert len(chunks) <= trials // 5
+
+
 def test_tables_are_written_like_the_programs(cluster, tmp_path, program):
     import subprocess
 
