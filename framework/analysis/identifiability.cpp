@@ -95,15 +95,8 @@ WithoutTurns without_reproduced_turns(const MatrixXd& J, const MatrixXd& turns, 
   if (turns.rows() != J.rows())
     throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
                                 " rows, the Jacobian " + std::to_string(J.rows()));
-  TriangularFactor factor(n + k);
-  MatrixXd block;
-  for (Eigen::Index row = 0; row < J.rows(); row += 1024) {
-    const Eigen::Index rows = std::min<Eigen::Index>(1024, J.rows() - row);
-    block.resize(rows, n + k);
-    block << J.middleRows(row, rows), turns.middleRows(row, rows);
-    factor.add_rows(block);
-  }
-  MatrixXd compact = factor.R().leftCols(n), compact_turns = factor.R().rightCols(k);
+  const MatrixXd factor = triangular_factor(J, turns);
+  MatrixXd compact = factor.leftCols(n), compact_turns = factor.rightCols(k);
   if (prior_sqrt_precision) {
     compact.conservativeResize(n + k + n, n);
     compact.bottomRows(n) = prior_sqrt_precision->asDiagonal();
@@ -117,6 +110,21 @@ WithoutTurns without_reproduced_turns(const MatrixXd& J, const MatrixXd& turns, 
   if (out.turns == 0) return out;
   out.matrix = out.unprojected - basis * (basis.transpose() * out.unprojected);
   return out;
+}
+
+// J and the turns side by side, compacted: the triangular factor of [J turns], split. What
+// the subset choice and the duplicates below compute depends only on the inner products of
+// these columns, so the factor stands in for J, and a calibration with 10^4-10^6 readings is
+// analysed after one pass over its rows instead of column-pivoted passes over all of them.
+struct Compact {
+  MatrixXd J, turns;
+};
+Compact compacted(const MatrixXd& J, const MatrixXd& turns) {
+  if (turns.cols() > 0 && turns.rows() != J.rows())
+    throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
+                                " rows, the Jacobian " + std::to_string(J.rows()));
+  const MatrixXd factor = turns.cols() ? triangular_factor(J, turns) : triangular_factor(J);
+  return {factor.leftCols(J.cols()), factor.rightCols(turns.cols())};
 }
 
 ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& norms,
@@ -272,23 +280,17 @@ void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
 
 std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options,
                                      const MatrixXd& turns) {
-  if (J.cols() == 0 || J.rows() == 0) return {};
-  std::vector<std::string> names(J.cols());
-  const Identifiability a = analyze_identifiability(J, names, options, turns);
-  const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
-  VectorXd norms;
-  const MatrixXd scaled = without.turns ? without.matrix : scale_columns(J, norms);
-  const Eigen::ColPivHouseholderQR<MatrixXd> qr(scaled);
-  std::vector<int> keep;
-  for (int k = 0; k < a.numerical_rank; ++k) keep.push_back(qr.colsPermutation().indices()[k]);
-  std::sort(keep.begin(), keep.end());
-  return keep;
+  return identifiable_subset(J, std::vector<int>(), options, turns);
 }
 
-std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& priority,
-                                     const IdentifiabilityOptions& options, const MatrixXd& turns) {
-  const int n = static_cast<int>(J.cols());
-  if (priority.empty()) return identifiable_subset(J, options, turns);
+std::vector<int> identifiable_subset(const MatrixXd& J_all, const std::vector<int>& priority_given,
+                                     const IdentifiabilityOptions& options,
+                                     const MatrixXd& turns_all) {
+  const int n = static_cast<int>(J_all.cols());
+  if (n == 0 || J_all.rows() == 0) return {};
+  const std::vector<int> priority =
+      priority_given.empty() ? std::vector<int>(n, 0) : priority_given;
+  const auto [J, turns] = compacted(J_all, turns_all);
   std::vector<std::string> names(n);
   const int rank = analyze_identifiability(J, names, options, turns).numerical_rank;
   const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
@@ -296,6 +298,9 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& 
   MatrixXd residual = without.turns ? without.matrix : scale_columns(J, norms);
   std::vector<bool> chosen(n, false);
   std::vector<int> keep;
+  // Parts closer than this are equal: two columns that duplicate each other exactly differ
+  // only by rounding, which must not decide which is kept; the first in the model's order is.
+  const auto larger = [](double a, double b) { return a > b + kTiedParts; };
   while (static_cast<int>(keep.size()) < rank) {
     const VectorXd part = residual.colwise().norm().transpose();
     int best = -1;
@@ -304,13 +309,13 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& 
     for (int i = 0; i < n; ++i)
       if (!chosen[i] && part[i] > kPreferredPart &&
           (best < 0 || priority[i] < best_class ||
-           (priority[i] == best_class && part[i] > part[best]))) {
+           (priority[i] == best_class && larger(part[i], part[best])))) {
         best = i;
         best_class = priority[i];
       }
     if (best < 0)
       for (int i = 0; i < n; ++i)
-        if (!chosen[i] && (best < 0 || part[i] > part[best])) best = i;
+        if (!chosen[i] && (best < 0 || larger(part[i], part[best]))) best = i;
     if (best < 0 || !(part[best] > 0)) break;
     chosen[best] = true;
     keep.push_back(best);
@@ -321,11 +326,12 @@ std::vector<int> identifiable_subset(const MatrixXd& J, const std::vector<int>& 
   return keep;
 }
 
-std::vector<DependentParameter> dependent_parameters(const MatrixXd& J,
+std::vector<DependentParameter> dependent_parameters(const MatrixXd& J_all,
                                                      const std::vector<std::string>& names,
                                                      const std::vector<int>& keep,
                                                      const IdentifiabilityOptions& options,
-                                                     const MatrixXd& turns) {
+                                                     const MatrixXd& turns_all) {
+  const auto [J, turns] = compacted(J_all, turns_all);
   const WithoutTurns without = without_reproduced_turns(J, turns, options.rcond);
   VectorXd norms = without.norms;
   const MatrixXd scaled = without.turns ? without.matrix : scale_columns(J, norms);

@@ -106,10 +106,13 @@ void add_prior(Identifiability& a, const MatrixXd& J, const VectorXd& precision,
                const VectorXd& data_share, const IdentifiabilityOptions& options = {},
                const MatrixXd& turns = MatrixXd());
 
-/// Columns of J that together are well determined: a column-pivoted QR of the scaled
-/// Jacobian picks them greedily, most independent first, and stops at the numerical rank.
-/// Returns the indices of the columns to keep, ascending. Fixing the others at their
-/// current values solves the problem in an identifiable subspace.
+/// Columns of J that together are well determined: picked greedily from the scaled Jacobian
+/// as a column-pivoted QR does, the column with the largest part outside the span of those
+/// already picked first (of parts within kTiedParts, the first column), up to the numerical
+/// rank. Returns the indices of the columns to keep, ascending. Fixing the others at their
+/// current values solves the problem in an identifiable subspace. It works on J's
+/// triangular factor (the same inner products), so its cost grows with J's rows only
+/// through one QR pass.
 std::vector<int> identifiable_subset(const MatrixXd& J, const IdentifiabilityOptions& options = {},
                                      const MatrixXd& turns = MatrixXd());
 
@@ -132,6 +135,10 @@ inline constexpr double kSeverelyIllConditioned = 1e5;
 /// A column whose part outside the chosen span is below this (unit-norm columns) counts as a
 /// duplicate when classes are compared.
 inline constexpr double kPreferredPart = 1e-3;
+/// Parts (unit-norm columns) this close are equal in the subset choice: columns that duplicate
+/// each other exactly differ by rounding only (about 1e-15), and the model's order, not the
+/// rounding of one factorisation or another, decides which is kept.
+inline constexpr double kTiedParts = 1e-10;
 
 /// A free parameter the data cannot tell from the others: its column of J is (up to the
 /// numerical rank) a combination of the kept columns, so moving it by 1 changes the readings

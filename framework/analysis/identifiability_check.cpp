@@ -1,5 +1,7 @@
 #include "kincal/framework/analysis/identifiability_check.hpp"
 
+#include "kincal/framework/base/triangular_factor.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -149,25 +151,30 @@ IdentifiabilityCheck check_identifiability(const std::string& where,
   a = analyze_identifiability(J, problem.parameter_names(), options, turns);
   // With a prior, a direction the data cannot see is determined by the prior: what must
   // have full rank is the data stacked with the prior's rows.
-  MatrixXd determining = J;
-  MatrixXd determining_turns = turns;
   const Prior prior = model_prior(problem);
   const bool with_prior = prior.any();
   if (with_prior) {
     const VectorXd precision = prior.precision();
     add_prior(a, J, precision, data_share(J, precision), options, turns);
-    determining.conservativeResize(J.rows() + J.cols(), J.cols());
-    determining.bottomRows(J.cols()) = precision.cwiseSqrt().asDiagonal();
-    if (turns.cols()) {
-      determining_turns.conservativeResize(J.rows() + J.cols(), turns.cols());
-      determining_turns.bottomRows(J.cols()).setZero();
-    }
     if (a.rank_deficient() && !a.undetermined())
       check.notes.push_back("the data alone determine " + std::to_string(a.numerical_rank) +
                             " of " + std::to_string(a.num_parameters) +
                             " free parameters; the prior determines the rest");
   }
   if (!a.undetermined()) return check;
+  // What determines the parameters: the data (through the triangular factor of [J turns],
+  // which keeps every inner product the choice below uses, without copying J's rows),
+  // stacked with the prior's rows.
+  const Eigen::Index n = J.cols(), k = turns.cols();
+  const MatrixXd factor = k ? triangular_factor(J, turns) : triangular_factor(J);
+  MatrixXd determining = factor.leftCols(n), determining_turns = factor.rightCols(k);
+  if (with_prior) {
+    const Eigen::Index rows = determining.rows();
+    determining.conservativeResize(rows + n, n);
+    determining.bottomRows(n) = prior.precision().cwiseSqrt().asDiagonal();
+    determining_turns.conservativeResize(rows + n, k);
+    determining_turns.bottomRows(n).setZero();
+  }
   const MeasurementModel& model = problem.model();
   const std::vector<std::string> names = problem.parameter_names();
   const std::vector<int> keep =

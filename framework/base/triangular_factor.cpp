@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <climits>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "kincal/framework/base/parallel.hpp"
@@ -37,8 +39,42 @@ void TriangularFactor::add_rows(const Eigen::Ref<const MatrixXd>& rows) {
   }
 }
 
-MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A) {
-  if (A.rows() <= A.cols()) return A;
+namespace {
+
+// The factor of the rows [begin, end) of [A B] (B may have no columns), in blocks of
+// kMaxRowsPerBlock rows, so that [A B] is never formed whole.
+MatrixXd factor_of_rows(const Eigen::Ref<const MatrixXd>& A, const Eigen::Ref<const MatrixXd>& B,
+                        Eigen::Index begin, Eigen::Index end) {
+  const Eigen::Index n = A.cols() + B.cols();
+  TriangularFactor factor(n, std::min(end - begin, kMaxRowsPerBlock));
+  if (B.cols() == 0) {
+    factor.add_rows(A.middleRows(begin, end - begin));
+    return factor.R();
+  }
+  MatrixXd block;
+  for (Eigen::Index row = begin; row < end; row += kMaxRowsPerBlock) {
+    const Eigen::Index rows = std::min(kMaxRowsPerBlock, end - row);
+    block.resize(rows, n);
+    block << A.middleRows(row, rows), B.middleRows(row, rows);
+    factor.add_rows(block);
+  }
+  return factor.R();
+}
+
+}  // namespace
+
+MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A,
+                           const Eigen::Ref<const MatrixXd>& B) {
+  if (B.cols() > 0 && B.rows() != A.rows())
+    throw std::invalid_argument("triangular_factor: the two matrices have " +
+                                std::to_string(A.rows()) + " and " + std::to_string(B.rows()) +
+                                " rows");
+  const Eigen::Index n = A.cols() + B.cols();
+  if (A.rows() <= n) {
+    MatrixXd both(A.rows(), n);
+    both << A, B;
+    return both;
+  }
   const auto rows = static_cast<int>(std::min<Eigen::Index>(A.rows(), INT_MAX));
   if (rows == A.rows() && rows >= 2 * kRowsPerChunk) {
     // Each chunk's factor on its own core, then the factors stacked in chunk order: the
@@ -46,17 +82,17 @@ MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A) {
     // over 10^6 x 24 took about half a second, and a calibration report needs several).
     std::vector<MatrixXd> parts(static_cast<std::size_t>(chunk_count(rows, kRowsPerChunk)));
     parallel_chunks(rows, kRowsPerChunk, [&](int chunk, int begin, int end) {
-      TriangularFactor part(A.cols());
-      part.add_rows(A.middleRows(begin, end - begin));
-      parts[static_cast<std::size_t>(chunk)] = part.R();
+      parts[static_cast<std::size_t>(chunk)] = factor_of_rows(A, B, begin, end);
     });
-    TriangularFactor factor(A.cols(), A.cols());
+    TriangularFactor factor(n, n);
     for (const MatrixXd& part : parts) factor.add_rows(part);
     return factor.R();
   }
-  TriangularFactor factor(A.cols(), A.rows());
-  factor.add_rows(A);
-  return factor.R();
+  return factor_of_rows(A, B, 0, A.rows());
+}
+
+MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A) {
+  return triangular_factor(A, MatrixXd(A.rows(), 0));
 }
 
 }  // namespace kincal

@@ -37,4 +37,11 @@ class TriangularFactor {
 /// zero); A itself when it has no more rows than columns.
 MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A);
 
+/// The (n + k) x (n + k) triangular factor of [A B] (A m x n, B m x k, the same rows), formed
+/// without copying them side by side; [A B] itself when m <= n + k. Its first n columns are a
+/// factor of A, and the pair keeps every inner product between A's and B's columns: what an
+/// analysis of A's columns together with directions B needs (identifiability.hpp).
+MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A,
+                           const Eigen::Ref<const MatrixXd>& B);
+
 }  // namespace kincal

@@ -152,6 +152,38 @@ TEST(Identifiability, PrioritiesChooseAmongDuplicatesAndTheDroppedAreExplained) 
   EXPECT_TRUE(dependent[2].unseen);
 }
 
+// Issue 37: the choice works on the triangular factor of J, so the rows' order and count
+// cannot change it. Columns that duplicate each other exactly (as a URDF arm's first joint
+// origin and the base frame do) differ only by rounding once factored, and rounding must not
+// decide which is kept: of exact duplicates in one class, the first. Checked on a tall J
+// (several of the factor's blocks) with its rows in two orders.
+TEST(Identifiability, ExactDuplicatesKeepTheFirstWhateverTheRowsOrder) {
+  Random rng(11);
+  const int m = 3000;
+  MatrixXd J(m, 6);
+  for (Eigen::Index i = 0; i < J.size(); ++i) J.data()[i] = rng.symmetric(1.0);
+  J.col(2) = J.col(0);         // an exact duplicate of column 0
+  J.col(4) = -3.0 * J.col(1);  // a scaled one of column 1
+  J.col(5) = J.col(3);
+  std::vector<int> order(m);
+  for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = (i * 7919) % m;
+  const MatrixXd shuffled = J(order, Eigen::all);
+  const std::vector<int> expected = {0, 1, 3};
+  for (const MatrixXd* matrix : {&J, &shuffled}) {
+    EXPECT_EQ(identifiable_subset(*matrix), expected);
+    EXPECT_EQ(identifiable_subset(*matrix, {0, 0, 0, 0, 0, 0}), expected);
+    // A lower class still wins over the first.
+    EXPECT_EQ(identifiable_subset(*matrix, {1, 1, 0, 0, 0, 1}), (std::vector<int>{2, 3, 4}));
+  }
+  const std::vector<std::string> names = {"a", "b", "c", "d", "e", "f"};
+  const auto dependent = dependent_parameters(shuffled, names, expected);
+  ASSERT_EQ(dependent.size(), 3u);
+  EXPECT_EQ(dependent[0].name, "c");
+  EXPECT_NEAR(dependent[0].equivalent.at(0).second, 1.0, 1e-12);
+  EXPECT_EQ(dependent[1].name, "e");
+  EXPECT_NEAR(dependent[1].equivalent.at(0).second, -3.0, 1e-12);
+}
+
 // Issue 35, item A7: a motion of the whole setup that changes no fit but shows in J (a turn
 // of a setup of sockets turns their residuals) is a direction the data cannot determine when
 // the free parameters reproduce it; when they do not, the analyses are those without it.

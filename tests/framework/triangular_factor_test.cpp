@@ -97,6 +97,31 @@ TEST(TriangularFactor, ALargeMatrixSplitOverCoresGivesTheSameGramMatrix) {
     EXPECT_NEAR(std::abs(R(i, i)), std::abs(serial.R()(i, i)), 1e-10 * std::abs(R(i, i))) << i;
 }
 
+// The factor of [A B] without forming it: every inner product of the two sets of columns
+// (what the identifiability analysis needs of J and the measurement frame's turns), on one
+// core and split over chunks, and [A B] itself when it is not tall.
+TEST(TriangularFactor, OfTwoMatricesSideBySideKeepsEveryInnerProduct) {
+  Random rng(13);
+  for (const int rows : {6, 2500, 140000}) {
+    const MatrixXd A = random_matrix(rng, rows, 5), B = random_matrix(rng, rows, 2);
+    MatrixXd both(rows, 7);
+    both << A, B;
+    const MatrixXd R = triangular_factor(A, B);
+    const MatrixXd gram = both.transpose() * both;
+    if (rows <= 7) {
+      EXPECT_EQ(R, both);
+      continue;
+    }
+    ASSERT_EQ(R.rows(), 7);
+    EXPECT_TRUE(R.isUpperTriangular(0.0)) << rows;
+    EXPECT_LT((R.transpose() * R - gram).norm(), 1e-12 * gram.norm()) << rows;
+    // Nothing on the right: the factor of A alone, to the last bit.
+    EXPECT_EQ(triangular_factor(A, MatrixXd(rows, 0)), triangular_factor(A)) << rows;
+  }
+  EXPECT_THROW(triangular_factor(MatrixXd::Ones(10, 2), MatrixXd::Ones(9, 1)),
+               std::invalid_argument);
+}
+
 TEST(GramMatrix, IsBTransposeBOnSmallAndOnLargeMatrices) {
   Random rng(19);
   for (const int rows : {50, 300000}) {  // one rank update; chunks on all cores
