@@ -18,7 +18,8 @@ std::vector<std::string> PointTracker::reading_names() const {
 void PointTracker::predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                            Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,
                            MatrixXd* J_reading_params) const {
-  const Pose frame = frame_from_parameters(params.segment<6>(kFrameIndex));
+  const FrameBlock tracker_block = frame_block(params.segment<6>(kFrameIndex));
+  const Pose& frame = tracker_block.frame;
   const Matrix3d Rt = frame.rotation.transpose();
   const Vector3d a = pose.rotation * params.segment<3>(kTargetIndex);
   const Vector3d v = pose.translation + a - frame.translation;  // target from the tracker
@@ -33,7 +34,7 @@ void PointTracker::predict(const Eigen::Ref<const VectorXd>& params, const Pose&
     // R_f^T (v x w).
     J_reading_params->middleCols<3>(kFrameIndex) = -Rt;
     J_reading_params->middleCols<3>(kFrameIndex + 3) =
-        Rt * skew(v) * euler_zyx_angular_jacobian(params.segment<3>(kFrameIndex + 3));
+        Rt * skew(v) * tracker_block.angular_jacobian;
     J_reading_params->middleCols<3>(kTargetIndex) = Rt * pose.rotation;
   }
 }

@@ -31,8 +31,10 @@ std::vector<RefusedColumns> PoseTracker::refused_columns() const {
 void PoseTracker::predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                           Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,
                           MatrixXd* J_reading_params) const {
-  const Pose frame = frame_from_parameters(params.segment<6>(kFrameIndex));
-  const Pose marker = frame_from_parameters(params.segment<6>(kMarkerIndex));
+  const FrameBlock tracker_block = frame_block(params.segment<6>(kFrameIndex));
+  const FrameBlock marker_block = frame_block(params.segment<6>(kMarkerIndex));
+  const Pose& frame = tracker_block.frame;
+  const Pose& marker = marker_block.frame;
   const Matrix3d Rt = frame.rotation.transpose();
   const Vector3d a = pose.rotation * marker.translation;  // marker origin from the pose origin
   const Vector3d v = pose.translation + a - frame.translation;
@@ -49,7 +51,7 @@ void PoseTracker::predict(const Eigen::Ref<const VectorXd>& params, const Pose& 
   if (J_reading_params) {
     MatrixXd& J = *J_reading_params;
     // Turning the tracker by w turns what it sees by -w, about its own origin.
-    const Matrix3d W_frame = euler_zyx_angular_jacobian(params.segment<3>(kFrameIndex + 3));
+    const Matrix3d& W_frame = tracker_block.angular_jacobian;
     J.block<3, 3>(0, kFrameIndex) = -Rt;
     J.block<3, 3>(3, kFrameIndex).setZero();
     J.block<3, 3>(0, kFrameIndex + 3) = Rt * skew(v) * W_frame;
@@ -58,8 +60,7 @@ void PoseTracker::predict(const Eigen::Ref<const VectorXd>& params, const Pose& 
     J.block<3, 3>(0, kMarkerIndex) = Rt * pose.rotation;
     J.block<3, 3>(3, kMarkerIndex).setZero();
     J.block<3, 3>(0, kMarkerIndex + 3).setZero();
-    J.block<3, 3>(3, kMarkerIndex + 3) =
-        Rt * pose.rotation * euler_zyx_angular_jacobian(params.segment<3>(kMarkerIndex + 3));
+    J.block<3, 3>(3, kMarkerIndex + 3) = Rt * pose.rotation * marker_block.angular_jacobian;
   }
 }
 

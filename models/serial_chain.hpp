@@ -59,15 +59,17 @@ inline void finish_columns(Eigen::Ref<Matrix6Xd>& J, const Vector3d& t_end) {
   for (Eigen::Index c = 0; c < J.cols(); ++c) J.col(c).head<3>() += J.col(c).tail<3>().cross(t_end);
 }
 
-/// The six columns of a frame block (x, y, z, then Z-Y-X Euler angles `angles`) that follows
-/// the frame `parent` and ends at `after`: its translations move everything beyond it along
-/// the parent's axes; its angles turn everything beyond it about parent.R E(angles) through
-/// the block's own origin (after's).
+/// The six columns of a frame block (x, y, z, then Z-Y-X Euler angles whose angular Jacobian
+/// is `angular`, euler_zyx_angular_jacobian) that follows the frame `parent` and ends at
+/// `after`: its translations move everything beyond it along the parent's axes; its angles
+/// turn everything beyond it about parent.R `angular` through the block's own origin
+/// (after's).
 template <class Block>
-void frame_block_columns(Block&& J, const Pose& parent, const Pose& after, const Vector3d& angles) {
+void frame_block_columns(Block&& J, const Pose& parent, const Pose& after,
+                         const Matrix3d& angular) {
   J.template topLeftCorner<3, 3>() = parent.rotation;
   J.template bottomLeftCorner<3, 3>().setZero();
-  const Matrix3d W = parent.rotation * euler_zyx_angular_jacobian(angles);
+  const Matrix3d W = parent.rotation * angular;
   for (int k = 0; k < 3; ++k) rotation_column(J.col(3 + k), W.col(k), after.translation);
 }
 
@@ -79,10 +81,10 @@ struct PoseOnly {
   void parameter_rotation(int /*column*/, const Vector3d& /*w*/, const Vector3d& /*o*/) {}
   /// Parameter `column` moves the end along u.
   void parameter_translation(int /*column*/, const Vector3d& /*u*/) {}
-  /// Parameters first_column .. + 5 are a frame block with Euler angles `angles` that
-  /// follows the frame `parent` and ends at `after` (frame_block_columns).
+  /// Parameters first_column .. + 5 are a frame block whose angles' angular Jacobian is
+  /// `angular`, that follows the frame `parent` and ends at `after` (frame_block_columns).
   void parameter_frame(int /*first_column*/, const Pose& /*parent*/, const Pose& /*after*/,
-                       const Vector3d& /*angles*/) {}
+                       const Matrix3d& /*angular*/) {}
   /// Joint i turns the end about the unit axis through `origin` (revolute) or moves it
   /// along the axis (prismatic).
   void joint(int /*i*/, bool /*revolute*/, const Vector3d& /*axis*/, const Vector3d& /*origin*/) {}
@@ -101,8 +103,8 @@ class ParameterColumns : public PoseOnly {
     translation_column(J_.col(column), u);
   }
   void parameter_frame(int first_column, const Pose& parent, const Pose& after,
-                       const Vector3d& angles) {
-    frame_block_columns(J_.middleCols<6>(first_column), parent, after, angles);
+                       const Matrix3d& angular) {
+    frame_block_columns(J_.middleCols<6>(first_column), parent, after, angular);
   }
   void finish(const Pose&, const Pose& end) { finish_columns(J_, end.translation); }
 
@@ -131,7 +133,7 @@ class JointColumns : public PoseOnly {
 ///   T(q) = B  L_1(q_1) ... L_N(q_N)  C_tip  T_tool
 ///
 /// with the base frame block B in parameters 0 .. 5 and the tool frame block T_tool in the
-/// last six, links.tool_index() .. + 5 (frame_from_parameters, both). The links are the
+/// last six, links.tool_index() .. + 5 (frame_block, both). The links are the
 /// arm's own; `links` is a small policy with
 ///
 ///   int size() const                          N
@@ -153,20 +155,19 @@ class JointColumns : public PoseOnly {
 template <class Links, class Record>
 __attribute__((always_inline)) inline Pose walk(const Links& links, const ParamsRef& params,
                                                 const ActuatorsRef& q, Record&& record) {
-  const auto base = params.segment<6>(0);
-  Pose frame = frame_from_parameters(base);
-  record.parameter_frame(0, Pose{}, frame, base.tail<3>());
+  const FrameBlock base = frame_block(params.segment<6>(0));
+  Pose frame = base.frame;
+  record.parameter_frame(0, Pose{}, frame, base.angular_jacobian);
   const int n = links.size();
   for (int i = 0; i < n; ++i) links.advance(i, params, q[i], frame, record);
   links.to_tip(frame);
   const int tool_index = links.tool_index();
-  const auto tool = params.segment<6>(tool_index);
-  const Pose tool_frame = frame_from_parameters(tool);
+  const FrameBlock tool = frame_block(params.segment<6>(tool_index));
   Pose end;
-  end.rotation = frame.rotation * tool_frame.rotation;
-  end.translation = frame.translation + frame.rotation * tool_frame.translation;
+  end.rotation = frame.rotation * tool.frame.rotation;
+  end.translation = frame.translation + frame.rotation * tool.frame.translation;
   // The tool's rotation turns the end about its own origin: no translation.
-  record.parameter_frame(tool_index, frame, end, tool.tail<3>());
+  record.parameter_frame(tool_index, frame, end, tool.angular_jacobian);
   record.finish(frame, end);
   return end;
 }

@@ -130,9 +130,9 @@ struct UrdfArm::Links {
     const UrdfArmJoint& joint = joints[i];
     const int c = joint_index(i);
     const Pose before = compose(frame, origins[i]);
-    const auto error = params.segment<6>(c);
-    frame = compose(before, frame_from_parameters(error));
-    record.parameter_frame(c, before, frame, error.tail<3>());
+    const FrameBlock error = frame_block(params.segment<6>(c));
+    frame = compose(before, error.frame);
+    record.parameter_frame(c, before, frame, error.angular_jacobian);
     const Vector3d axis = frame.rotation * joint.axis;
     const bool revolute = is_revolute(joint.type);
     record.joint(i, revolute, axis, frame.translation);

@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace kincal {
 
@@ -87,13 +89,6 @@ Pose perturb(const Pose& pose, const Vector6d& delta) {
   return out;
 }
 
-Pose compose(const Pose& a, const Pose& b) {
-  Pose c;
-  c.rotation = a.rotation * b.rotation;
-  c.translation = a.translation + a.rotation * b.translation;
-  return c;
-}
-
 Pose inverse(const Pose& p) {
   Pose i;
   i.rotation = p.rotation.transpose();
@@ -139,6 +134,49 @@ Matrix3d euler_zyx_angular_jacobian(const Vector3d& rx_ry_rz) {
   J.col(1) = Rz.col(1);
   J.col(2) = Vector3d::UnitZ();
   return J;
+}
+
+namespace {
+
+// The frame blocks this thread computed last, in a direct-mapped table keyed by their six
+// values' bits (so -0.0 and 0.0, or two NaNs of different payloads, are different keys: a
+// hit returns exactly what computing would). Plain numbers, so that the thread-local table
+// needs no constructor call on each access.
+struct FrameBlockTable {
+  static constexpr int kEntries = 64;  // a 6-axis arm with two trackers uses about 10
+  struct Entry {
+    std::uint64_t key[6];
+    double rotation[9], translation[3], angular_jacobian[9];
+    bool used;
+  };
+  Entry entries[kEntries];
+};
+
+}  // namespace
+
+FrameBlock frame_block(const double* p) {
+  thread_local FrameBlockTable table;
+  std::uint64_t key[6];
+  std::memcpy(key, p, sizeof key);
+  std::uint64_t hash = 0;
+  for (const std::uint64_t word : key) hash = (hash ^ word) * 0x9E3779B97F4A7C15ull;
+  FrameBlockTable::Entry& entry = table.entries[hash >> 58];  // the top 6 bits: 0 .. 63
+  FrameBlock block;
+  if (entry.used && std::memcmp(entry.key, key, sizeof key) == 0) {
+    block.frame.rotation = Eigen::Map<const Matrix3d>(entry.rotation);
+    block.frame.translation = Eigen::Map<const Vector3d>(entry.translation);
+    block.angular_jacobian = Eigen::Map<const Matrix3d>(entry.angular_jacobian);
+    return block;
+  }
+  const Eigen::Map<const Vector6d> values(p);
+  block.frame = frame_from_parameters(values);
+  block.angular_jacobian = euler_zyx_angular_jacobian(values.tail<3>());
+  std::memcpy(entry.key, key, sizeof key);
+  Eigen::Map<Matrix3d>(entry.rotation) = block.frame.rotation;
+  Eigen::Map<Vector3d>(entry.translation) = block.frame.translation;
+  Eigen::Map<Matrix3d>(entry.angular_jacobian) = block.angular_jacobian;
+  entry.used = true;
+  return block;
 }
 
 double position_error(const Pose& a, const Pose& b) {

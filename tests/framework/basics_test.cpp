@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <thread>
+#include <vector>
 
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/base/random.hpp"
@@ -64,6 +66,34 @@ TEST(Pose, ExpSo3MatchesEigensAngleAxisAtEveryScale) {
       EXPECT_LT((exp_so3(w) * exp_so3(w).transpose() - Matrix3d::Identity()).norm(), 4e-15);
     }
   }
+}
+
+// frame_block remembers what it computed: it must return exactly frame_from_parameters and
+// euler_zyx_angular_jacobian, for more blocks than its table holds (so entries are replaced),
+// for keys that differ only in the sign of a zero, and on several threads at once.
+TEST(Pose, FrameBlockIsExactlyWhatComputingGives) {
+  const auto check = [](int seed, int* mismatches) {
+    Random rng(static_cast<std::uint64_t>(seed));
+    std::vector<Vector6d> blocks(300);
+    for (Vector6d& b : blocks)
+      for (int k = 0; k < 6; ++k) b[k] = k < 3 ? rng.symmetric(500.0) : rng.symmetric(3.0);
+    blocks[1].setZero();
+    blocks[2] = -blocks[1];  // -0.0: other bits, the same frame
+    for (int pass = 0; pass < 3; ++pass)
+      for (const Vector6d& b : blocks) {
+        const FrameBlock got = frame_block(b);
+        const Pose frame = frame_from_parameters(b);
+        const Matrix3d angular = euler_zyx_angular_jacobian(b.tail<3>());
+        if (got.frame.rotation != frame.rotation || got.frame.translation != frame.translation ||
+            got.angular_jacobian != angular)
+          ++*mismatches;
+      }
+  };
+  int mismatches[3] = {0, 0, 0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 3; ++t) threads.emplace_back(check, t + 1, &mismatches[t]);
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(mismatches[0] + mismatches[1] + mismatches[2], 0);
 }
 
 TEST(RobustLoss, ParsesAndRejects) {
