@@ -98,6 +98,6 @@ void check_memory_square(const std::string& what, double n, double matrices,
                  unit + "s");
 }
 
-double solve_bytes_per_row(int parameters) { return 12.0 * 8.0 * std::max(parameters, 1); }
+double solve_bytes_per_row(int parameters) { return 5.0 * 8.0 * std::max(parameters, 1); }
 
 }  // namespace kincal::cli

@@ -27,9 +27,11 @@ void check_memory_square(const std::string& what, double n, double matrices,
                          const std::string& unit, double fixed_bytes = 0);
 
 /// Bytes of memory a least-squares solve needs per residual row with `parameters` unknowns:
-/// the Jacobian, and the copies solvers and the identifiability analysis make of it
-/// (measured: lm and ceres about 4 Jacobians' worth, observability's SVD about 8; 12 is the
-/// margin for all of them).
+/// the Jacobian, and the copies solvers make of it (measured: lm and ceres about 4
+/// Jacobians' worth; 5 with a margin). The identifiability analyses and the covariance work
+/// on the Jacobian's n x n triangular factor and copy no rows (issue 37: with 12, for
+/// observability's former SVD of the whole Jacobian, a pose tracker's 10^6 rows were
+/// refused at 38 GB on a 24 GB machine).
 double solve_bytes_per_row(int parameters);
 
 /// Bytes a simulated configuration needs besides the solve: its actuator values, readings and
