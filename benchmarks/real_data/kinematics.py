@@ -43,11 +43,6 @@ def frame_block(v):
     return rot_zyx(v[3], v[4], v[5]), np.asarray(v[:3], dtype=float)
 
 
-def skew_cross(u, v):
-    """u x v for (N, 3) or (3,) arrays, broadcast."""
-    return np.cross(u, v)
-
-
 def exp_so3(w):
     """Rotation matrices of rotation vectors w, shape (N, 3) -> (N, 3, 3)."""
     theta = np.linalg.norm(w, axis=1)

@@ -3,10 +3,10 @@
 independent numpy/scipy calibration of the same data (tracker_fit.py, socket_fit.py), both
 timed as whole processes, back to back, with their agreement printed next to the times.
 
-    run.py DATASETS_DIR --kincal PATH [--sizes 1e3,1e4,1e5,1e6] [--only NAME,...]
-           [--repeat N] [--work DIR] [--out results.md] [--out results.json]
+    run.py [DATASETS_DIR] --kincal PATH [--sizes 1e3,1e4,1e5,1e6] [--only NAME,...]
+           [--repeat N] [--repeat-large N] [--work DIR] [--out results.md] [--out results.json]
 
-DATASETS_DIR is the public datasets folder: ur5-laser-tracker/ (the UR5 example's two CSV
+DATASETS_DIR (default: the environment's KINCAL_DATASETS) is the public datasets folder: ur5-laser-tracker/ (the UR5 example's two CSV
 files, examples/ur5-laser-tracker/README.md says where they come from) and robot-sockets/
 (platonics-delft/kinematics_calibration, examples/robot_sockets/README.md). The simulated sets
 (the UR5 URDF with a point and a pose tracker, --sizes rows each) are made by `kincal
@@ -334,19 +334,22 @@ def table(results):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("datasets", help="the public datasets folder")
+    ap.add_argument("datasets", nargs="?", default=os.environ.get("KINCAL_DATASETS"),
+                    help="the public datasets folder (default: $KINCAL_DATASETS)")
     ap.add_argument("--kincal", required=True, help="the kincal program")
     ap.add_argument("--sizes", default="1e3,1e4,1e5,1e6",
                     help="rows of the simulated sets, comma-separated (default 1e3,1e4,1e5,1e6)")
     ap.add_argument("--only", help="comma-separated subset of: ur5, panda, iiwa14, point, pose")
     ap.add_argument("--repeat", type=int, default=3, help="runs of each, best shown (default 3)")
+    ap.add_argument("--repeat-large", type=int, default=1,
+                    help="runs of the sets of 10^6 rows or more (default 1: tens of seconds each)")
     ap.add_argument("--work", default="real-data-work", help="folder for the files (created)")
     ap.add_argument("--out", action="append", default=[],
                     help="write the results: .json as JSON, otherwise the Markdown table")
     ap.add_argument("--python", default=sys.executable,
                     help="the interpreter of the scripts (default: this one)")
     args = ap.parse_args()
-    if not os.path.isdir(args.datasets):
+    if not args.datasets or not os.path.isdir(args.datasets):
         print("skipped: no datasets folder %s" % args.datasets)
         return 77
     check = subprocess.run([args.python, "-c", "import numpy, scipy"], capture_output=True)
@@ -354,8 +357,8 @@ def main():
         print("skipped: %s cannot import numpy and scipy (Debian: python3-numpy, python3-scipy)"
               % args.python)
         return 77
-    if args.repeat < 1:
-        ap.error("--repeat must be at least 1")
+    if args.repeat < 1 or args.repeat_large < 1:
+        ap.error("--repeat and --repeat-large must be at least 1")
     sizes = [int(float(s)) for s in args.sizes.split(",") if s]
     only = set(args.only.split(",")) if args.only else {"ur5", "panda", "iiwa14", "point", "pose"}
     args.kincal = os.path.abspath(args.kincal)
@@ -377,7 +380,8 @@ def main():
     load_before = os.getloadavg()
     results = []
     for ds in prepared:
-        runs = [measure(ds) for _ in range(args.repeat)]
+        runs = [measure(ds) for _ in range(args.repeat_large if ds.rows >= 10 ** 6
+                                           else args.repeat)]
         best = lambda i: tuple(min(r[i][j] for r in runs) for j in range(3))
         a = agreement(ds)
         results.append(dict(dataset=ds.name, rows=ds.rows, kincal=best(0), script=best(1),
@@ -389,9 +393,9 @@ def main():
 
     text = table(results)
     where = ("%s, %d cores, load average %.2f/%.2f/%.2f before and %.2f/%.2f/%.2f after; "
-             "best of %d runs; kincal %s; scripts on %s" % (
+             "best of %d runs (%d of 10^6 rows); kincal %s; scripts on %s" % (
                  platform.processor() or platform.machine(), os.cpu_count(), *load_before,
-                 *load_after, args.repeat, args.kincal, args.python))
+                 *load_after, args.repeat, args.repeat_large, args.kincal, args.python))
     print()
     print(text)
     print()

@@ -13,9 +13,10 @@ or a marker frame (`tracker.marker.*`) on the tool frame:
     pose:  the marker frame in the tracker's frame: its position, and its rotation vector
            (tracker.rotvec_x, _y, _z); the rotation residual is log(R_pred R_meas^T)
 Every parameter starts at 0 (the URDF's geometry); those the data determine are chosen by
-fit.identifiable on J at the start, the rest stay at 0; the residuals are not weighted (mm and
-rad as they are, as kincal does without reading_std) unless --reading-std gives their std. RESULT.json holds the estimate, the
-final cost and the residuals (predicted - measured) on the held-out file.
+fit.identifiable on J at the start, the rest stay at 0. The residuals are divided by
+--reading-std (mm, or mm,rad: kincal's reading_std), or taken as they are without it.
+RESULT.json holds the estimate, the final cost and the residuals (predicted - measured) on
+the held-out file.
 """
 
 import argparse
@@ -66,7 +67,6 @@ class TrackerProblem:
             r = (xp - ft) @ fR - meas[0]
         if free is None:
             return r, None
-        v = xp - ft
         Ef = kin.zyx_rates(*x[self.mech + 3:self.mech + 6])
         # the tracker's frame: shifting it by u moves what it sees by -u; turning it by w
         # about its origin turns what it sees by -w about that origin
@@ -85,7 +85,6 @@ class TrackerProblem:
             J[:, :3, c] = kin.point_motion(kind, u, o, xp) @ fR
             if self.pose and kind == "r":
                 J[:, 3:, c] = (Jl @ np.broadcast_to(u, xp.shape)[:, :, None])[:, :, 0]
-        del v
         return r, J
 
     def evaluate(self, x, free, jacobian, q, meas):
