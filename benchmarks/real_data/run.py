@@ -34,6 +34,7 @@ import platform
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -58,15 +59,27 @@ def run(cmd):
     return p
 
 
-def timed(cmd):
+class TimedOut(Exception):
+    pass
+
+
+def timed(cmd, timeout=None):
     """Wall, CPU (user + system, s) and peak RSS (MiB) of one process, from os.wait4 (the
-    rusage of that child alone); stops on failure."""
+    rusage of that child alone); stops on failure, raises TimedOut (the process killed)
+    after `timeout` seconds."""
     with tempfile.TemporaryFile() as out:
         start = time.perf_counter()
         p = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT)
+        killer = threading.Timer(timeout, p.kill) if timeout else None
+        if killer:
+            killer.start()
         _, status, usage = os.wait4(p.pid, 0)
         wall = time.perf_counter() - start
+        if killer:
+            killer.cancel()
         p.returncode = code = os.waitstatus_to_exitcode(status)
+        if timeout and wall >= timeout and code < 0:
+            raise TimedOut(" ".join(os.path.basename(c) for c in cmd[:2]))
         if code != 0:
             out.seek(0)
             sys.stderr.write(out.read().decode(errors="replace")[-3000:])
@@ -155,13 +168,13 @@ def prepare_simulated(args, python, sensor, rows):
         fresh = False
     if not fresh:  # the simulation of 10^6 rows takes tens of seconds: kept between runs
         model = os.path.join(d, "sim-model.json")
-        run([args.kincal, "model", "--urdf", UR5_URDF, "--tip", "flange", "--sensor",
+        run([args.simulate_with, "model", "--urdf", UR5_URDF, "--tip", "flange", "--sensor",
              sensor + "-tracker", "--out", model])
         common = ["--model", model, "--noise-std", noise_arg, "--allow-rank-deficient",
                   "--validation", "10"]
-        run([args.kincal, "simulate", "--poses", str(rows), "--seed", "1",
+        run([args.simulate_with, "simulate", "--poses", str(rows), "--seed", "1",
              "--write-data", data] + common)
-        run([args.kincal, "simulate", "--poses", "200", "--seed", "2", "--truth",
+        run([args.simulate_with, "simulate", "--poses", "200", "--seed", "2", "--truth",
              os.path.join(d, "data.truth.json"), "--write-data", test] + common)
         with open(stamp, "w") as f:
             json.dump(made, f)
@@ -302,33 +315,49 @@ def agreement(ds):
 
 # ---- the runs and the table -----------------------------------------------------------------
 
-def measure(ds):
+def measure(ds, timeout):
+    """(wall, CPU, peak MiB) of kincal's chain and of the script; None for one that ran out
+    of time."""
     wall = cpu = peak = 0.0
-    for step in ds.steps:
-        if callable(step):
-            step()
-            continue
-        w, c, m = timed(step)
-        wall, cpu, peak = wall + w, cpu + c, max(peak, m)
-    kincal = (wall, cpu, peak)
-    return kincal, timed(ds.script)
+    try:
+        for step in ds.steps:
+            if callable(step):
+                step()
+                continue
+            w, c, m = timed(step, timeout)
+            wall, cpu, peak = wall + w, cpu + c, max(peak, m)
+        kincal = (wall, cpu, peak)
+    except TimedOut as e:
+        print("  kincal timed out (%s over %g s)" % (e, timeout), flush=True)
+        kincal = None
+    try:
+        script = timed(ds.script, timeout)
+    except TimedOut:
+        print("  the script timed out (over %g s)" % timeout, flush=True)
+        script = None
+    return kincal, script
 
 
-def table(results):
+def table(results, timeout):
     lines = ["| dataset | rows | kincal wall s | kincal CPU s | kincal MiB | script wall s | "
              "script CPU s | script MiB | script / kincal (wall) | RMS rel. diff | "
              "held-out max diff | free |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in results:
         a = r["agreement"]
+        k, s = r["kincal"], r["script"]
+        cells = lambda t: ("%.2f | %.2f | %.0f" % t) if t else "> %g | | " % timeout
+        if a["ok"] is None:
+            lines.append("| %s | %d | %s | %s | %s | %s | | |" % (
+                r["dataset"], r["rows"], cells(k), cells(s),
+                "%.1f×" % (s[0] / k[0]) if k and s else "", a["why"]))
+            continue
         held = "%.1e mm" % a["held_mm"] + (", %.1e rad" % a["held_rad"] if a["held_rad"] else "")
         free = "%d, same" % a["free"] if not a["free_differ"] else \
             "%d, %d named differently" % (a["free"], a["free_differ"])
-        k, s = r["kincal"], r["script"]
-        lines.append("| %s | %d | %.2f | %.2f | %.0f | %.2f | %.2f | %.0f | %.1f× | %.1e | %s | %s%s |"
-                     % (r["dataset"], r["rows"], k[0], k[1], k[2], s[0], s[1], s[2],
-                        s[0] / k[0], a["rms_relative"], held, free,
-                        "" if a["ok"] else " **disagree**"))
+        lines.append("| %s | %d | %s | %s | %.1f× | %.1e | %s | %s%s |"
+                     % (r["dataset"], r["rows"], cells(k), cells(s), s[0] / k[0],
+                        a["rms_relative"], held, free, "" if a["ok"] else " **disagree**"))
     return "\n".join(lines)
 
 
@@ -342,7 +371,14 @@ def main():
     ap.add_argument("--only", help="comma-separated subset of: ur5, panda, iiwa14, point, pose")
     ap.add_argument("--repeat", type=int, default=3, help="runs of each, best shown (default 3)")
     ap.add_argument("--repeat-large", type=int, default=1,
-                    help="runs of the sets of 10^6 rows or more (default 1: tens of seconds each)")
+                    help="runs of the sets of --large-rows rows or more (default 1)")
+    ap.add_argument("--large-rows", type=float, default=1e6,
+                    help="the sets run --repeat-large times (default 1e6 rows or more)")
+    ap.add_argument("--timeout", type=float, default=1800,
+                    help="a command running longer is stopped and shown as '> T s' (default 1800)")
+    ap.add_argument("--simulate-with", metavar="PATH",
+                    help="the kincal that simulates the sets (default --kincal); the sets are "
+                         "kept in --work and reused whichever kincal made them")
     ap.add_argument("--work", default="real-data-work", help="folder for the files (created)")
     ap.add_argument("--out", action="append", default=[],
                     help="write the results: .json as JSON, otherwise the Markdown table")
@@ -362,6 +398,7 @@ def main():
     sizes = [int(float(s)) for s in args.sizes.split(",") if s]
     only = set(args.only.split(",")) if args.only else {"ur5", "panda", "iiwa14", "point", "pose"}
     args.kincal = os.path.abspath(args.kincal)
+    args.simulate_with = os.path.abspath(args.simulate_with or args.kincal)
     args.work = os.path.abspath(args.work)
     os.makedirs(args.work, exist_ok=True)
 
@@ -380,22 +417,30 @@ def main():
     load_before = os.getloadavg()
     results = []
     for ds in prepared:
-        runs = [measure(ds) for _ in range(args.repeat_large if ds.rows >= 10 ** 6
-                                           else args.repeat)]
-        best = lambda i: tuple(min(r[i][j] for r in runs) for j in range(3))
-        a = agreement(ds)
-        results.append(dict(dataset=ds.name, rows=ds.rows, kincal=best(0), script=best(1),
+        runs = [measure(ds, args.timeout) for _ in range(
+            args.repeat_large if ds.rows >= args.large_rows else args.repeat)]
+
+        def best(i):
+            done = [r[i] for r in runs if r[i] is not None]
+            return tuple(min(d[j] for d in done) for j in range(3)) if done else None
+        kincal, script = best(0), best(1)
+        # the outputs of the last run, when both sides finished it
+        a = (agreement(ds) if runs[-1][0] and runs[-1][1] else
+             dict(ok=None, why="not checked: a side ran out of time"))
+        results.append(dict(dataset=ds.name, rows=ds.rows, kincal=kincal, script=script,
                             runs=[dict(kincal=r[0], script=r[1]) for r in runs], agreement=a))
-        print("%s (%d rows): kincal %.2f s, script %.2f s, RMS rel. diff %.1e, held-out %.1e mm%s"
-              % (ds.name, ds.rows, best(0)[0], best(1)[0], a.get("rms_relative", float("nan")),
-                 a.get("held_mm", float("nan")), "" if a["ok"] else "  DISAGREE"), flush=True)
+        seconds = lambda t: "%.2f s" % t[0] if t else "> %g s" % args.timeout
+        print("%s (%d rows): kincal %s, script %s, %s" % (
+            ds.name, ds.rows, seconds(kincal), seconds(script),
+            a.get("why") or "RMS rel. diff %.1e, held-out %.1e mm%s" % (
+                a["rms_relative"], a["held_mm"], "" if a["ok"] else "  DISAGREE")), flush=True)
     load_after = os.getloadavg()
 
-    text = table(results)
+    text = table(results, args.timeout)
     where = ("%s, %d cores, load average %.2f/%.2f/%.2f before and %.2f/%.2f/%.2f after; "
-             "best of %d runs (%d of 10^6 rows); kincal %s; scripts on %s" % (
+             "best of %d runs (%d of the sets of %g rows or more); kincal %s; scripts on %s" % (
                  platform.processor() or platform.machine(), os.cpu_count(), *load_before,
-                 *load_after, args.repeat, args.repeat_large, args.kincal, args.python))
+                 *load_after, args.repeat, args.repeat_large, args.large_rows, args.kincal, args.python))
     print()
     print(text)
     print()
@@ -408,7 +453,7 @@ def main():
                 json.dump(dict(results=results, machine=where, skipped=skipped), f, indent=1)
             else:
                 f.write(text + "\n\n" + where + "\n")
-    failed = [r["dataset"] for r in results if not r["agreement"]["ok"]]
+    failed = [r["dataset"] for r in results if r["agreement"]["ok"] is False]
     for name in failed:
         print("FAILED: %s: kincal's and the script's calibrations disagree: %s"
               % (name, json.dumps(next(r["agreement"] for r in results if r["dataset"] == name))))
