@@ -41,6 +41,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(os.path.dirname(HERE))
 UR5_URDF = os.path.join(SOURCE, "examples", "ur5-laser-tracker", "ur5.urdf")
 POINT_NOISE, POSE_NOISE = (0.01,), (0.05, 1e-4)  # mm; mm, rad (std)
+PART_ROWS = 100000
 MAX_RMS_RELATIVE, MAX_HELD_MM, MAX_HELD_RAD = 1e-6, 1e-4, 1e-7
 
 
@@ -63,6 +64,10 @@ class TimedOut(Exception):
     pass
 
 
+class Failed(Exception):
+    """A timed command that exited non-zero: its last line says why."""
+
+
 def timed(cmd, timeout=None):
     """Wall, CPU (user + system, s) and peak RSS (MiB) of one process, from os.wait4 (the
     rusage of that child alone); stops on failure, raises TimedOut (the process killed)
@@ -82,8 +87,11 @@ def timed(cmd, timeout=None):
             raise TimedOut(" ".join(os.path.basename(c) for c in cmd[:2]))
         if code != 0:
             out.seek(0)
-            sys.stderr.write(out.read().decode(errors="replace")[-3000:])
-            raise SystemExit("run.py: '%s' failed with exit code %d" % (" ".join(cmd), code))
+            text = out.read().decode(errors="replace")
+            sys.stderr.write(text[-3000:])
+            last = text.strip().splitlines()[-1] if text.strip() else ""
+            raise Failed("%s exited %d: %s" % (" ".join(os.path.basename(c) for c in cmd[:2]),
+                                               code, last))
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
 
 
@@ -161,21 +169,38 @@ def prepare_simulated(args, python, sensor, rows):
     stamp = os.path.join(d, "made-by.json")
     # kept while these match, whichever kincal made them: before and after see the same data
     made = {"rows": rows, "noise": noise_arg, "seeds": [1, 2], "held_out": 200}
+    # kincal simulate holds about 38.5 KB per pose-tracker configuration of this arm (and
+    # stops above the memory available: 10^6 would need 38.5 GB), so larger pose sets are
+    # simulated in parts of 10^5 rows from the first part's true model, then joined
+    part = rows if sensor == "point" else min(rows, PART_ROWS)
+    if part < rows:
+        made["part_rows"] = part
     try:
         with open(stamp) as f:
             fresh = json.load(f) == made
     except (OSError, ValueError):
         fresh = False
-    if not fresh:  # the simulation of 10^6 rows takes tens of seconds: kept between runs
+    if not fresh:  # the simulation of 10^6 rows takes minutes: kept between runs
         model = os.path.join(d, "sim-model.json")
+        truth = os.path.join(d, "data.truth.json")
         run([args.simulate_with, "model", "--urdf", UR5_URDF, "--tip", "flange", "--sensor",
              sensor + "-tracker", "--out", model])
         common = ["--model", model, "--noise-std", noise_arg, "--allow-rank-deficient",
                   "--validation", "10"]
-        run([args.simulate_with, "simulate", "--poses", str(rows), "--seed", "1",
+        run([args.simulate_with, "simulate", "--poses", str(part), "--seed", "1",
              "--write-data", data] + common)
+        for i in range(1, (rows + part - 1) // part):
+            piece = os.path.join(d, "part.csv")
+            run([args.simulate_with, "simulate", "--poses", str(min(part, rows - i * part)),
+                 "--seed", str(100 + i), "--truth", truth, "--write-data", piece] + common)
+            with open(piece) as f, open(data, "a") as out:
+                lines = (line for line in f if not line.startswith("#"))
+                next(lines)  # the header
+                out.writelines(lines)
+            os.remove(piece)
+            os.remove(os.path.join(d, "part.truth.json"))
         run([args.simulate_with, "simulate", "--poses", "200", "--seed", "2", "--truth",
-             os.path.join(d, "data.truth.json"), "--write-data", test] + common)
+             truth, "--write-data", test] + common)
         with open(stamp, "w") as f:
             json.dump(made, f)
     std = noise if sensor == "pose" else None
@@ -316,9 +341,10 @@ def agreement(ds):
 # ---- the runs and the table -----------------------------------------------------------------
 
 def measure(ds, timeout):
-    """(wall, CPU, peak MiB) of kincal's chain and of the script; None for one that ran out
-    of time."""
+    """(wall, CPU, peak MiB) of kincal's chain and of the script, None for one that ran out
+    of time or failed, and what happened to it then."""
     wall = cpu = peak = 0.0
+    notes, failed = [], False
     try:
         for step in ds.steps:
             if callable(step):
@@ -327,15 +353,20 @@ def measure(ds, timeout):
             w, c, m = timed(step, timeout)
             wall, cpu, peak = wall + w, cpu + c, max(peak, m)
         kincal = (wall, cpu, peak)
-    except TimedOut as e:
-        print("  kincal timed out (%s over %g s)" % (e, timeout), flush=True)
+    except (TimedOut, Failed) as e:
+        failed = failed or isinstance(e, Failed)
+        notes.append("kincal: %s" % (e if isinstance(e, Failed) else
+                                     "over %g s (%s stopped)" % (timeout, e)))
+        print("  " + notes[-1], flush=True)
         kincal = None
     try:
         script = timed(ds.script, timeout)
-    except TimedOut:
-        print("  the script timed out (over %g s)" % timeout, flush=True)
+    except (TimedOut, Failed) as e:
+        failed = failed or isinstance(e, Failed)
+        notes.append("script: %s" % (e if isinstance(e, Failed) else "over %g s" % timeout))
+        print("  " + notes[-1], flush=True)
         script = None
-    return kincal, script
+    return kincal, script, "; ".join(notes), failed
 
 
 def table(results, timeout):
@@ -346,11 +377,11 @@ def table(results, timeout):
     for r in results:
         a = r["agreement"]
         k, s = r["kincal"], r["script"]
-        cells = lambda t: ("%.2f | %.2f | %.0f" % t) if t else "> %g | | " % timeout
-        if a["ok"] is None:
+        cells = lambda t: ("%.2f | %.2f | %.0f" % t) if t else "– | | "
+        if "why" in a:
             lines.append("| %s | %d | %s | %s | %s | %s | | |" % (
                 r["dataset"], r["rows"], cells(k), cells(s),
-                "%.1f×" % (s[0] / k[0]) if k and s else "", a["why"]))
+                "%.1f×" % (s[0] / k[0]) if k and s else "", a["why"].replace("|", "/")))
             continue
         held = "%.1e mm" % a["held_mm"] + (", %.1e rad" % a["held_rad"] if a["held_rad"] else "")
         free = "%d, same" % a["free"] if not a["free_differ"] else \
@@ -426,10 +457,12 @@ def main():
         kincal, script = best(0), best(1)
         # the outputs of the last run, when both sides finished it
         a = (agreement(ds) if runs[-1][0] and runs[-1][1] else
-             dict(ok=None, why="not checked: a side ran out of time"))
+              # a failure counts as a failed check, running out of time does not
+             dict(ok=False if runs[-1][3] else None, why="not checked: " + runs[-1][2]))
         results.append(dict(dataset=ds.name, rows=ds.rows, kincal=kincal, script=script,
-                            runs=[dict(kincal=r[0], script=r[1]) for r in runs], agreement=a))
-        seconds = lambda t: "%.2f s" % t[0] if t else "> %g s" % args.timeout
+                            runs=[dict(kincal=r[0], script=r[1], note=r[2]) for r in runs],
+                            agreement=a))
+        seconds = lambda t: "%.2f s" % t[0] if t else "–"
         print("%s (%d rows): kincal %s, script %s, %s" % (
             ds.name, ds.rows, seconds(kincal), seconds(script),
             a.get("why") or "RMS rel. diff %.1e, held-out %.1e mm%s" % (
@@ -455,7 +488,7 @@ def main():
                 f.write(text + "\n\n" + where + "\n")
     failed = [r["dataset"] for r in results if r["agreement"]["ok"] is False]
     for name in failed:
-        print("FAILED: %s: kincal's and the script's calibrations disagree: %s"
+        print("FAILED: %s: kincal's and the script's calibrations disagree or one failed: %s"
               % (name, json.dumps(next(r["agreement"] for r in results if r["dataset"] == name))))
     return 1 if failed else 0
 
