@@ -11,7 +11,8 @@ files, examples/ur5-laser-tracker/README.md says where they come from) and robot
 (platonics-delft/kinematics_calibration, examples/robot_sockets/README.md). The simulated sets
 (the UR5 URDF with a point and a pose tracker, --sizes rows each) are made by `kincal
 simulate` and kept in --work between runs. Preparing the files is not timed. Then, per
-dataset and repeat: kincal's chain (each command a process; what the runner does between
+dataset and repeat: kincal's chain (each command a process; `validate` without `--report`,
+which it refuses above 16 MiB, i.e. from about 10^5 rows; what the runner does between
 them, such as adding the sockets to the model file, is not timed), then the script's process
 (its imports included). Wall time, CPU (user + system, of the processes themselves: os.wait4),
 peak resident memory; the table shows the best of --repeat runs of each.
@@ -118,8 +119,7 @@ def tracker_steps(k, d, sensor, data, test, reading_std=None):
     steps += [[k, "calibrate", "--model", model, "--data", data, "--out",
                os.path.join(d, "calibrated.json"), "--json", os.path.join(d, "report.json")],
               [k, "validate", "--model", os.path.join(d, "calibrated.json"), "--data", test,
-               "--report", os.path.join(d, "report.json"), "--json",
-               os.path.join(d, "validation.json")]]
+               "--json", os.path.join(d, "validation.json")]]
     return steps
 
 
@@ -287,8 +287,7 @@ def prepare_sockets(args, python, robot_key):
               "--out", os.path.join(d, "calibrated.json"), "--json",
               os.path.join(d, "report.json")],
              [k, "validate", "--model", os.path.join(d, "calibrated.json"), "--data", held_csv,
-              "--report", os.path.join(d, "report.json"), "--json",
-              os.path.join(d, "validation.json")]]
+              "--json", os.path.join(d, "validation.json")]]
     script = [python, os.path.join(HERE, "socket_fit.py"), "--urdf", urdf, "--tip", "ball_link",
               "--data", train_csv, "--test", held_csv, "--free", free_txt, "--reading-std",
               "0.1", "--distance", "%g" % ex.DISTANCE_MM, "--distance-std", "0.05",
