@@ -457,7 +457,8 @@ def main():
         # the outputs of the last run, when both sides finished it
         a = (agreement(ds) if runs[-1][0] and runs[-1][1] else
               # a failure counts as a failed check, running out of time does not
-             dict(ok=False if runs[-1][3] else None, why="not checked: " + runs[-1][2]))
+             dict(ok=False if runs[-1][3] else None,
+                  why="not checked: " + runs[-1][2].replace(args.work + os.sep, "")))
         results.append(dict(dataset=ds.name, rows=ds.rows, kincal=kincal, script=script,
                             runs=[dict(kincal=r[0], script=r[1], note=r[2]) for r in runs],
                             agreement=a))
@@ -485,10 +486,10 @@ def main():
                 json.dump(dict(results=results, machine=where, skipped=skipped), f, indent=1)
             else:
                 f.write(text + "\n\n" + where + "\n")
-    failed = [r["dataset"] for r in results if r["agreement"]["ok"] is False]
-    for name in failed:
-        print("FAILED: %s: kincal's and the script's calibrations disagree or one failed: %s"
-              % (name, json.dumps(next(r["agreement"] for r in results if r["dataset"] == name))))
+    failed = [r for r in results if r["agreement"]["ok"] is False]
+    for r in failed:
+        print("FAILED: %s, %d rows: kincal's and the script's calibrations disagree or one "
+              "failed: %s" % (r["dataset"], r["rows"], json.dumps(r["agreement"])))
     return 1 if failed else 0
 
 
