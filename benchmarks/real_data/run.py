@@ -339,7 +339,7 @@ def agreement(ds):
 
 # ---- the runs and the table -----------------------------------------------------------------
 
-def measure(ds, timeout):
+def measure(ds, timeout, work):
     """(wall, CPU, peak MiB) of kincal's chain and of the script, None for one that ran out
     of time or failed, and what happened to it then."""
     wall = cpu = peak = 0.0
@@ -365,7 +365,7 @@ def measure(ds, timeout):
         notes.append("script: %s" % (e if isinstance(e, Failed) else "over %g s" % timeout))
         print("  " + notes[-1], flush=True)
         script = None
-    return kincal, script, "; ".join(notes), failed
+    return kincal, script, "; ".join(notes).replace(work + os.sep, ""), failed
 
 
 def table(results, timeout):
@@ -447,7 +447,7 @@ def main():
     load_before = os.getloadavg()
     results = []
     for ds in prepared:
-        runs = [measure(ds, args.timeout) for _ in range(
+        runs = [measure(ds, args.timeout, args.work) for _ in range(
             args.repeat_large if ds.rows >= args.large_rows else args.repeat)]
 
         def best(i):
@@ -458,7 +458,7 @@ def main():
         a = (agreement(ds) if runs[-1][0] and runs[-1][1] else
               # a failure counts as a failed check, running out of time does not
              dict(ok=False if runs[-1][3] else None,
-                  why="not checked: " + runs[-1][2].replace(args.work + os.sep, "")))
+                  why="not checked: " + runs[-1][2]))
         results.append(dict(dataset=ds.name, rows=ds.rows, kincal=kincal, script=script,
                             runs=[dict(kincal=r[0], script=r[1], note=r[2]) for r in runs],
                             agreement=a))
