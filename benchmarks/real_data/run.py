@@ -14,8 +14,11 @@ simulate` and kept in --work between runs. Preparing the files is not timed. The
 dataset and repeat: kincal's chain (each command a process; `validate` without `--report`,
 which it refuses above 16 MiB, i.e. from about 10^5 rows; what the runner does between
 them, such as adding the sockets to the model file, is not timed), then the script's process
-(its imports included). Wall time, CPU (user + system, of the processes themselves: os.wait4),
-peak resident memory; the table shows the best of --repeat runs of each.
+(its imports included). Wall time, CPU (user + system of the processes themselves) and peak
+resident memory, from GNU time where it is installed (/usr/bin/time; otherwise os.wait4, whose
+peak then counts this runner's own); the table shows the best of --repeat runs of each
+(--repeat-large of the sets of --large-rows rows or more); a command over --timeout is
+stopped and shown as such.
 
 Agreement: the residual RMS at each one's minimum (sqrt(2 cost / residuals), whitened where
 the model states reading_std), relative difference; the held-out residuals (predicted -
@@ -69,14 +72,23 @@ class Failed(Exception):
     """A timed command that exited non-zero: its last line says why."""
 
 
+# A child's peak memory counts the memory of the process it was started from (Linux records
+# the old image's high-water mark at exec), and this runner grows when it reads a report of
+# 10^6 rows: GNU time, a small process, starts each command and reports its rusage instead.
+GNU_TIME = "/usr/bin/time" if os.access("/usr/bin/time", os.X_OK) else None
+
+
 def timed(cmd, timeout=None):
-    """Wall, CPU (user + system, s) and peak RSS (MiB) of one process, from os.wait4 (the
-    rusage of that child alone); stops on failure, raises TimedOut (the process killed)
-    after `timeout` seconds."""
-    with tempfile.TemporaryFile() as out:
+    """Wall, CPU (user + system, s) and peak RSS (MiB) of one process (its rusage from GNU
+    time, or from os.wait4 without it); raises Failed on failure, TimedOut (the process
+    killed) after `timeout` seconds."""
+    with tempfile.TemporaryFile() as out, tempfile.NamedTemporaryFile("r") as usage_file:
+        run_cmd = ([GNU_TIME, "-f", "%U %S %M", "-o", usage_file.name] + cmd if GNU_TIME
+                   else cmd)
         start = time.perf_counter()
-        p = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT)
-        killer = threading.Timer(timeout, p.kill) if timeout else None
+        p = subprocess.Popen(run_cmd, stdout=out, stderr=subprocess.STDOUT,
+                             start_new_session=True)
+        killer = threading.Timer(timeout, os.killpg, (p.pid, 9)) if timeout else None
         if killer:
             killer.start()
         _, status, usage = os.wait4(p.pid, 0)
@@ -84,7 +96,7 @@ def timed(cmd, timeout=None):
         if killer:
             killer.cancel()
         p.returncode = code = os.waitstatus_to_exitcode(status)
-        if timeout and wall >= timeout and code < 0:
+        if timeout and wall >= timeout and code in (-9, 137):
             raise TimedOut(" ".join(os.path.basename(c) for c in cmd[:2]))
         # validate exits 1 for its verdict "the held-out residuals are larger than predicted"
         if code != 0 and not (code == 1 and cmd[1:2] == ["validate"]):
@@ -93,6 +105,9 @@ def timed(cmd, timeout=None):
             last = text.strip().splitlines()[-1] if text.strip() else ""
             raise Failed("%s exited %d: %s" % (" ".join(os.path.basename(c) for c in cmd[:2]),
                                                code, last))
+        if GNU_TIME:
+            user, system, kib = usage_file.read().strip().splitlines()[-1].split()
+            return wall, float(user) + float(system), float(kib) / 1024.0
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
 
 
