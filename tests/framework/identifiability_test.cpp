@@ -169,7 +169,7 @@ TEST(Identifiability, ExactDuplicatesKeepTheFirstWhateverTheRowsOrder) {
   for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = (i * 7919) % m;
   const MatrixXd shuffled = J(order, Eigen::all);
   const std::vector<int> expected = {0, 1, 3};
-  for (const MatrixXd* matrix : {&J, &shuffled}) {
+  for (const MatrixXd* matrix : {static_cast<const MatrixXd*>(&J), &shuffled}) {
     EXPECT_EQ(identifiable_subset(*matrix), expected);
     EXPECT_EQ(identifiable_subset(*matrix, {0, 0, 0, 0, 0, 0}), expected);
     // A lower class still wins over the first.
