@@ -12,6 +12,7 @@
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/sha256.hpp"
+#include "kincal/framework/workflows/report_prediction.hpp"
 
 namespace kincal::cli {
 
@@ -34,7 +35,9 @@ int run_verify(const Args& args) {
   plan.check();
   const bool json_to_stdout = !json_file.empty() && plan.to_stdout("--json");
 
-  const nlohmann::ordered_json report = read_json_file(report_file, "calibration report");
+  JsonLimits limits;  // a report lists every residual: as large as validate reads
+  limits.max_bytes = kMaxCalibrationReportBytes;
+  const nlohmann::ordered_json report = read_json_file(report_file, "calibration report", limits);
   if (!report.is_object() || report.value("format", "") != "kincal-calibration-report")
     throw CliError(report_file +
                    ": expected a calibration report (format "

@@ -34,7 +34,12 @@ constexpr double kLargest = 1e150, kSmallest = 1e-150;
 }  // namespace
 
 ReportPrediction read_report_prediction(const std::string& path) {
-  return parse_report_prediction(read_json_file(path, "calibration report"), path);
+  // A calibration report lists every residual: about 90 bytes per configuration, so 16 MiB
+  // (the limit for files a user writes) is passed from about 10^5 configurations on. The
+  // limit still stops a device or a runaway file.
+  JsonLimits limits;
+  limits.max_bytes = kMaxCalibrationReportBytes;
+  return parse_report_prediction(read_json_file(path, "calibration report", limits), path);
 }
 
 ReportPrediction parse_report_prediction(const nlohmann::ordered_json& report,

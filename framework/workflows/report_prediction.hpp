@@ -4,6 +4,7 @@
 // and the estimated parameters' std and correlation. The reader of that format for the
 // validate workflow; every number is checked to be one it can compute with.
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,10 @@ struct ReportPrediction {
   std::string calibrated_sha256;
   VectorXd nominal;  ///< each parameter's value before the calibration (NaN: not given)
 };
+
+/// The largest calibration report read_report_prediction reads: 2 GiB, about 2·10^7
+/// configurations' residuals (a report from 10^6 is about 90 MB).
+inline constexpr std::size_t kMaxCalibrationReportBytes = std::size_t{2} << 30;
 
 /// Reads `path`. Throws std::invalid_argument naming the file and field: not a calibration
 /// report, a field missing or of the wrong type, a number that is not finite or out of its
