@@ -127,6 +127,16 @@ Compact compacted(const MatrixXd& J, const MatrixXd& turns) {
   return {factor.leftCols(J.cols()), factor.rightCols(turns.cols())};
 }
 
+// |c| to 9 significant digits, the key terms are sorted by: terms of the same size (a link's
+// lever split between two joint offsets, +0.00255 and -0.00255) keep the model's order, not
+// the one the last bits of a factorisation give.
+double magnitude_key(double c) {
+  const double a = std::abs(c);
+  if (!(a > 0) || !std::isfinite(a)) return a;
+  const double scale = std::pow(10.0, 8 - std::floor(std::log10(a)));
+  return std::round(a * scale) / scale;
+}
+
 ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& norms,
                                       const std::vector<std::string>& names, double s,
                                       bool null_space, double cutoff) {
@@ -146,7 +156,7 @@ ParameterCombination make_combination(const VectorXd& v_scaled, const VectorXd& 
   for (int i = 0; i < v.size(); ++i)
     if (std::abs(v[i]) >= cutoff * max_abs) c.terms.emplace_back(names[i], v[i]);
   std::stable_sort(c.terms.begin(), c.terms.end(), [](const auto& a, const auto& b) {
-    return std::abs(a.second) > std::abs(b.second);
+    return magnitude_key(a.second) > magnitude_key(b.second);
   });
   return c;
 }
@@ -368,7 +378,7 @@ std::vector<DependentParameter> dependent_parameters(const MatrixXd& J_all,
         if (std::abs(coefficient[k]) >= options.term_cutoff * largest && largest > 0)
           d.equivalent.emplace_back(names[keep[k]], coefficient[k]);
       std::stable_sort(d.equivalent.begin(), d.equivalent.end(), [](const auto& a, const auto& b) {
-        return std::abs(a.second) > std::abs(b.second);
+        return magnitude_key(a.second) > magnitude_key(b.second);
       });
     }
     out.push_back(d);
