@@ -189,7 +189,7 @@ def shlex_quote(text):
 def screenshot(html, image):
     browser = shutil.which("chromium") or shutil.which("chromium-browser")
     if not browser:
-        sys.exit("refresh_doc_outputs: chromium is needed for the screenshots (scripts/setup.sh)")
+        sys.exit("refresh_doc_outputs: chromium is needed for the screenshots (scripts/setup.sh --all)")
     with tempfile.TemporaryDirectory() as profile:
         subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
                         "--hide-scrollbars", "--user-data-dir=" + profile,

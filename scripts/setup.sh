@@ -1,15 +1,32 @@
 #!/usr/bin/env bash
-# Installs what is missing (Debian 12 packages), then configures and builds kincal in
-# Release under build/. Idempotent: installed packages are skipped, the build is incremental.
-# Extra arguments are passed to CMake's configure step (e.g. -DKINCAL_WITH_IPOPT=OFF).
+# Installs what is missing (Debian 12 packages), then configures and builds kincal in Release
+# under build/. Idempotent: installed packages are skipped, the build is incremental.
+#
+#   scripts/setup.sh [--all] [CMAKE_ARGS...]
+#
+# Without --all: the packages the program needs and the program only (build/cli/kincal: the
+# library and the CLI), so that a fresh machine runs its first command in minutes. With --all:
+# also the test suite, the benchmarks, the examples, the Python module and the packages they
+# need (GoogleTest, Google Benchmark, pybind11, pytest, mypy, Dask, Chromium for the rendered
+# report): what `ctest --test-dir build` runs. Extra arguments go to CMake's configure step
+# (e.g. -DKINCAL_WITH_IPOPT=OFF). docs/benchmarks.md#first-start gives the times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(
-  build-essential cmake ninja-build ccache pkg-config git
+all=0
+if [ "${1:-}" = "--all" ]; then
+  all=1
+  shift
+fi
+
+program_packages=(
+  build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libceres-dev libgoogle-glog-dev libnlopt-cxx-dev coinor-libipopt-dev
   libboost-program-options-dev nlohmann-json3-dev
-  liburdfdom-dev liburdfdom-tools  # URDF import/export; check_urdf in the tests
+  liburdfdom-dev  # URDF import/export
+)
+development_packages=(
+  git liburdfdom-tools  # check_urdf in the tests
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib
   # the Python module (python/, docs/python.md), its tests and its studies on Dask
@@ -19,12 +36,32 @@ packages=(
 )
 # shellcheck source=scripts/install_packages.sh
 source scripts/install_packages.sh
-install_missing setup "${packages[@]}"
-
-jobs=$(nproc)
-if [ ! -f build/CMakeCache.txt ]; then
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
-elif (($#)); then
-  cmake -S . -B build "$@" >/dev/null
+if ((all)); then
+  install_missing setup "${program_packages[@]}" "${development_packages[@]}"
+else
+  install_missing setup "${program_packages[@]}"
 fi
-cmake --build build --parallel "$jobs"
+
+# What only kincal's developers build: off for the program alone, on with --all.
+parts=(KINCAL_BUILD_TESTS KINCAL_BUILD_BENCHMARKS KINCAL_BUILD_EXAMPLES KINCAL_BUILD_PYTHON)
+part_options=()
+for part in "${parts[@]}"; do
+  if ((all)); then
+    part_options+=("-D$part=ON")
+  elif [ ! -f build/CMakeCache.txt ]; then
+    part_options+=("-D$part=OFF")
+  fi
+done
+
+if [ ! -f build/CMakeCache.txt ]; then
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${part_options[@]}" "$@" >/dev/null
+elif ((all)) || (($#)); then
+  cmake -S . -B build "${part_options[@]}" "$@" >/dev/null
+fi
+# Every core, each compilation through ccache (CMakeLists.txt): a second clone or a rebuild
+# after a branch switch recompiles only what changed.
+if ((all)); then
+  cmake --build build --parallel "$(nproc)"
+else
+  cmake --build build --parallel "$(nproc)" --target kincal-cli
+fi

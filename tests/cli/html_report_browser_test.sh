@@ -6,7 +6,7 @@
 #   --screenshot must produce a picture that is not blank;
 # and the pages of validate, design, observability and compare --html the same way: each
 # one's sections, its number of charts and of plotted points, no script and no raw JSON.
-# Skipped (exit 77, with the reason) only when no chromium is installed; scripts/setup.sh
+# Skipped (exit 77, with the reason) only when no chromium is installed; scripts/setup.sh --all
 # installs Debian's chromium. Usage: html_report_browser_test.sh KINCAL [SCREENSHOT_COPY.png]
 set -euo pipefail
 kincal=$1
@@ -16,7 +16,7 @@ for candidate in chromium chromium-browser; do
   if command -v "$candidate" >/dev/null 2>&1; then browser=$candidate; break; fi
 done
 if [ -z "$browser" ]; then
-  echo "skipped: chromium is not installed (scripts/setup.sh installs Debian's chromium)"
+  echo "skipped: chromium is not installed (scripts/setup.sh --all installs Debian's chromium)"
   exit 77
 fi
 dir=$(mktemp -d)
