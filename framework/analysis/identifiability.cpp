@@ -123,7 +123,7 @@ Compact compacted(const MatrixXd& J, const MatrixXd& turns) {
   if (turns.cols() > 0 && turns.rows() != J.rows())
     throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
                                 " rows, the Jacobian " + std::to_string(J.rows()));
-  const MatrixXd factor = turns.cols() ? triangular_factor(J, turns) : triangular_factor(J);
+  const MatrixXd factor = triangular_factor(J, turns);
   return {factor.leftCols(J.cols()), factor.rightCols(turns.cols())};
 }
 

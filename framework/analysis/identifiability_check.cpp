@@ -166,7 +166,7 @@ IdentifiabilityCheck check_identifiability(const std::string& where,
   // which keeps every inner product the choice below uses, without copying J's rows),
   // stacked with the prior's rows.
   const Eigen::Index n = J.cols(), k = turns.cols();
-  const MatrixXd factor = k ? triangular_factor(J, turns) : triangular_factor(J);
+  const MatrixXd factor = triangular_factor(J, turns);
   MatrixXd determining = factor.leftCols(n), determining_turns = factor.rightCols(k);
   if (with_prior) {
     const Eigen::Index rows = determining.rows();
