@@ -86,15 +86,20 @@ MatrixXd reproduced_turns(const MatrixXd& scaled, const MatrixXd& turns, double 
   return Q * angles.matrixV().rightCols(d);
 }
 
+// The turns are directions of J's residuals: the same rows (none at all when there are none).
+void check_turn_rows(const MatrixXd& J, const MatrixXd& turns) {
+  if (turns.cols() > 0 && turns.rows() != J.rows())
+    throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
+                                " rows, the Jacobian " + std::to_string(J.rows()));
+}
+
 // `prior_sqrt_precision` (when non-null) stacks a prior's rows below J, with zero turns.
 WithoutTurns without_reproduced_turns(const MatrixXd& J, const MatrixXd& turns, double rcond,
                                       const VectorXd* prior_sqrt_precision = nullptr) {
   WithoutTurns out;
   const Eigen::Index n = J.cols(), k = turns.cols();
   if (k == 0 || n == 0 || J.rows() == 0) return out;
-  if (turns.rows() != J.rows())
-    throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
-                                " rows, the Jacobian " + std::to_string(J.rows()));
+  check_turn_rows(J, turns);
   const MatrixXd factor = triangular_factor(J, turns);
   MatrixXd compact = factor.leftCols(n), compact_turns = factor.rightCols(k);
   if (prior_sqrt_precision) {
@@ -120,9 +125,7 @@ struct Compact {
   MatrixXd J, turns;
 };
 Compact compacted(const MatrixXd& J, const MatrixXd& turns) {
-  if (turns.cols() > 0 && turns.rows() != J.rows())
-    throw std::invalid_argument("identifiability: the turns have " + std::to_string(turns.rows()) +
-                                " rows, the Jacobian " + std::to_string(J.rows()));
+  check_turn_rows(J, turns);
   const MatrixXd factor = triangular_factor(J, turns);
   return {factor.leftCols(J.cols()), factor.rightCols(turns.cols())};
 }
