@@ -2,6 +2,7 @@
 // mechanism or sensor type (each registers its JSON reader/writer and its presets).
 
 #include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/models/camera.hpp"
 #include "kincal/models/fixture_distance.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
@@ -23,6 +24,7 @@ void register_builtin_models(ModelRegistry& registry) {
   register_point_tracker(registry);
   register_pose_tracker(registry);
   register_socket(registry);
+  register_camera(registry);
   register_fixture_distance(registry);
 }
 

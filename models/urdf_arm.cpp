@@ -235,7 +235,8 @@ void free_what_home_configurations_determine(MeasurementModel& model, double a, 
   MatrixXd block(model.num_readings(), model.num_parameters());
   for (int c = 0; c < configurations; ++c) {
     for (int i = 0; i < q.size(); ++i)
-      q[i] = home[i] + UrdfArm::kDefaultRevoluteRange * std::sin(a * c + b * i + d * c * i);
+      q[i] = home[i] + arm.actuators()[static_cast<std::size_t>(i)].default_range *
+                           std::sin(a * c + b * i + d * c * i);
     Eigen::Ref<MatrixXd> ref(block);
     model.predict(nominal, q, readings, &ref, ws);
     J.middleRows(c * model.num_readings(), model.num_readings()) = block;

@@ -166,7 +166,7 @@ std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model);
 
 /// Frees the parameters of `model` (an urdf-arm mechanism) that its identification Jacobian at
 /// nominal determines on 30 fixed configurations around home, joint i of configuration c at
-/// home_i + kDefaultRevoluteRange sin(a c + b i + d c i), kept by a pivoted QR with
+/// home_i + r_i sin(a c + b i + d c i) (r_i the joint's default range), kept by a pivoted QR with
 /// urdf_arm_parameter_priority: how the URDF presets choose their free set (each with its own
 /// coefficients, so that their configurations differ).
 void free_what_home_configurations_determine(MeasurementModel& model, double a, double b, double d);

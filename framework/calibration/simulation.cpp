@@ -91,6 +91,12 @@ void draw_configurations(const MeasurementModel& model, const VectorXd& truth,
   // reproduce's trials already run in parallel). Work is handed out in chunks of 256.
   const bool threaded = count >= 2 * kCandidatesPerBatch;
   constexpr int kChunk = 256;
+  // Where sensors can miss (a camera), a drawn configuration must give at least one reading,
+  // as an experiment keeps only the configurations in which something was measured (a camera
+  // that sees its target); the readings a sensor misses there stay missing.
+  const bool check_sensors = model.sensors_can_miss();
+  VectorXd readings(check_sensors ? model.num_readings() : 0);
+  long long unseen = 0;
   for (int j = 0; j < count;) {
     for (int c = 0; c < batch; ++c)
       for (int i = 0; i < na; ++i) candidates(c, i) = home_q[i] + rng.symmetric(range[i]);
@@ -103,10 +109,19 @@ void draw_configurations(const MeasurementModel& model, const VectorXd& truth,
     for (int c = 0; c < batch && j < count; ++c) {
       if (++attempts > max_attempts)
         throw std::runtime_error(
-            "could not draw reachable configurations: forward kinematics of the true model "
-            "keeps failing (is the configuration range too large?)");
+            unseen * 2 > attempts
+                ? "could not draw configurations in which a sensor takes a reading (a "
+                  "camera: its target in view); is the configuration range too large, or the "
+                  "sensor placed where it sees nothing?"
+                : "could not draw reachable configurations: forward kinematics of the true "
+                  "model keeps failing (is the configuration range too large?)");
       const ForwardKinematicsResult& fk = reached[static_cast<std::size_t>(c)];
       if (!fk.ok()) continue;
+      if (check_sensors &&
+          model.simulate_at_pose(truth, fk.pose, readings) == model.num_readings()) {
+        ++unseen;
+        continue;
+      }
       actuators.row(j) = candidates.row(c);
       poses[j] = fk.pose;
       ++j;
@@ -246,7 +261,7 @@ Scenario make_scenario(std::shared_ptr<const MeasurementModel> model,
   s.calibration.readings.resize(options.num_configurations, k);
   VectorXd reading(k), noise(k);
   for (int j = 0; j < options.num_configurations; ++j) {
-    model->predict_at_pose(s.truth, calibration_poses[j], reading);
+    model->simulate_at_pose(s.truth, calibration_poses[j], reading);
     for (int i = 0; i < k; ++i) noise[i] = noise_rng.symmetric(options.noise_for(units[i]));
     model->retract(reading, noise);
     if (planned)  // readings the plan does not take stay missing

@@ -164,6 +164,27 @@ void MeasurementModel::predict_at_pose(const Eigen::Ref<const VectorXd>& params,
   }
 }
 
+int MeasurementModel::simulate_at_pose(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                                       Eigen::Ref<VectorXd> readings) const {
+  predict_at_pose(params, pose, readings);
+  if (!sensors_can_miss_) return 0;
+  int missing = 0, row = 0;
+  for (std::size_t s = 0; s < sensors_.size(); ++s) {
+    const Sensor& sensor = *sensors_[s];
+    const int k = sensor.num_readings();
+    if (sensor.can_miss()) {
+      auto own = readings.segment(row, k);
+      if (std::isnan(own[0]))
+        missing += k;  // the sensor does not read there (predict_at_pose)
+      else
+        missing += sensor.drop_unseen(params.segment(sensor_offsets_[s], sensor.num_parameters()),
+                                      pose, own);
+    }
+    row += k;
+  }
+  return missing;
+}
+
 bool MeasurementModel::sensor_reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                                        int sensor_index, std::string* reason) const {
   const Sensor& sensor = *sensors_.at(sensor_index);

@@ -81,6 +81,12 @@ class MeasurementModel {
   void predict_at_pose(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                        Eigen::Ref<VectorXd> readings) const;
 
+  /// Readings at a known pose as a simulated measurement takes them: predict_at_pose, and the
+  /// readings a sensor would not take there NaN (Sensor::drop_unseen: a camera's points
+  /// outside its image). Returns the number of readings left missing (0: every one taken).
+  int simulate_at_pose(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                       Eigen::Ref<VectorXd> readings) const;
+
   /// Residuals of predicted against measured readings of one configuration, sensor by
   /// sensor (Sensor::reading_error; predicted - measured for plain readings). A missing
   /// measured reading (NaN) gives a zero residual. When J is non-null it holds

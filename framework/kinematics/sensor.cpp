@@ -9,6 +9,11 @@ void Sensor::reading_error(const Eigen::Ref<const VectorXd>& predicted,
   if (J_error_predicted) J_error_predicted->setIdentity();
 }
 
+int Sensor::drop_unseen(const Eigen::Ref<const VectorXd>&, const Pose&,
+                        Eigen::Ref<VectorXd>) const {
+  return 0;
+}
+
 bool Sensor::reads_at(const Eigen::Ref<const VectorXd>&, const Pose&, std::string*) const {
   return true;
 }

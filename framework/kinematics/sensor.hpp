@@ -90,6 +90,13 @@ class Sensor {
   virtual bool reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                         std::string* reason) const;
 
+  /// For simulated measurements: the readings a sensor that can miss would not take at `pose`
+  /// although it reads there (a camera's target points outside its image or seen edge-on), set
+  /// to NaN in `reading` (its predicted readings); returns how many. Only called when
+  /// can_miss() and reads_at(). Default: none.
+  virtual int drop_unseen(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
+                          Eigen::Ref<VectorXd> reading) const;
+
   /// Whether reading_error() is more than predicted - measured. Only then is it called with
   /// a Jacobian, so plain sensors cost nothing.
   virtual bool has_manifold_readings() const { return false; }

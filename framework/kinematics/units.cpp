@@ -31,7 +31,9 @@ UnitRegistry::UnitRegistry()
              {"m", kMillimetre, 1000, "a length"},
              {kRadian, kRadian, 1, "an angle"},
              {"deg", kRadian, kRadiansPerDegree, "an angle"},
-             {kPixel, kPixel, 1, "an image coordinate"}} {}
+             {kPixel, kPixel, 1, "an image coordinate"},
+             // SI's unit one, of dimensionless numbers (a lens's distortion coefficients).
+             {"one", "one", 1, "a dimensionless number"}} {}
 
 UnitRegistry& UnitRegistry::global() {
   static UnitRegistry registry;
