@@ -202,8 +202,11 @@ void free_camera_and_what_views_determine(MeasurementModel& model) {
                                                    {"camera.k1", 0.02},
                                                    {"camera.k2", 0.02},
                                                    {"camera.p?", 0.002}};
-  for (const auto& [pattern, half_width] : errors)
-    parameters.for_each_matching(pattern, [&](Parameter& p) { p.error_half_width = half_width; });
+  for (const auto& error : errors) {
+    const double half_width = error.second;  // a structured binding cannot be captured (C++17)
+    parameters.for_each_matching(error.first,
+                                 [half_width](Parameter& p) { p.error_half_width = half_width; });
+  }
   free_what_home_configurations_determine(model, 1.7, 2.3, 0.1);
   for (const char* always : {"camera.fx", "camera.fy", "camera.cx", "camera.cy", "camera.k1",
                              "camera.k2", "camera.p1", "camera.p2"})

@@ -116,7 +116,7 @@ void fit_findings(const CalibrationReport& r, std::vector<Finding>& out) {
            "(1.4826 x the median |residual|) is " +
                percent(share) + " of the readings' spread (" +
                fmt("%.4g", s.reading_spread.at(unit)) + " " + unit +
-               "), where a calibration leaves a thousandth or less.",
+               "), where a calibration leaves its sensor's noise, a few hundredths at most.",
            "Check that each row's readings belong to its configuration (rows shuffled, shifted "
            "or from another session), the columns and their units."});
     }
@@ -250,12 +250,20 @@ void accuracy_findings(const CalibrationReport& r, std::vector<Finding>& out) {
   const AccuracyComparison& a = r.predicted_accuracy;
   // A prediction from the covariance and the stated tolerances, not a measured failure: a
   // warning (exit 0). The same prediction against a --target the user gave is do-not-load.
+  // The readings measure no point (a camera's pixels, a gauge's lengths): a fit that lowers
+  // their residuals can still move the geometry away from the machine's (issue 38: a camera
+  // fit that took a dual-arm robot from 0.25 to 2 mm held out), so this is said in so many
+  // words.
   if (r.position_after.points == 0 && a.computed && !a.expected_to_beat_nominal)
     out.push_back({"accuracy", L::kWarning,
                    "This calibration is not expected to beat the nominal model: predicted "
                    "position error " +
                        fmt("%.3g", a.calibrated.position_rms) + " mm RMS against " +
-                       fmt("%.3g", a.nominal.position_rms) + " mm for the nominal model.",
+                       fmt("%.3g", a.nominal.position_rms) +
+                       " mm for the nominal model. It fits the readings better (cost " +
+                       fmt("%.4g", r.summary.initial_cost) + " -> " +
+                       fmt("%.4g", r.summary.final_cost) +
+                       ") but is not expected to improve the machine.",
                    "Measure configurations chosen by kincal design, add what you know as "
                    "prior_std, or fix the weakly determined parameters."});
 }
