@@ -14,24 +14,15 @@
 #include "kincal/models/camera.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
+#include "sensor_values.hpp"
 
 namespace kincal {
 namespace {
 
+using kincal::testing::frame_params;
 using kincal::testing::jacobians_match;
 using kincal::testing::numerical_jacobian;
-
-Vector6d frame_params(const Vector3d& position, const Vector3d& rx_ry_rz) {
-  Vector6d p;
-  p << position, rx_ry_rz;
-  return p;
-}
-
-VectorXd params_of(const Sensor& sensor) {
-  VectorXd p(sensor.num_parameters());
-  for (int i = 0; i < sensor.num_parameters(); ++i) p[i] = sensor.parameters()[i].nominal;
-  return p;
-}
+using kincal::testing::params_of;
 
 CameraIntrinsics distorted() {
   CameraIntrinsics in;

@@ -11,29 +11,20 @@
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/pose_tracker.hpp"
+#include "sensor_values.hpp"
 
 namespace kincal {
 namespace {
 
+using kincal::testing::frame_params;
 using kincal::testing::jacobians_match;
 using kincal::testing::numerical_jacobian;
+using kincal::testing::params_of;
 
 Pose random_pose(Random& rng, double position, double angle) {
   Vector6d delta;
   for (int i = 0; i < 6; ++i) delta[i] = rng.symmetric(i < 3 ? position : angle);
   return perturb(Pose{}, delta);
-}
-
-Vector6d frame_params(const Vector3d& position, const Vector3d& rx_ry_rz) {
-  Vector6d p;
-  p << position, rx_ry_rz;
-  return p;
-}
-
-VectorXd params_of(const Sensor& sensor) {
-  VectorXd p(sensor.num_parameters());
-  for (int i = 0; i < sensor.num_parameters(); ++i) p[i] = sensor.parameters()[i].nominal;
-  return p;
 }
 
 // The sensor's Jacobians against central differences of its reading error, the space its
