@@ -12,15 +12,18 @@
 // "grid" for any other target.
 //
 // Presets: ur5-urdf-camera (eye-to-hand: a camera on a tripod, a chessboard on a bracket at
-// the flange) and ur5-urdf-eye-in-hand (a camera on the flange, a chessboard on the table).
+// the flange), ur5-urdf-eye-in-hand (a camera on the flange, a chessboard on the table) and
+// cube-hexapod-camera (a camera above the paper's hexapod, a chessboard on its platform).
 
 #include <cmath>
 
 #include "kincal/framework/analysis/identifiability.hpp"
 #include "kincal/framework/base/angles.hpp"
+#include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/io/json_fields.hpp"
 #include "kincal/models/camera.hpp"
+#include "kincal/models/presets.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
 namespace kincal {
@@ -192,10 +195,10 @@ CameraIntrinsics preset_intrinsics() {
   return in;
 }
 
-// Errors a simulation draws for the intrinsics (px, and the distortion's unit one), the
-// camera's own mask (fx, fy, cx, cy, k1, k2, p1, p2 free; k3 fixed: it only matters near the
-// image's corners) and the robot's parameters the preset's configurations determine.
-void free_camera_and_what_views_determine(MeasurementModel& model) {
+// Errors a simulation draws for the intrinsics (px, and the distortion's unit one) and the
+// camera's own mask: fx, fy, cx, cy, k1, k2, p1, p2 free; k3 fixed (it only matters near the
+// image's corners).
+void set_camera_errors_and_mask(MeasurementModel& model) {
   ParameterSet& parameters = model.parameters();
   const std::pair<const char*, double> errors[] = {{"camera.f?", 20},
                                                    {"camera.c?", 10},
@@ -207,11 +210,16 @@ void free_camera_and_what_views_determine(MeasurementModel& model) {
     parameters.for_each_matching(error.first,
                                  [half_width](Parameter& p) { p.error_half_width = half_width; });
   }
+  for (const char* free : {"camera.f?", "camera.c?", "camera.k1", "camera.k2", "camera.p?"})
+    parameters.set_free(free, true);
+  parameters.set_free("camera.k3", false);
+}
+
+// The camera's mask, and the URDF arm's and mounts' parameters that the preset's views
+// determine.
+void free_camera_and_what_views_determine(MeasurementModel& model) {
   free_what_home_configurations_determine(model, 1.7, 2.3, 0.1);
-  for (const char* always : {"camera.fx", "camera.fy", "camera.cx", "camera.cy", "camera.k1",
-                             "camera.k2", "camera.p1", "camera.p2"})
-    model.parameters().set_free(always, true);
-  model.parameters().set_free("camera.k3", false);
+  set_camera_errors_and_mask(model);
 }
 
 std::shared_ptr<MeasurementModel> make_ur5_urdf_camera() {
@@ -262,6 +270,52 @@ std::shared_ptr<MeasurementModel> make_ur5_urdf_eye_in_hand() {
   return model;
 }
 
+// The paper's cube hexapod seen from above: a camera 800 mm over the platform's home looking
+// down at a 6 x 8 chessboard on the platform (eye-to-hand). The hexapod's free set is the
+// paper's (cube-hexapod: legs 4-6 whole, z of legs 1-3); the camera's intrinsics, distortion
+// but k3 and both mounts free.
+std::shared_ptr<MeasurementModel> make_cube_hexapod_camera() {
+  const auto hexapod = make_cube_hexapod();
+  const Pose home = hexapod->mechanism().home_pose();
+  const Vector3d board_centre((kColumns - 1) * kSpacing / 2, (kRows - 1) * kSpacing / 2, 0);
+  Vector6d target_frame;
+  target_frame << -board_centre.x(), -board_centre.y(), 5, 0, 0, 0;
+  const Vector6d camera_frame =
+      looking(home.translation + Vector3d(0, 0, 800), -Vector3d::UnitZ(), Vector3d::UnitX());
+  auto camera = std::make_shared<Camera>(
+      "camera", CameraMounting::kEyeToHand, CameraTarget::grid(kRows, kColumns, kSpacing),
+      camera_frame, target_frame, preset_intrinsics(), 1280, 1024);
+  auto model = std::make_shared<MeasurementModel>(
+      hexapod->mechanism_ptr(), std::vector<std::shared_ptr<const Sensor>>{camera});
+  for (int i : hexapod->parameters().free_indices())
+    model->parameters().set_free(hexapod->parameters()[i].name, true);
+  model->parameters().set_free("camera.frame.*", true);
+  model->parameters().set_free("camera.target.*", true);
+  set_camera_errors_and_mask(*model);
+  // A camera sees the platform's whole pose, where the paper's gauge saw one length: of those
+  // candidates, keep the ones 30 drawn views determine, the camera's own first (a shift of the
+  // platform's frame along z is the board's distance from it, and so on).
+  ScenarioOptions options;
+  options.num_validation = 0;
+  options.param_error_half_width = UnitValues();
+  const Scenario views = make_scenario(std::make_shared<const MeasurementModel>(*model), options);
+  const auto problem = views.make_problem();
+  VectorXd residuals;
+  MatrixXd J;
+  std::string why;
+  if (!problem->evaluate(problem->initial_free_parameters(), &residuals, &J, &why))
+    throw std::logic_error("cube-hexapod-camera: the preset's views cannot be evaluated: " + why);
+  std::vector<int> priority;
+  for (int i : views.free_indices)
+    priority.push_back(model->parameters()[i].name.rfind("camera.", 0) == 0 ? 0 : 1);
+  const std::vector<int> keep = identifiable_subset(J, priority);
+  for (int i : views.free_indices) model->parameters().set_free(model->parameters()[i].name, false);
+  for (int k : keep)
+    model->parameters().set_free(
+        model->parameters()[views.free_indices[static_cast<std::size_t>(k)]].name, true);
+  return model;
+}
+
 }  // namespace
 
 void register_camera(ModelRegistry& registry) {
@@ -278,6 +332,12 @@ void register_camera(ModelRegistry& registry) {
        "800 mm away (eye-to-hand); free: the camera's intrinsics and distortion but "
        "k3, both mounts and the arm's parameters the views determine",
        make_ur5_urdf_camera});
+  registry.add_preset({"cube-hexapod-camera",
+                       "the paper's cube hexapod (cube-hexapod's free set) seen by a 1280 x "
+                       "1024 camera 800 mm above a 6 x 8 chessboard on its platform "
+                       "(eye-to-hand); free: the camera's intrinsics and distortion but k3 and "
+                       "both mounts",
+                       make_cube_hexapod_camera});
   registry.add_preset({"ur5-urdf-eye-in-hand",
                        "the ur5-urdf arm (0.25 rad per joint around home) carrying a 1280 x "
                        "1024 camera that sees a 6 x 8 chessboard on the table 400 mm away "
