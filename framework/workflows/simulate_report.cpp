@@ -38,18 +38,30 @@ void print_report(std::string& text, const Scenario& scenario, const Calibration
   const ScenarioOptions& o = scenario.options;
   const Summary& s = run.summary;
   const MeasurementModel& model = *scenario.model;
+  // The units whose errors the option gives, and how many parameters the model gives their
+  // own (param_error: a camera preset's px and distortion errors).
   std::set<std::string> parameter_units, reading_units;
-  for (int i : scenario.free_indices) parameter_units.insert(model.parameters()[i].unit);
+  int own_errors = 0;
+  for (int i : scenario.free_indices) {
+    const Parameter& p = model.parameters()[i];
+    if (std::isnan(p.error_half_width))
+      parameter_units.insert(p.unit);
+    else
+      ++own_errors;
+  }
+  std::string parameter_errors = per_unit(o.param_error_half_width, parameter_units);
+  if (own_errors > 0)
+    parameter_errors +=
+        format_text("%s%d parameter%s the model's own (param_error)",
+                    parameter_errors.empty() ? "" : ", ", own_errors, own_errors == 1 ? "" : "s");
   for (const auto& u : model.reading_units()) reading_units.insert(u);
   text += format_text("kincal simulate: %s, ", model_name.c_str());
   if (case_id) text += format_text("case %d, ", case_id);
-  text += format_text(
-      "%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
-      per_unit(o.noise_half_width, reading_units).c_str(),
-      o.truth.size()
-          ? "true model given (--truth)"
-          : ("parameter errors " + per_unit(o.param_error_half_width, parameter_units)).c_str(),
-      static_cast<unsigned long long>(o.seed));
+  text += format_text("%d configurations, reading noise %s, %s, seed %llu\n", o.num_configurations,
+                      per_unit(o.noise_half_width, reading_units).c_str(),
+                      o.truth.size() ? "true model given (--truth)"
+                                     : ("parameter errors " + parameter_errors).c_str(),
+                      static_cast<unsigned long long>(o.seed));
   if (o.prior_std.any_positive()) {
     std::string stds;
     for (const auto& [unit, value] : o.prior_std.values())
