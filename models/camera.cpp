@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace kincal {
@@ -122,6 +123,19 @@ std::vector<std::string> Camera::reading_names() const {
     names.push_back(name_ + "." + point + ".v");
   }
   return names;
+}
+
+bool Camera::valid_reading(int index, double value, std::string* reason) const {
+  const bool is_u = index % 2 == 0;
+  const double size = is_u ? image_width_ : image_height_;
+  if (value >= -0.5 && value <= size - 0.5) return true;
+  if (reason) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s = %g px is outside the image (%s %g px: %g to %g)",
+                  is_u ? "u" : "v", value, is_u ? "width" : "height", size, -0.5, size - 0.5);
+    *reason = text;
+  }
+  return false;
 }
 
 std::vector<std::string> Camera::reading_units() const {

@@ -87,6 +87,11 @@ class Camera final : public Sensor {
                MatrixXd* J_reading_params) const override;
 
   bool can_miss() const override { return true; }
+  /// u and v of one point: each point detected or not.
+  int reading_group_size() const override { return 2; }
+  /// A pixel coordinate inside the image: -0.5 <= u <= width - 0.5 (v with the height), the
+  /// edges of the outer pixels (pixel centres at 0 ... width - 1).
+  bool valid_reading(int index, double value, std::string* reason) const override;
   /// False when a target point is not in front of the camera ("target behind the camera").
   bool reads_at(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                 std::string* reason) const override;

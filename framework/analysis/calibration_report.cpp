@@ -98,8 +98,13 @@ CalibrationReport make_calibration_report(const CalibrationProblem& problem, con
   const Eigen::VectorXi present = data.present_per_column();
   for (std::size_t s = 0; s < model.sensors().size(); ++s) {
     const int o = model.sensor_reading_offset(static_cast<int>(s));
-    // A sensor's readings are present or missing together: its first column counts them.
-    r.readings_per_sensor.push_back({model.sensors()[s]->name(), present[o]});
+    const int k = model.sensors()[s]->num_readings();
+    // The configurations in which the sensor took any reading (a camera's points are missing
+    // one by one).
+    int rows = 0;
+    for (int c = 0; c < data.size(); ++c)
+      rows += !data.readings.row(c).segment(o, k).array().isNaN().all();
+    r.readings_per_sensor.push_back({model.sensors()[s]->name(), rows});
   }
   r.num_readings = present.sum();
   VectorXd residuals;

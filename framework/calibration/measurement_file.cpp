@@ -1,5 +1,6 @@
 #include "kincal/framework/calibration/measurement_file.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -481,17 +482,31 @@ void check_sensor_readings(const MeasurementModel& model, MeasurementTable& tabl
     for (std::size_t s = 0; s < model.sensors().size(); ++s) {
       const Sensor& sensor = *model.sensors()[s];
       const int o = model.sensor_reading_offset(static_cast<int>(s)), k = sensor.num_readings();
-      const int missing = static_cast<int>(readings.row(r).segment(o, k).array().isNaN().count());
-      if (missing == 0 || missing == k) continue;
-      std::string empty, given;
-      const auto add = [](std::string& list, const std::string& name) {
-        list += (list.empty() ? "" : ", ") + name;
-      };
-      for (int i = 0; i < k; ++i) add(std::isnan(readings(r, o + i)) ? empty : given, names[o + i]);
-      throw std::invalid_argument(at + ": sensor '" + sensor.name() + "' has " + given +
-                                  " but not " + empty +
-                                  "; expected all of its readings or none (leave every one "
-                                  "empty when the sensor did not measure)");
+      for (int i = 0; i < k; ++i) {
+        std::string why;
+        const double value = readings(r, o + i);
+        if (!std::isnan(value) && !sensor.valid_reading(i, value, &why))
+          throw std::invalid_argument(at + ": " + names[o + i] + ": " + why);
+      }
+      const int group = std::max(1, std::min(k, sensor.reading_group_size()));
+      for (int g = 0; g < k; g += group) {
+        const int size = std::min(group, k - g);
+        const int missing =
+            static_cast<int>(readings.row(r).segment(o + g, size).array().isNaN().count());
+        if (missing == 0 || missing == size) continue;
+        std::string empty, given;
+        const auto add = [](std::string& list, const std::string& name) {
+          list += (list.empty() ? "" : ", ") + name;
+        };
+        for (int i = g; i < g + size; ++i)
+          add(std::isnan(readings(r, o + i)) ? empty : given, names[o + i]);
+        throw std::invalid_argument(
+            at + ": sensor '" + sensor.name() + "' has " + given + " but not " + empty +
+            (size == k ? "; expected all of its readings or none (leave every one empty when "
+                         "the sensor did not measure)"
+                       : "; expected these readings together or none (leave each empty when "
+                         "the sensor did not take it)"));
+      }
     }
     if (readings.row(r).array().isNaN().all())
       table.notices.push_back(at + ": no readings in this row (nothing measured; ignored)");

@@ -7,7 +7,9 @@
 // without a comma but with ';' or tabs (not both) sets that separator instead, with a
 // notice; a comma in a field of such a file is a decimal comma, an error (never misread). An empty
 // reading field is a reading the sensor did not take (NaN in Measurements): it contributes
-// no residual. A sensor's readings in one row are all given or all empty. A UTF-8 byte
+// no residual. A sensor's readings in one row are all given or all empty, group by group
+// (Sensor::reading_group_size: a camera's u and v of each point), and each a value the sensor
+// can read (Sensor::valid_reading: a pixel inside the image). A UTF-8 byte
 // order mark at the start is skipped. Lines and files have size limits (CsvLimits).
 // A column may carry a unit suffix after its name: <name>_deg, <name>_rad, <name>_mm or
 // <name>_m (shoulder_pan_joint_deg); convert_column_units converts such a column into the
@@ -93,9 +95,9 @@ MeasurementTable read_model_columns(const std::string& path, const MeasurementMo
 MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
                                    const CsvLimits& limits = {});
 
-/// Throws std::invalid_argument "<source>:<line>: ..." when a row gives some of a sensor's
-/// readings but not all, or when no reading at all is given; adds a notice for each row
-/// without any reading.
+/// Throws std::invalid_argument "<source>:<line>: ..." when a row gives some of a group of a
+/// sensor's readings but not all, a value the sensor cannot read, or when no reading at all is
+/// given; adds a notice for each row without any reading.
 void check_sensor_readings(const MeasurementModel& model, MeasurementTable& table,
                            const std::string& source);
 

@@ -14,6 +14,8 @@ int Sensor::drop_unseen(const Eigen::Ref<const VectorXd>&, const Pose&,
   return 0;
 }
 
+bool Sensor::valid_reading(int, double, std::string*) const { return true; }
+
 bool Sensor::reads_at(const Eigen::Ref<const VectorXd>&, const Pose&, std::string*) const {
   return true;
 }

@@ -78,6 +78,16 @@ class Sensor {
                        Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,
                        MatrixXd* J_reading_params) const = 0;
 
+  /// How many consecutive readings are taken or missed together: a measurement file gives
+  /// each group of this many whole or leaves it empty (a camera's u and v of one target point:
+  /// 2, each point detected or not). Default: every reading of the sensor, one group.
+  virtual int reading_group_size() const { return num_readings(); }
+  /// Whether `value`, measured for reading `index`, can be a reading of this sensor at all;
+  /// when not, a short reason in `reason` (when non-null), e.g. "u = 700 px is outside the
+  /// 640 px wide image". A measurement file with such a value is refused with its line.
+  /// Default: any finite value.
+  virtual bool valid_reading(int index, double value, std::string* reason) const;
+
   /// Whether the sensor can fail to read at some poses (a beam grazing or missing its
   /// target, a reading out of range). Only then is reads_at() called, so sensors that always
   /// read cost nothing.
