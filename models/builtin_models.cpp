@@ -4,6 +4,7 @@
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/models/camera.hpp"
 #include "kincal/models/fixture_distance.hpp"
+#include "kincal/models/flange_pose.hpp"
 #include "kincal/models/hexapod.hpp"
 #include "kincal/models/length_gauge.hpp"
 #include "kincal/models/planar_3rpr.hpp"
@@ -18,6 +19,7 @@ namespace kincal {
 void register_builtin_models(ModelRegistry& registry) {
   register_hexapod(registry);
   register_planar_3rpr(registry);
+  register_flange_pose(registry);
   register_serial_arm(registry);
   register_urdf_arm(registry);
   register_length_gauge(registry);

@@ -23,6 +23,7 @@
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/io/json_fields.hpp"
 #include "kincal/models/camera.hpp"
+#include "kincal/models/flange_pose.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/models/urdf_arm.hpp"
 
@@ -316,6 +317,35 @@ std::shared_ptr<MeasurementModel> make_cube_hexapod_camera() {
   return model;
 }
 
+// A robot known by its reported flange poses (a hand-eye data set's: no joint angles)
+// carrying a 10 x 10 circle grid 25.4 mm apart, 50 mm out from the flange, seen by a fixed
+// 640 x 480 camera 700 mm away (ROS-Industrial's example cell): the camera's intrinsics and
+// distortion but k3 and both mounts free, the flange poses taken as exact.
+std::shared_ptr<MeasurementModel> make_flange_pose_camera() {
+  constexpr int kGrid = 10;
+  constexpr double kPitch = 25.4;
+  const auto robot = std::make_shared<FlangePose>(Pose(), 100.0, 0.35);
+  const Vector3d board_centre((kGrid - 1) * kPitch / 2, (kGrid - 1) * kPitch / 2, 0);
+  Vector6d target_frame;
+  target_frame << -board_centre.x(), -board_centre.y(), 50, 0, 0, 0;
+  const Vector6d camera_frame = looking(Vector3d(0, 0, 750), -Vector3d::UnitZ(), Vector3d::UnitX());
+  CameraIntrinsics intrinsics;
+  intrinsics.fx = 550;
+  intrinsics.fy = 550;
+  intrinsics.cx = 320;
+  intrinsics.cy = 240;
+  intrinsics.k1 = -0.05;
+  auto camera = std::make_shared<Camera>("camera", CameraMounting::kEyeToHand,
+                                         CameraTarget::grid(kGrid, kGrid, kPitch), camera_frame,
+                                         target_frame, intrinsics, 640, 480);
+  auto model =
+      std::make_shared<MeasurementModel>(robot, std::vector<std::shared_ptr<const Sensor>>{camera});
+  model->parameters().set_free("camera.frame.*", true);
+  model->parameters().set_free("camera.target.*", true);
+  set_camera_errors_and_mask(*model);
+  return model;
+}
+
 }  // namespace
 
 void register_camera(ModelRegistry& registry) {
@@ -338,6 +368,12 @@ void register_camera(ModelRegistry& registry) {
                        "(eye-to-hand); free: the camera's intrinsics and distortion but k3 and "
                        "both mounts",
                        make_cube_hexapod_camera});
+  registry.add_preset({"flange-pose-camera",
+                       "a robot known by its reported flange poses (flange-pose) carrying a 10 x "
+                       "10 circle grid seen by a fixed 640 x 480 camera 700 mm away "
+                       "(eye-to-hand, a hand-eye data set's cell); free: the camera's "
+                       "intrinsics and distortion but k3 and both mounts",
+                       make_flange_pose_camera});
   registry.add_preset({"ur5-urdf-eye-in-hand",
                        "the ur5-urdf arm (0.25 rad per joint around home) carrying a 1280 x "
                        "1024 camera that sees a 6 x 8 chessboard on the table 400 mm away "

@@ -187,6 +187,13 @@ AccuracyComparison compare_with_nominal(const MeasurementModel& model, const Vec
     a.why_not = "the estimate has no covariance (no degrees of freedom, or a singular fit)";
     return a;
   }
+  if (a.nominal.position_rms == 0 && a.calibrated.position_rms == 0 &&
+      a.nominal.orientation_rms == 0 && a.calibrated.orientation_rms == 0) {
+    // A camera's or a tracker's own parameters only, on a mechanism known by its reported
+    // poses (flange-pose): nothing calibrated moves the end effector, nothing to compare.
+    a.why_not = "no free parameter moves the mechanism's pose";
+    return a;
+  }
   a.computed = true;
   a.expected_to_beat_nominal =
       a.calibrated.position_rms < a.nominal.position_rms &&

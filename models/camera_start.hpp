@@ -1,0 +1,70 @@
+#pragma once
+// Starting values for a camera's mounts without guesses, and the per-view cross-check of a
+// calibrated camera: the target's pose in each view from its detected points alone (a
+// perspective-n-point solution for a planar target: the homography of the undistorted points,
+// decomposed, then refined on the pixels), and the closed-form hand-eye solution
+// (framework/kinematics/hand_eye.hpp) of those poses against the mechanism's end-effector
+// poses. The intrinsics are taken as they are in the parameters given: the user's values or
+// OpenCV's calibration (`kincal detect --start-model`).
+
+#include <string>
+#include <vector>
+
+#include "kincal/framework/calibration/calibration_problem.hpp"
+#include "kincal/framework/kinematics/hand_eye.hpp"
+#include "kincal/models/camera.hpp"
+
+namespace kincal {
+
+/// The target's pose in one view.
+struct ViewPose {
+  bool ok = false;
+  Pose target_in_camera;  ///< x_camera = R x_target + t (mm)
+  int points = 0;         ///< points detected in the view
+  double rms_px = 0;      ///< reprojection error of the fitted pose
+  std::string reason;     ///< why there is no pose, when !ok
+};
+
+/// The pose of `camera`'s target in its frame from one row of its readings (2 per point,
+/// NaN for a point not detected) with the intrinsics of `camera_params` (the camera's own
+/// slice of the parameters). Needs a planar target (every point with z = 0) and at least 4
+/// points not on one line.
+ViewPose solve_view_pose(const Camera& camera, const Eigen::Ref<const VectorXd>& camera_params,
+                         const Eigen::Ref<const VectorXd>& reading);
+
+/// The camera's mounts from every view: the frame parameters to give `<camera>.frame.*` and
+/// `<camera>.target.*`.
+struct CameraMountStart {
+  bool ok = false;
+  std::string reason;
+  Vector6d frame = Vector6d::Zero(), target = Vector6d::Zero();
+  std::vector<ViewPose> views;  ///< one per row of the data
+  HandEyeSolution hand_eye;
+  int views_used = 0;
+};
+
+/// Solves the mounts of the camera that is `sensor_index` of `model` from `data`, the
+/// mechanism's poses computed with `params` (every parameter's value) and the intrinsics in
+/// them. Fails (ok false, with the reason) with fewer than 3 views that have a pose, or when
+/// the end effector's rotations between the views do not determine the mounts.
+CameraMountStart estimate_camera_mounts(const MeasurementModel& model, int sensor_index,
+                                        const Eigen::Ref<const VectorXd>& params,
+                                        const Measurements& data);
+
+/// What the calibrated model says of a view against what the view alone says: the target's
+/// pose in the camera from the model (the mechanism's pose and both mounts) and from the
+/// view's points (solve_view_pose, the calibrated intrinsics), and how far apart they are.
+struct ViewCheck {
+  int row = 0;          ///< row of the data (0-based)
+  bool ok = false;      ///< both poses known
+  std::string reason;   ///< why not, when !ok
+  double position = 0;  ///< |t_model - t_view| (mm)
+  double angle = 0;     ///< the angle of R_model^T R_view (rad)
+};
+
+/// One check per row of `data` for the camera that is `sensor_index` of `model` at `params`.
+std::vector<ViewCheck> check_views(const MeasurementModel& model, int sensor_index,
+                                   const Eigen::Ref<const VectorXd>& params,
+                                   const Measurements& data);
+
+}  // namespace kincal
