@@ -44,5 +44,6 @@ int run_validate(const Args& args);
 int run_design(const Args& args);
 int run_compare(const Args& args);
 int run_check(const Args& args);
+int run_detect(const Args& args);
 
 }  // namespace kincal::cli

@@ -29,6 +29,8 @@ const std::vector<Command>& commands() {
       {"model", "write a built-in model as an editable model file", run_model},
       {"fk", "forward kinematics of a model file: actuator values -> pose", run_fk},
       {"ik", "inverse kinematics of a model file: pose -> actuator values", run_ik},
+      {"detect", "find a calibration target in images: images -> measurement file (camera)",
+       run_detect},
       {"calibrate", "calibrate a model file from a measurement file", run_calibrate},
       {"observability", "which free parameters a set of configurations can determine",
        run_observability},

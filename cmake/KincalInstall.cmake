@@ -13,7 +13,7 @@ set(KINCAL_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/kincal")
 install(TARGETS kincal EXPORT kincalTargets
         ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT development)
 foreach(folder IN LISTS KINCAL_HEADER_FOLDERS)
-  if(folder STREQUAL "cli")
+  if(folder STREQUAL "cli" OR (folder STREQUAL "vision" AND NOT TARGET kincal_vision))
     continue()
   endif()
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${folder}/"
@@ -32,6 +32,11 @@ if(KINCAL_BUILD_CLI)
           RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT runtime)
   install(TARGETS kincal_cli EXPORT kincalCliTargets
           ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT development)
+  if(TARGET kincal_vision)
+    set_target_properties(kincal_vision PROPERTIES EXPORT_NAME vision)
+    install(TARGETS kincal_vision EXPORT kincalCliTargets
+            ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT development)
+  endif()
   install(FILES "${PROJECT_SOURCE_DIR}/cli/run.hpp"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/kincal/cli" COMPONENT development)
   install(EXPORT kincalCliTargets NAMESPACE kincal:: DESTINATION "${KINCAL_INSTALL_CMAKEDIR}"
@@ -53,6 +58,11 @@ foreach(option IN ITEMS KINCAL_WITH_CERES KINCAL_WITH_NLOPT KINCAL_WITH_IPOPT)
     set(${option} OFF)
   endif()
 endforeach()
+if(TARGET kincal_vision)
+  set(KINCAL_VISION_BUILT TRUE)
+else()
+  set(KINCAL_VISION_BUILT FALSE)
+endif()
 configure_package_config_file(cmake/kincalConfig.cmake.in
                               "${PROJECT_BINARY_DIR}/kincalConfig.cmake"
                               INSTALL_DESTINATION "${KINCAL_INSTALL_CMAKEDIR}")

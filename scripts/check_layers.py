@@ -29,10 +29,11 @@ ALLOWED = {  # framework folder -> the framework folders it may include (besides
 # framework folder, model, backend or test problem.
 TOP_ONLY = {"report"}
 TOP_FORBIDDEN = {  # top-level folder -> the kincal folders it must not include
-    "framework": {"models", "solvers", "problems", "cli"},
-    "models": {"solvers", "problems", "cli"},
-    "solvers": {"models", "problems", "cli"},
-    "problems": {"models", "solvers", "cli"},  # backends only through SolverRegistry
+    "framework": {"models", "solvers", "problems", "cli", "vision"},
+    "models": {"solvers", "problems", "cli", "vision"},
+    "solvers": {"models", "problems", "cli", "vision"},
+    "problems": {"models", "solvers", "cli", "vision"},  # backends only through SolverRegistry
+    "vision": {"solvers", "problems", "cli"},  # images: framework/ and models/ only
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]kincal/([a-z_]+)/(?:([a-z_]+)/)?')
 

@@ -33,6 +33,9 @@ development_packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest mypy python3-distributed
   python3-scipy  # the real-data benchmark's independent calibration (ctest real_data_benchmark_agrees)
   python3-opencv  # the camera's projection against OpenCV's (ctest camera_projection_matches_opencv)
+  # kincal detect (vision/: targets found in images) and its tests; without them the program is
+  # built without it (KINCAL_WITH_OPENCV=AUTO)
+  libopencv-dev libopencv-contrib-dev
   chromium  # tests: the HTML report rendered headless (ctest html_report_renders_in_chromium)
 )
 # shellcheck source=scripts/install_packages.sh

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -28,7 +29,7 @@ TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
       run_cli("calibrate --model " + m + " --data " + d + " --out " + c + " --json " + r).exit_code,
       0);
   // The command line of each command that writes a --json document (given as --json -).
-  const std::map<std::string, std::string> commands = {
+  std::map<std::string, std::string> commands = {
       {"list", "list"},
       {"simulate", "simulate --case 1 --validation 1"},
       {"reproduce", "reproduce --trials 1"},
@@ -49,7 +50,32 @@ TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
       {"model", "model"},
       {"export", "export --model " + c + " --format json"},
   };
+  std::set<std::string> documents_absent;
+#if KINCAL_WITH_VISION
+  // A chessboard of 6 x 8 squares of 40 px (5 x 7 inner corners) on a white page, as a PGM.
+  const std::string images = dir / "images";
+  std::filesystem::create_directories(images);
+  {
+    std::ofstream pgm(images + "/board.pgm", std::ios::binary);
+    pgm << "P5\n640 480\n255\n";
+    for (int y = 0; y < 480; ++y)
+      for (int x = 0; x < 640; ++x) {
+        const int c = (x - 160) / 40, r = (y - 120) / 40;
+        const bool on_board = x >= 160 && x < 480 && y >= 120 && y < 360;
+        pgm.put(static_cast<char>(on_board && (r + c) % 2 == 0 ? 0 : 255));
+      }
+  }
+  commands.emplace("detect", "detect --target chessboard:5x7:40mm --images " + images + " --out " +
+                                 dir / "V.csv");
+#else
+  // Built without OpenCV: detect says so in one line, and writes no document.
+  documents_absent.insert("detect");
+  const CliResult detect = run_cli("detect --target chessboard:5x7:40mm --images . --out V.csv");
+  EXPECT_EQ(detect.exit_code, 2);
+  EXPECT_NE(detect.err.find("needs OpenCV"), std::string::npos) << detect.err;
+#endif
   std::set<std::string> covered;
+  covered.insert(documents_absent.begin(), documents_absent.end());
   for (const auto& [name, args] : commands) covered.insert(name);
   for (const auto& [name, args] : documents) covered.insert(name);
   for (const auto& command : cli::commands())
