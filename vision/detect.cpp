@@ -85,11 +85,20 @@ bool is_image_file(const fs::path& path) {
 }  // namespace
 
 ImagePoses read_image_poses(const std::string& path, const std::string& images_folder) {
+  std::error_code error;
+  if (fs::is_directory(path, error))
+    throw std::invalid_argument(path + ": a folder, expected the poses file (CSV)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot open the poses file");
-  ImagePoses poses;
   const fs::path folder =
       images_folder.empty() ? fs::path(path).parent_path() : fs::path(images_folder);
+  return parse_image_poses(in, path, folder.string(), true);
+}
+
+ImagePoses parse_image_poses(std::istream& in, const std::string& path,
+                             const std::string& folder_name, bool require_images) {
+  const fs::path folder(folder_name);
+  ImagePoses poses;
   std::string line;
   int number = 0, image_column = -1;
   std::vector<std::string> header;
@@ -140,7 +149,7 @@ ImagePoses read_image_poses(const std::string& path, const std::string& images_f
     const std::string image_path =
         fs::path(image).is_absolute() ? image : (folder / image).string();
     std::error_code error;
-    if (!fs::is_regular_file(image_path, error))
+    if (require_images && !fs::is_regular_file(image_path, error))
       throw std::invalid_argument(at + ": image '" + message_excerpt(image) + "': no such file (" +
                                   message_excerpt(image_path) + ")");
     poses.images.push_back(image);

@@ -7,6 +7,7 @@
 // command and Python write the texts returned.
 
 #include <functional>
+#include <istream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,6 +35,11 @@ struct ImagePoses {
   std::vector<int> lines;                        ///< per image, its line in the file
 };
 ImagePoses read_image_poses(const std::string& path, const std::string& images_folder = "");
+/// The same from a stream; `source` names it in messages, images are relative to `folder`,
+/// and their files are checked to exist only when `require_images` (the fuzzer reads names
+/// of files that are not there).
+ImagePoses parse_image_poses(std::istream& in, const std::string& source, const std::string& folder,
+                             bool require_images);
 /// Every image file (png, jpg, jpeg, bmp, tif, tiff, pgm, ppm) in `folder`, in natural order (2.png
 /// before 10.png), without pose columns. Throws std::invalid_argument when there is none.
 ImagePoses images_in_folder(const std::string& folder);
