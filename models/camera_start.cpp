@@ -2,8 +2,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "kincal/framework/base/format_text.hpp"
 
 namespace kincal {
 
@@ -327,6 +330,87 @@ std::vector<ViewCheck> check_views(const MeasurementModel& model, int sensor_ind
     checks.push_back(check);
   }
   return checks;
+}
+
+namespace {
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const auto middle = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+}  // namespace
+
+std::vector<int> disagreeing_views(const std::vector<ViewCheck>& checks) {
+  std::vector<double> positions, angles;
+  for (const ViewCheck& c : checks)
+    if (c.ok) {
+      positions.push_back(c.position);
+      angles.push_back(c.angle);
+    }
+  const double position_limit = std::max(1.0, 3 * median(positions));
+  const double angle_limit = std::max(1e-3, 3 * median(angles));
+  std::vector<int> out;
+  for (std::size_t k = 0; k < checks.size(); ++k)
+    if (checks[k].ok && (checks[k].position > position_limit || checks[k].angle > angle_limit))
+      out.push_back(static_cast<int>(k));
+  return out;
+}
+
+std::string view_checks_text(const std::string& camera, const std::vector<ViewCheck>& checks,
+                             const std::vector<std::string>& labels) {
+  std::vector<double> positions, angles;
+  int without = 0;
+  for (const ViewCheck& c : checks) {
+    if (!c.ok) {
+      ++without;
+      continue;
+    }
+    positions.push_back(c.position);
+    angles.push_back(c.angle);
+  }
+  std::string text = "views of " + camera + " against their own poses (each view's points alone, ";
+  if (positions.empty()) return text + "the calibrated intrinsics): none has a pose\n";
+  text += format_text(
+      "the calibrated intrinsics): median %.3g mm / %.3g mrad apart, largest %.3g mm / %.3g "
+      "mrad",
+      median(positions), 1e3 * median(angles),
+      *std::max_element(positions.begin(), positions.end()),
+      1e3 * *std::max_element(angles.begin(), angles.end()));
+  if (without) text += format_text("; %d without a pose", without);
+  text += "\n";
+  for (int k : disagreeing_views(checks))
+    text += format_text(
+        "  %s disagrees: %.3g mm, %.3g mrad from the model's pose of the target "
+        "(a wrongly ordered detection, a pose row from another image, a moved "
+        "target?)\n",
+        labels[static_cast<std::size_t>(k)].c_str(), checks[static_cast<std::size_t>(k)].position,
+        1e3 * checks[static_cast<std::size_t>(k)].angle);
+  return text;
+}
+
+nlohmann::ordered_json view_checks_json(const std::string& camera,
+                                        const std::vector<ViewCheck>& checks,
+                                        const std::vector<std::string>& labels) {
+  nlohmann::ordered_json out;
+  out["camera"] = camera;
+  out["views"] = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < checks.size(); ++k) {
+    nlohmann::ordered_json v{{"label", labels[k]}, {"ok", checks[k].ok}};
+    if (checks[k].ok) {
+      v["position_mm"] = checks[k].position;
+      v["angle_rad"] = checks[k].angle;
+    } else {
+      v["reason"] = checks[k].reason;
+    }
+    out["views"].push_back(v);
+  }
+  out["disagreeing"] = nlohmann::ordered_json::array();
+  for (int k : disagreeing_views(checks))
+    out["disagreeing"].push_back(labels[static_cast<std::size_t>(k)]);
+  return out;
 }
 
 }  // namespace kincal

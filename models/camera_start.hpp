@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "kincal/framework/calibration/calibration_problem.hpp"
 #include "kincal/framework/kinematics/hand_eye.hpp"
 #include "kincal/models/camera.hpp"
@@ -66,5 +68,22 @@ struct ViewCheck {
 std::vector<ViewCheck> check_views(const MeasurementModel& model, int sensor_index,
                                    const Eigen::Ref<const VectorXd>& params,
                                    const Measurements& data);
+
+/// The views that disagree with the calibrated model: a view whose position difference is
+/// more than 3 times the median of all views' and more than 1 mm, or whose angle is more than 3
+/// times the median and more than 1 mrad (a detection ordered wrongly, a pose row from another
+/// image, a knocked target).
+std::vector<int> disagreeing_views(const std::vector<ViewCheck>& checks);
+
+/// The check in words for a report: the median and largest differences, then each view that
+/// disagrees named by `labels` (one per row of the data, e.g. "D.csv:12").
+std::string view_checks_text(const std::string& camera, const std::vector<ViewCheck>& checks,
+                             const std::vector<std::string>& labels);
+
+/// The same as JSON: {"camera", "views": [{"label", "ok", "position_mm", "angle_rad",
+/// "reason"}], "disagreeing": [labels]}.
+nlohmann::ordered_json view_checks_json(const std::string& camera,
+                                        const std::vector<ViewCheck>& checks,
+                                        const std::vector<std::string>& labels);
 
 }  // namespace kincal

@@ -88,6 +88,26 @@ INSTANTIATE_TEST_SUITE_P(Mountings, CameraStart,
                          ::testing::Values("flange-pose-camera", "ur5-urdf-eye-in-hand",
                                            "ur5-urdf-camera"));
 
+TEST(CameraStart, AViewWhosePoseRowBelongsToAnotherImageIsNamed) {
+  const auto model = ModelRegistry::global().make_preset("flange-pose-camera");
+  Measurements data = views(*model, 12, 13);
+  ASSERT_GE(data.size(), 10);
+  std::mt19937 random(4);
+  std::normal_distribution<double> noise(0, 0.2);  // px
+  for (Eigen::Index i = 0; i < data.readings.size(); ++i)
+    if (!std::isnan(data.readings.data()[i])) data.readings.data()[i] += noise(random);
+  data.actuators.row(3).swap(data.actuators.row(7));  // two pose rows exchanged
+  const VectorXd truth = model->parameters().nominal_values();
+  const auto checks = check_views(*model, 0, truth, data);
+  EXPECT_EQ(disagreeing_views(checks), (std::vector<int>{3, 7}));
+  std::vector<std::string> labels;
+  for (int k = 0; k < data.size(); ++k) labels.push_back("V.csv:" + std::to_string(k + 2));
+  const std::string text = view_checks_text("camera", checks, labels);
+  EXPECT_NE(text.find("V.csv:5 disagrees"), std::string::npos) << text;
+  EXPECT_NE(text.find("V.csv:9 disagrees"), std::string::npos) << text;
+  EXPECT_EQ(view_checks_json("camera", checks, labels)["disagreeing"].size(), 2u);
+}
+
 TEST(CameraStart, NoisyPixelsGiveMountsNearTheTruth) {
   const auto model = ModelRegistry::global().make_preset("flange-pose-camera");
   Measurements data = views(*model, 20, 9);
