@@ -15,12 +15,13 @@ int run_export(const Args& args) {
   po::options_description options("kincal export");
   options.add_options()("model", po::value<std::string>(), "model file (JSON), e.g. calibrated")(
       "format", po::value<std::string>(),
-      "urdf (serial arms), csv, json, or one a plug-in registers")(
-      "out", po::value<std::string>()->default_value("-"), "file to write, - for stdout");
+      "urdf (serial arms), csv, json, camera-info (a camera's intrinsics as ROS camera_info "
+      "YAML), or one a plug-in registers")("out", po::value<std::string>()->default_value("-"),
+                                           "file to write, - for stdout");
   po::variables_map vm;
   if (!parse_command_line("export", args, options, vm)) return 0;
   if (!vm.count("model")) throw CliError("--model FILE is required");
-  if (!vm.count("format")) throw CliError("--format urdf|csv|json is required");
+  if (!vm.count("format")) throw CliError("--format urdf|csv|json|camera-info is required");
   const std::string format = vm["format"].as<std::string>();
   OutputPlan plan(console_output());
   plan.input("--model", vm["model"].as<std::string>());

@@ -393,7 +393,8 @@ std::string export_model(const MeasurementModel& model, const std::string& forma
   if (format == "urdf") return export_urdf(model, source);
   if (format == "csv") return export_csv(model, source);
   if (format == "json") return export_json(model, source);
-  std::string known = "urdf, csv, json";
+  if (format == "camera-info") return export_camera_info(model, source);
+  std::string known = "urdf, csv, json, camera-info";
   for (const auto& f : registry.export_formats())
     if (f.mechanism_type == type) known += ", " + f.format;
   throw std::invalid_argument("format '" + format + "': expected " + known + " for mechanism '" +

@@ -7,6 +7,10 @@
 //         the leg offset and the leg at home (the convention in a comment header); serial
 //         arms: one row per joint with its calibrated DH/Hayati parameters.
 //   json  any mechanism: the same content as plain JSON (docs/exporting.md).
+//   camera-info
+//         a model with one camera: its intrinsics and distortion as ROS's camera_info YAML
+//         (OpenCV's camera matrix and plumb_bob k1, k2, p1, p2, k3), the form ROS camera
+//         drivers and image_proc load.
 // Each throws ExportError with one sentence when the mechanism cannot take the format.
 
 #include <stdexcept>
@@ -31,9 +35,10 @@ std::string export_urdf(const MeasurementModel& model, const ExportSource& sourc
 std::string export_csv(const MeasurementModel& model, const ExportSource& source);
 std::string export_json(const MeasurementModel& model, const ExportSource& source);
 
-/// The model in `format`: urdf, csv, json, or one a plug-in registered for its mechanism type
-/// (ModelRegistry::export_format). Throws std::invalid_argument naming the formats there are
-/// for an unknown one ("format 'x': expected urdf, csv, json for mechanism 'hexapod'"),
+std::string export_camera_info(const MeasurementModel& model, const ExportSource& source);
+/// The model in `format`: urdf, csv, json, camera-info, or one a plug-in registered for its
+/// mechanism type (ModelRegistry::export_format). Throws std::invalid_argument naming the formats
+/// there are for an unknown one ("format 'x': expected urdf, csv, json for mechanism 'hexapod'"),
 /// ExportError when the mechanism cannot take the format, and nlohmann::json::exception when a
 /// value cannot be written as JSON.
 std::string export_model(const MeasurementModel& model, const std::string& format,

@@ -32,6 +32,7 @@ development_packages=(
   # the Python module (python/, docs/python.md), its tests and its studies on Dask
   pybind11-dev python3-dev python3-numpy python3-pytest mypy python3-distributed
   python3-scipy  # the real-data benchmark's independent calibration (ctest real_data_benchmark_agrees)
+  python3-yaml  # the camera example reads the exported camera_info back (example_camera_hand_eye_*)
   python3-opencv  # the camera's projection against OpenCV's (ctest camera_projection_matches_opencv)
   # kincal detect (vision/: targets found in images) and its tests; without them the program is
   # built without it (KINCAL_WITH_OPENCV=AUTO)

@@ -120,6 +120,24 @@ def write_poses(set_dir, path):
     return len(pairs)
 
 
+def check_camera_info(path, report):
+    """The exported camera_info, read by a YAML parser, holds the report's estimates."""
+    import yaml
+    with open(path) as f:
+        info = yaml.safe_load(f)
+    p = {q["name"]: q["estimate"] for q in report["parameters"]}
+    k = info["camera_matrix"]["data"]
+    d = info["distortion_coefficients"]["data"]
+    expected = [(k[0], "fx"), (k[4], "fy"), (k[2], "cx"), (k[5], "cy"), (d[0], "k1"),
+                (d[1], "k2"), (d[2], "p1"), (d[3], "p2")]
+    wrong = [name for value, name in expected if abs(value - p["camera." + name]) >
+             1e-12 * max(1.0, abs(value))]
+    print("camera_info.yaml: %d x %d, fx %.3f, fy %.3f, cx %.3f, cy %.3f px, %s" %
+          (info["image_width"], info["image_height"], k[0], k[4], k[2], k[5],
+           "as the report" if not wrong else "differs from the report in " + ", ".join(wrong)))
+    return ["camera_info.yaml: " + ", ".join(wrong)] if wrong else []
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("dataset")
@@ -136,8 +154,9 @@ def main():
         import numpy  # noqa: F401
         import scipy  # noqa: F401
         import cv2  # noqa: F401
+        import yaml  # noqa: F401
     except ImportError as e:
-        print("skipped: %s (python3-numpy, python3-scipy, python3-opencv)" % e)
+        print("skipped: %s (python3-numpy, python3-scipy, python3-opencv, python3-yaml)" % e)
         return 77
     import opencv_check
 
@@ -162,8 +181,11 @@ def main():
 
     with open(path("report.json")) as f:
         report = json.load(f)
-    failures = opencv_check.compare(path("readings.csv"), report, n, k, path, run,
-                                     spec["mounting"] == "eye-in-hand")
+    run([k, "export", "--model", path("calibrated.json"), "--format", "camera-info", "--out",
+         path("camera_info.yaml")])
+    failures = check_camera_info(path("camera_info.yaml"), report)
+    failures += opencv_check.compare(path("readings.csv"), report, n, k, path, run,
+                                      spec["mounting"] == "eye-in-hand")
     if failures:
         for f in failures:
             print("FAILED: " + f)
