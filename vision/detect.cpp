@@ -142,7 +142,7 @@ ImagePoses parse_image_poses(std::istream& in, const std::string& path,
     for (std::size_t c = 0; c < fields.size(); ++c) {
       if (static_cast<int>(c) == image_column) continue;
       if (!is_number(fields[c]))
-        throw std::invalid_argument(at + ": column '" + header[c] + "': '" +
+        throw std::invalid_argument(at + ": column '" + message_excerpt(header[c]) + "': '" +
                                     message_excerpt(fields[c]) + "' is not a number");
       values.push_back(fields[c]);
     }

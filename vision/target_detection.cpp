@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/base/format_text.hpp"
+#include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal::vision {
@@ -54,7 +55,8 @@ double parse_length(const std::string& text, const std::string& what, const std:
   Unit unit;
   if (!end || unit_name.empty() || !UnitRegistry::global().find(unit_name, &unit) ||
       unit.base != kMillimetre || !(value > 0) || !std::isfinite(value))
-    throw std::invalid_argument("target '" + whole + "': " + what + " '" + text +
+    throw std::invalid_argument("target '" + message_excerpt(whole) + "': " + what + " '" +
+                                message_excerpt(text) +
                                 "': expected a positive length with its unit, e.g. 25.4mm");
   return value * unit.factor;
 }
@@ -73,7 +75,7 @@ std::vector<std::string> split(const std::string& text, char separator) {
 cv::Ptr<cv::aruco::Dictionary> dictionary(const std::string& name) {
   for (const auto& d : kDictionaries)
     if (name == d.name) return cv::aruco::getPredefinedDictionary(d.id);
-  throw std::invalid_argument("unknown ArUco dictionary '" + name + "'");
+  throw std::invalid_argument("unknown ArUco dictionary '" + message_excerpt(name) + "'");
 }
 
 // The blob detector for dark dots of a grid of `count` dots in a width x height image.
@@ -213,10 +215,11 @@ TargetSpec TargetSpec::parse(const std::string& text) {
     spec.kind = TargetKind::kCharuco;
     fields = 5;
   } else {
-    throw std::invalid_argument("target '" + text + "': unknown kind '" + kind + "'; expected " +
-                                forms);
+    throw std::invalid_argument("target '" + message_excerpt(text) + "': unknown kind '" +
+                                message_excerpt(kind) + "'; expected " + forms);
   }
-  if (f.size() != fields) throw std::invalid_argument("target '" + text + "': expected " + forms);
+  if (f.size() != fields)
+    throw std::invalid_argument("target '" + message_excerpt(text) + "': expected " + forms);
   const auto x = f[1].find('x');
   try {
     std::size_t end = 0;
@@ -230,7 +233,8 @@ TargetSpec TargetSpec::parse(const std::string& text) {
   const int least = spec.kind == TargetKind::kCharuco ? 3 : 2;
   if (x == std::string::npos || spec.rows < least || spec.columns < least || spec.rows > 1000 ||
       spec.columns > 1000)
-    throw std::invalid_argument("target '" + text + "': '" + f[1] + "': expected ROWSxCOLS, " +
+    throw std::invalid_argument("target '" + message_excerpt(text) + "': '" +
+                                message_excerpt(f[1]) + "': expected ROWSxCOLS, " +
                                 "each at least " + std::to_string(least) +
                                 (spec.kind == TargetKind::kCharuco ? " squares" : " points"));
   spec.spacing =
@@ -238,15 +242,17 @@ TargetSpec TargetSpec::parse(const std::string& text) {
   if (spec.kind == TargetKind::kCharuco) {
     spec.marker = parse_length(f[3], "the marker", text);
     if (!(spec.marker < spec.spacing))
-      throw std::invalid_argument("target '" + text + "': the marker (" + f[3] +
-                                  ") must be smaller than the square (" + f[2] + ")");
+      throw std::invalid_argument("target '" + message_excerpt(text) + "': the marker (" +
+                                  message_excerpt(f[3]) + ") must be smaller than the square (" +
+                                  message_excerpt(f[2]) + ")");
     spec.dictionary = f[4];
     const auto names = aruco_dictionary_names();
     if (std::find(names.begin(), names.end(), spec.dictionary) == names.end()) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-      throw std::invalid_argument("target '" + text + "': unknown ArUco dictionary '" +
-                                  spec.dictionary + "'; expected one of " + list);
+      throw std::invalid_argument("target '" + message_excerpt(text) +
+                                  "': unknown ArUco dictionary '" +
+                                  message_excerpt(spec.dictionary) + "'; expected one of " + list);
     }
   }
   return spec;
