@@ -7,8 +7,9 @@
 
 Models (``Model.preset``, ``Model.load``, ``model_from_urdf``), forward and inverse
 kinematics over arrays, ``Measurements`` in kincal's CSV format, the workflows ``simulate``,
-``calibrate``, ``validate``, ``observability``, ``compare``, ``design``, ``export`` and
-``html_report`` (the library's, called directly with typed keyword arguments), the generic
+``calibrate``, ``validate``, ``observability``, ``compare``, ``design``, ``export``,
+``detect`` (images of a target, with OpenCV) and ``html_report`` (the library's, called
+directly with typed keyword arguments), the generic
 least-squares layer (``LeastSquaresProblem``, ``solve``) and studies on Dask
 (``kincal.studies``).
 """
@@ -23,6 +24,7 @@ from .workflows import (
     calibrate,
     compare,
     design,
+    detect,
     export,
     html_report,
     model_from_urdf,
@@ -44,6 +46,7 @@ __all__ = [
     "calibrate",
     "compare",
     "design",
+    "detect",
     "export",
     "html_report",
     "load_plugin",

@@ -149,6 +149,20 @@ def _validate(
     inputs: List[str],
 ) -> Dict[str, Any]: ...
 def _export(model: Model, format: str, model_path: str, out: str) -> str: ...
+def _detect(
+    target: str,
+    poses: str,
+    images: str,
+    out: str,
+    camera: str,
+    gate_px: float,
+    start_model: str,
+    mounting: str,
+    mechanism: Optional[Model],
+    intrinsics: List[float],
+    json: str,
+    catch_sigint: bool,
+) -> Dict[str, Any]: ...
 def _model_from_urdf(path: str, tip: str, base: str, sensor: str, point: List[float]) -> Model: ...
 def _observability(
     model: Model, data_path: Optional[str], actuators: Any, readings: Any, poses: int, seed: int,

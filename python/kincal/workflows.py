@@ -430,6 +430,47 @@ def export(model: ModelArg, format: str, out: Optional[PathLike] = None) -> str:
         raise KincalError(str(e)) from None
 
 
+def detect(
+    target: str,
+    out: PathLike,
+    *,
+    poses: Optional[PathLike] = None,
+    images: Optional[PathLike] = None,
+    camera: str = "camera",
+    gate_px: float = 2.0,
+    start_model: Optional[PathLike] = None,
+    mounting: str = "eye-to-hand",
+    mechanism: Optional[ModelArg] = None,
+    intrinsics: Optional[Sequence[float]] = None,
+    json: Optional[PathLike] = None,
+) -> Report:
+    """Finds a calibration target in images, as ``kincal detect``: ``target`` as the program
+    takes it (``"chessboard:6x8:20mm"``, ``"charuco:7x5:36.195mm:18.256mm:DICT_6X6_250"``...),
+    ``poses`` a CSV with an ``image`` column and the configuration's columns (images relative to
+    it or to ``images``), or ``images`` a folder alone. Writes the measurement file ``out`` (one
+    row per image with the target), and ``start_model`` (OpenCV's intrinsics or ``intrinsics``
+    = (fx, fy, cx, cy) px, the hand-eye mounts; the mechanism ``mechanism``'s, or flange-pose)
+    and ``json`` when given. The Report holds each image's fate (``images``), ``found``,
+    ``total``, and ``text``, ``csv`` and ``start_error`` (why no starting model, or ""). Needs a
+    kincal built with OpenCV. Ctrl-C stops between images and raises ``KincalInterrupt`` with
+    what was found, which is written."""
+    m = _model(mechanism)[0] if mechanism is not None else None
+    try:
+        answer = _kincal._detect(
+            target, _path(poses), _path(images), os.fspath(out), camera, gate_px,
+            _path(start_model), mounting, m, [float(v) for v in (intrinsics or [])], _path(json),
+            threading.current_thread() is threading.main_thread())
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    report = Report(_json.loads(answer["report"]))
+    report.__dict__["text"] = answer["text"]
+    report.__dict__["csv"] = answer["csv"]
+    report.__dict__["start_error"] = answer["start_error"]
+    if answer["interrupted"]:
+        raise KincalInterrupt("kincal.detect interrupted", report)
+    return report
+
+
 def html_report(model: ModelArg, data: DataArg, out: PathLike, **options: Any) -> Report:
     """Calibrates as ``calibrate`` (the same keyword arguments) and writes the HTML report
     to ``out``."""

@@ -23,6 +23,7 @@ void bind_sensors(py::module_& m);
 void bind_mechanisms(py::module_& m);
 void bind_studies(py::module_& m);
 void bind_workflows(py::module_& m);
+void bind_vision(py::module_& m);
 
 /// The module's standard output as the output writers take it
 /// (framework/io/standard_output.hpp): a stream of its own that nothing reads, since the
