@@ -55,7 +55,10 @@ int run_calibrate(const Args& args) {
       "rcond",
       po::value<double>()->default_value(IdentifiabilityOptions{}.rcond,
                                          default_text(IdentifiabilityOptions{}.rcond)),
-      "numerical rank threshold relative to the largest scaled singular value");
+      "numerical rank threshold relative to the largest scaled singular value")(
+      "tolerance-priors", po::value<std::string>()->default_value("auto"),
+      "priors from the model's stated tolerances (param_error; std = half-width / sqrt(3)) on "
+      "the free parameters: auto (with a camera, when no prior is given), on, or off");
   add_json_option(options, "the report");
   add_allow_rank_deficient_option(options);
   add_deprecated_alias(options, "report", "json", po::value<std::string>());
@@ -120,6 +123,8 @@ int run_calibrate(const Args& args) {
   request.folds = folds;
   request.starts = starts;
   request.seed = vm["seed"].as<Seed>().value;
+  request.tolerance_priors =
+      parse_tolerance_priors(vm["tolerance-priors"].as<std::string>(), "--tolerance-priors");
   request.on_note = [](const std::string& text) { note("calibrate", text); };
   CalibrateResult result = calibrate(request);
   const Summary& summary = result.summary;

@@ -87,6 +87,9 @@ class Camera final : public Sensor {
                MatrixXd* J_reading_params) const override;
 
   bool can_miss() const override { return true; }
+  /// A camera-only fit can move a good robot to absorb the camera's errors (issue 38): priors
+  /// from the stated tolerances by default.
+  bool takes_tolerance_priors_by_default() const override { return true; }
   /// u and v of one point: each point detected or not.
   int reading_group_size() const override { return 2; }
   /// A pixel coordinate inside the image: -0.5 <= u <= width - 0.5 (v with the height), the

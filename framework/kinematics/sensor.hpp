@@ -88,6 +88,13 @@ class Sensor {
   /// Default: any finite value.
   virtual bool valid_reading(int index, double value, std::string* reason) const;
 
+  /// Whether a calibration with this sensor takes priors from the model's stated tolerances
+  /// unless told otherwise (CalibrateRequest::tolerance_priors): true for a sensor whose own
+  /// parameters trade with the mechanism's, so that a fit can lower its residuals by moving
+  /// a good geometry to absorb the sensor's errors (a camera: its intrinsics and mounts against
+  /// the robot's joint offsets; issue 38). Default: false.
+  virtual bool takes_tolerance_priors_by_default() const { return false; }
+
   /// Whether the sensor can fail to read at some poses (a beam grazing or missing its
   /// target, a reading out of range). Only then is reads_at() called, so sensors that always
   /// read cost nothing.

@@ -96,10 +96,73 @@ void add_robust_loss(const std::string& text, const Solver& solver, const std::s
   }
 }
 
+CalibrateRequest::TolerancePriors parse_tolerance_priors(const std::string& text,
+                                                         const std::string& option) {
+  if (text == "auto") return CalibrateRequest::TolerancePriors::kAuto;
+  if (text == "on") return CalibrateRequest::TolerancePriors::kOn;
+  if (text == "off") return CalibrateRequest::TolerancePriors::kOff;
+  throw std::invalid_argument(option + " '" + text + "': expected auto, on or off");
+}
+
+std::shared_ptr<const MeasurementModel> with_tolerance_priors(
+    std::shared_ptr<const MeasurementModel> model, CalibrateRequest::TolerancePriors choice,
+    std::string* note) {
+  using Choice = CalibrateRequest::TolerancePriors;
+  if (note) note->clear();
+  if (choice == Choice::kOff) return model;
+  const ParameterSet& parameters = model->parameters();
+  if (choice == Choice::kAuto) {
+    bool asked = false;
+    for (const auto& sensor : model->sensors())
+      asked = asked || sensor->takes_tolerance_priors_by_default();
+    if (!asked) return model;
+    for (int i = 0; i < parameters.size(); ++i)
+      if (parameters[i].has_prior()) return model;  // the user's priors stand
+  }
+  // A prior is weighed against the readings' noise: without it stated, the default says why
+  // it does not apply (on, asked for, fails in check_calibration_model with the remedy).
+  if (choice == Choice::kAuto && !model->weighted()) {
+    int stated = 0;
+    for (int i : parameters.free_indices())
+      stated += parameters[i].error_half_width > 0 && std::isfinite(parameters[i].error_half_width);
+    if (stated > 0 && note)
+      *note = "no priors from the stated tolerances, the default with a camera: the readings' "
+              "noise std is not stated to weigh them against (give --noise-std, e.g. 0.2px, or "
+              "reading_std in the model file)";
+    return model;
+  }
+  auto copy = std::make_shared<MeasurementModel>(*model);
+  int count = 0;
+  for (int i : parameters.free_indices()) {
+    const Parameter& p = parameters[i];
+    if (p.has_prior() || !(p.error_half_width > 0) || !std::isfinite(p.error_half_width)) continue;
+    const double std = p.error_half_width / std::sqrt(3.0);
+    copy->parameters().for_each_matching(p.name, [std](Parameter& q) { q.prior_std = std; });
+    ++count;
+  }
+  if (count == 0) return model;
+  if (note)
+    *note = "priors from the stated tolerances (param_error, std = half-width / sqrt(3)) on " +
+            std::to_string(count) + " free parameter(s)" +
+            (choice == Choice::kAuto
+                 ? ": the default with a camera, so that the fit does not move a good robot to "
+                   "absorb the camera's errors (tolerance priors off to fit without them)"
+                 : "");
+  return copy;
+}
+
 CalibrateResult calibrate(const CalibrateRequest& request) {
   if (!request.model) throw std::invalid_argument("calibrate: the request has no model");
   if (request.starts < 1) throw std::invalid_argument("calibrate: starts must be at least 1");
-  const std::shared_ptr<const MeasurementModel>& model = request.model;
+  // A robust loss and a prior do not go together (check_calibration_model): the default
+  // gives way to the loss the user chose.
+  using Choice = CalibrateRequest::TolerancePriors;
+  const bool robust = request.solver_options.loss.kind != RobustLoss::Kind::kNone;
+  std::string tolerance_note;
+  const std::shared_ptr<const MeasurementModel> model = with_tolerance_priors(
+      request.model,
+      robust && request.tolerance_priors == Choice::kAuto ? Choice::kOff : request.tolerance_priors,
+      &tolerance_note);
   const bool with_prior =
       check_calibration_model(*model, request.solver_options.loss, request.model_file);
   std::shared_ptr<const Solver> solver = request.solver;
@@ -114,6 +177,7 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
     result.notes.push_back(text);
     if (request.on_note) request.on_note(text);
   };
+  if (!tolerance_note.empty()) say(tolerance_note);
   const LoadedMeasurements& loaded = request.measurements;
   const Measurements& data = loaded.data;
   const std::vector<int> lines = row_lines(loaded);

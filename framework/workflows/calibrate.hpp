@@ -61,12 +61,30 @@ struct CalibrateRequest {
   /// from each free parameter's tolerance, reproducibly from `seed`.
   int starts = 1;
   std::uint64_t seed = 1;
+  /// Priors from the model's stated tolerances (param_error: a uniform error of half-width e
+  /// has std e / sqrt(3)) on the free parameters that state one: kAuto (the default) when a
+  /// sensor asks for them (Sensor::takes_tolerance_priors_by_default: a camera) and no
+  /// parameter of the model has a prior_std; kOn whenever tolerances are stated (a prior_std
+  /// given stays); kOff never. What was done is a note.
+  enum class TolerancePriors { kAuto, kOn, kOff };
+  TolerancePriors tolerance_priors = TolerancePriors::kAuto;
   /// Names of the inputs, in messages and in the report only; may be empty.
   std::string model_file, data_file;
   /// Called with each note as it arises (they are in CalibrateResult::notes as well), so that
   /// a terminal shows them in order with other output; may be empty.
   std::function<void(const std::string&)> on_note;
 };
+
+/// "auto", "on" or "off"; throws std::invalid_argument naming `option` for anything else.
+CalibrateRequest::TolerancePriors parse_tolerance_priors(const std::string& text,
+                                                         const std::string& option);
+
+/// `model` with priors from its stated tolerances as `choice` asks for (see
+/// CalibrateRequest::tolerance_priors): the same model when none applies; `note` (when
+/// non-null) says what was done, or is left empty.
+std::shared_ptr<const MeasurementModel> with_tolerance_priors(
+    std::shared_ptr<const MeasurementModel> model, CalibrateRequest::TolerancePriors choice,
+    std::string* note);
 
 struct CalibrateResult {
   /// The solver reached a solution (converged, or stopped at its iteration limit): the

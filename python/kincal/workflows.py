@@ -105,6 +105,7 @@ def calibrate(
     formulation: Optional[str] = None,
     skip_bad_rows: bool = False,
     threads: int = 0,
+    tolerance_priors: str = "auto",
     out: Optional[PathLike] = None,
     json: Optional[PathLike] = None,
     html: Optional[PathLike] = None,
@@ -118,7 +119,9 @@ def calibrate(
     unit or pattern (``"2.887mm,0.0058rad"``, ``["leg*.base.z=0.5mm"]``); ``noise_std`` the
     readings' noise per unit (``"0.0007mm"``); ``folds`` K-fold cross-validation; ``starts``
     several starting values drawn from ``seed``; ``allow_rank_deficient`` fixes what the data
-    cannot determine instead of stopping; ``out``, ``json`` and ``html`` write the
+    cannot determine instead of stopping; ``tolerance_priors`` priors from the stated
+    tolerances (``"auto"``: with a camera, when no prior is given; ``"on"``; ``"off"``);
+    ``out``, ``json`` and ``html`` write the
     calibrated model and the reports (checked before the solve, written whole after it).
 
     Returns the report (``to_dict()`` is the program's JSON) with ``report.text`` (the text
@@ -136,7 +139,8 @@ def calibrate(
             {str(k): str(v) for k, v in (solver_option or {}).items()}, loss or "", list(free),
             list(fix), specs, noise_std or "", folds, starts, seed, rcond, allow_rank_deficient,
             formulation or "", skip_bad_rows, threads, _path(out), _path(json), _path(html),
-            model_path, inputs, threading.current_thread() is threading.main_thread())
+            model_path, inputs, threading.current_thread() is threading.main_thread(),
+            tolerance_priors)
     except ValueError as e:
         raise KincalError(str(e)) from None
     report = _report("calibrate", answer)

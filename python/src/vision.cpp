@@ -41,8 +41,8 @@ py::dict detect_workflow(const std::string& target, const std::string& poses,
     throw std::invalid_argument("intrinsics: expected (fx, fy, cx, cy) in px");
   if (start_model.empty() && (mechanism || !intrinsics.empty()))
     throw std::invalid_argument("mechanism and intrinsics are for start_model");
-  request.images = poses.empty() ? vision::images_in_folder(images)
-                                 : vision::read_image_poses(poses, images);
+  request.images =
+      poses.empty() ? vision::images_in_folder(images) : vision::read_image_poses(poses, images);
   OutputPlan plan(python_output());
   if (!poses.empty()) plan.input("poses", poses);
   for (const auto& path : request.images.paths) plan.input("an image", path);

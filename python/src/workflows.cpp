@@ -156,16 +156,19 @@ void apply_prior_std(MeasurementModel& model, const std::vector<std::string>& sp
   }
 }
 
-py::dict calibrate_workflow(
-    const ModelHandle& handle, const std::optional<std::string>& data_path,
-    const py::object& actuators, const py::object& readings, const std::string& solver,
-    int max_iterations, const std::map<std::string, std::string>& solver_options,
-    const std::string& loss, const std::vector<std::string>& free,
-    const std::vector<std::string>& fix, const std::vector<std::string>& prior_std,
-    const std::string& noise_std, int folds, int starts, std::uint64_t seed, double rcond,
-    bool allow_rank_deficient, const std::string& formulation, bool skip_bad_rows, int threads,
-    const std::string& out, const std::string& json, const std::string& html,
-    const std::string& model_path, const std::vector<std::string>& inputs, bool catch_sigint) {
+py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::string>& data_path,
+                            const py::object& actuators, const py::object& readings,
+                            const std::string& solver, int max_iterations,
+                            const std::map<std::string, std::string>& solver_options,
+                            const std::string& loss, const std::vector<std::string>& free,
+                            const std::vector<std::string>& fix,
+                            const std::vector<std::string>& prior_std, const std::string& noise_std,
+                            int folds, int starts, std::uint64_t seed, double rcond,
+                            bool allow_rank_deficient, const std::string& formulation,
+                            bool skip_bad_rows, int threads, const std::string& out,
+                            const std::string& json, const std::string& html,
+                            const std::string& model_path, const std::vector<std::string>& inputs,
+                            bool catch_sigint, const std::string& tolerance_priors) {
   if (!(rcond > 0 && rcond < 1)) throw std::invalid_argument("rcond must be in (0, 1)");
   if (folds != 0 && folds < 2)
     throw std::invalid_argument("folds must be at least 2 (the number of cross-validation folds)");
@@ -193,6 +196,7 @@ py::dict calibrate_workflow(
   request.folds = folds;
   request.starts = starts;
   request.seed = seed;
+  request.tolerance_priors = parse_tolerance_priors(tolerance_priors, "tolerance_priors");
 
   CalibrateResult result;
   bool interrupted = false;
@@ -750,6 +754,7 @@ void bind_workflows(py::module_& m) {
         py::arg("seed"), py::arg("rcond"), py::arg("allow_rank_deficient"), py::arg("formulation"),
         py::arg("skip_bad_rows"), py::arg("threads"), py::arg("out"), py::arg("json"),
         py::arg("html"), py::arg("model_path"), py::arg("inputs"), py::arg("catch_sigint"),
+        py::arg("tolerance_priors"),
         "The calibrate workflow (kincal.calibrate is its face): a dict with the report's "
         "JSON text, the text report, the notes, solved, interrupted and the calibrated Model.");
   m.def("_validate", &validate_workflow, py::arg("model"), py::arg("data_path"),

@@ -17,6 +17,7 @@
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
+#include "kincal/framework/workflows/calibrate.hpp"
 #include "kincal/models/camera.hpp"
 #include "kincal/models/presets.hpp"
 
@@ -155,6 +156,64 @@ TEST(CameraDoNoHarm, ACameraFitThatWouldMakeTheRobotWorseIsToldAndPriorsPreventI
       "do no harm: held-out position error %.3f mm nominal, %.3f mm calibrated, %.3f mm "
       "calibrated with priors from the tolerances\n",
       fitted.before.position_mean_mm, fitted.after.position_mean_mm, kept.after.position_mean_mm);
+}
+
+// The same case through the calibrate workflow, as `kincal calibrate` runs it: with a camera
+// and tolerances stated, priors from them are the default (a note says so), and the
+// calibrated robot is not worse than nominal held out; tolerance priors off gives the plain
+// fit, which is.
+TEST(CameraDoNoHarm, TolerancePriorsAreTheCalibrateWorkflowsDefaultWithACamera) {
+  // The pixels' noise stated, as a prior needs it: 1.5 px (a reading_std of 1 is the same as
+  // none stated).
+  auto model = good_nominal_camera();
+  for (const std::string& name : model->reading_names()) model->set_reading_std(name, 1.5);
+  ScenarioOptions options;
+  options.num_configurations = 30;
+  options.noise_half_width.set(kPixel, 1.5 * std::sqrt(3.0));
+  options.seed = 3;
+  options.num_validation = 200;
+  const Scenario views = make_scenario(model, options);
+  CalibrateRequest request;
+  request.model = views.model;
+  request.measurements.data = views.calibration;
+  const CalibrateResult with_priors = calibrate(request);
+  ASSERT_TRUE(with_priors.solved) << with_priors.summary.message;
+  EXPECT_TRUE(with_priors.report.prior);
+  bool said = false;
+  for (const std::string& note : with_priors.notes)
+    said = said || note.find("priors from the stated tolerances") != std::string::npos;
+  EXPECT_TRUE(said);
+  const PoseErrorStats nominal = validation_errors(views, views.nominal);
+  EXPECT_LE(validation_errors(views, with_priors.parameters).position_mean_mm,
+            nominal.position_mean_mm);
+
+  request.tolerance_priors = CalibrateRequest::TolerancePriors::kOff;
+  const CalibrateResult plain = calibrate(request);
+  ASSERT_TRUE(plain.solved) << plain.summary.message;
+  EXPECT_FALSE(plain.report.prior);
+  EXPECT_GT(validation_errors(views, plain.parameters).position_mean_mm,
+            2 * nominal.position_mean_mm);
+  std::printf("calibrate workflow: held-out position error %.3f mm nominal, %.3f mm with the "
+              "default tolerance priors, %.3f mm with them off\n",
+              nominal.position_mean_mm,
+              validation_errors(views, with_priors.parameters).position_mean_mm,
+              validation_errors(views, plain.parameters).position_mean_mm);
+
+  // Without the noise stated, auto says why it adds no prior.
+  std::string note;
+  const auto unweighted = good_nominal_camera();
+  EXPECT_EQ(with_tolerance_priors(unweighted, CalibrateRequest::TolerancePriors::kAuto, &note),
+            unweighted);
+  EXPECT_NE(note.find("noise std is not stated"), std::string::npos) << note;
+  // A prior the user gave stands: auto adds nothing to it.
+  auto given = std::make_shared<MeasurementModel>(*good_nominal_camera());
+  given->parameters().for_each_matching("camera.fx", [](Parameter& p) { p.prior_std = 5; });
+  for (const std::string& name : given->reading_names()) given->set_reading_std(name, 1.5);
+  EXPECT_EQ(with_tolerance_priors(given, CalibrateRequest::TolerancePriors::kAuto, &note), given);
+  EXPECT_TRUE(note.empty());
+  // Without a camera, auto adds nothing either; on does.
+  const auto gauge = make_preset("cube-hexapod");
+  EXPECT_EQ(with_tolerance_priors(gauge, CalibrateRequest::TolerancePriors::kAuto, &note), gauge);
 }
 
 }  // namespace
