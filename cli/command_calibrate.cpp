@@ -151,22 +151,15 @@ int run_calibrate(const Args& args) {
   }
   if (judged) extra_text += "target: " + judged->verdict + "\n";
   // A camera's views, each against the pose its points alone give (models/camera_start.hpp).
-  if (solved)
-    for (std::size_t s = 0; s < model->sensors().size(); ++s) {
-      if (model->sensors()[s]->type() != "camera") continue;
-      const auto checks =
-          check_views(*model, static_cast<int>(s), result.parameters, request.measurements.data);
-      std::vector<std::string> labels;
-      for (std::size_t k = 0; k < checks.size(); ++k)
-        labels.push_back(request.data_file + ":" +
-                         std::to_string(k < request.measurements.lines.size()
-                                            ? request.measurements.lines[k]
-                                            : static_cast<int>(k) + 1));
-      const std::string& name = model->sensors()[s]->name();
-      extra_text += view_checks_text(name, checks, labels);
-      if (!extra.contains("view_checks")) extra["view_checks"] = nlohmann::ordered_json::array();
-      extra["view_checks"].push_back(view_checks_json(name, checks, labels));
-    }
+  if (solved) {
+    std::vector<std::string> labels;
+    for (int line : request.measurements.lines)
+      labels.push_back(request.data_file + ":" + std::to_string(line));
+    const CameraViewChecks views =
+        camera_view_checks(*model, result.parameters, request.measurements.data, labels);
+    extra_text += views.text;
+    if (!views.json.empty()) extra["view_checks"] = views.json;
+  }
   if (!report_to_stdout) out() << calibration_text(result, extra_text);
   nlohmann::ordered_json report_json = calibration_json(result, extra);
   // Model and report are written together or not at all while the process runs. Under a

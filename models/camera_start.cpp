@@ -413,4 +413,20 @@ nlohmann::ordered_json view_checks_json(const std::string& camera,
   return out;
 }
 
+CameraViewChecks camera_view_checks(const MeasurementModel& model,
+                                    const Eigen::Ref<const VectorXd>& params,
+                                    const Measurements& data, std::vector<std::string> labels) {
+  for (int k = static_cast<int>(labels.size()); k < data.size(); ++k)
+    labels.push_back("row " + std::to_string(k + 1));
+  CameraViewChecks out;
+  for (std::size_t s = 0; s < model.sensors().size(); ++s) {
+    if (!dynamic_cast<const Camera*>(model.sensors()[s].get())) continue;
+    const auto checks = check_views(model, static_cast<int>(s), params, data);
+    const std::string& name = model.sensors()[s]->name();
+    out.text += view_checks_text(name, checks, labels);
+    out.json.push_back(view_checks_json(name, checks, labels));
+  }
+  return out;
+}
+
 }  // namespace kincal

@@ -86,4 +86,15 @@ nlohmann::ordered_json view_checks_json(const std::string& camera,
                                         const std::vector<ViewCheck>& checks,
                                         const std::vector<std::string>& labels);
 
+/// Every camera of `model` checked view by view at `params` (check_views), in words and as
+/// the JSON array a calibration report holds under "view_checks"; both empty without a
+/// camera. `labels` name the rows (e.g. "D.csv:12"); empty: row numbers from 1.
+struct CameraViewChecks {
+  std::string text;
+  nlohmann::ordered_json json = nlohmann::ordered_json::array();
+};
+CameraViewChecks camera_view_checks(const MeasurementModel& model,
+                                    const Eigen::Ref<const VectorXd>& params,
+                                    const Measurements& data, std::vector<std::string> labels);
+
 }  // namespace kincal

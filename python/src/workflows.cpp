@@ -36,6 +36,7 @@
 #include "kincal/framework/workflows/report_prediction.hpp"
 #include "kincal/framework/workflows/simulate.hpp"
 #include "kincal/framework/workflows/validate_report.hpp"
+#include "kincal/models/camera_start.hpp"
 #include "kincal/models/export_formats.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/urdf_io.hpp"
@@ -206,7 +207,19 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
     result = calibrate(request);
     interrupted = sigint.interrupted();
   }
-  Json report = calibration_json(result, Json::object());
+  // A camera's views against the poses their points alone give, as the program adds them.
+  Json extra = Json::object();
+  std::string extra_text;
+  if (result.solved) {
+    std::vector<std::string> labels;
+    for (int line : request.measurements.lines)
+      labels.push_back(request.data_file + ":" + std::to_string(line));
+    const CameraViewChecks views =
+        camera_view_checks(*model, result.parameters, request.measurements.data, labels);
+    extra_text = views.text;
+    if (!views.json.empty()) extra["view_checks"] = views.json;
+  }
+  Json report = calibration_json(result, extra);
   std::string model_text;
   kincal::report::CalibrationPageExtras page;
   if (result.solved && !out.empty()) {
@@ -225,7 +238,7 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
 
   py::dict answer;
   answer["report"] = report.dump();
-  answer["text"] = calibration_text(result, "");
+  answer["text"] = calibration_text(result, extra_text);
   answer["notes"] = result.notes;
   answer["solved"] = result.solved;
   answer["interrupted"] = interrupted;
