@@ -132,6 +132,7 @@ int run_detect(const Args& args) {
   std::vector<std::pair<std::string, std::string>> files;
   if (result.found() > 0) files.emplace_back("--out", result.csv(request));
   std::string start_text;
+  bool start_failed = false;
   if (vm.count("start-model") && result.found() > 0 && !result.interrupted) {
     vision::StartRequest start;
     start.mounting = mounting;
@@ -143,6 +144,7 @@ int run_detect(const Args& args) {
       start_text = started.text();
     } catch (const std::invalid_argument& e) {
       err() << "kincal detect: no starting model: " << e.what() << "\n";
+      start_failed = true;
     }
   }
   if (!json_file.empty()) {
@@ -161,10 +163,13 @@ int run_detect(const Args& args) {
   plan.write(files);
   if (result.interrupted) {
     err() << "kincal detect: interrupted: wrote the " << result.found() << " images found among "
-          << "the first " << result.records.size() << " of " << result.total << "\n";
+          << "the first " << result.records.size() << " of " << result.total
+          << (vm.count("start-model") ? " (no starting model from part of the images)" : "")
+          << "\n";
     return 130;
   }
-  return 0;
+  // The table is written (detection worked), but what was asked for is not all there.
+  return start_failed ? 1 : 0;
 }
 
 #else

@@ -74,6 +74,18 @@ TEST(CliDetect, BadInputIsOneLineAndNothingIsWritten) {
         "--gate");
 }
 
+TEST(CliDetect, AStartingModelThatCannotBeMadeKeepsTheTableAndExitsOne) {
+  TempDir dir("detect-start");
+  write_board(dir / "a.pgm", 40);
+  const CliResult run =
+      run_cli("detect --target chessboard:5x7:20mm --images " + dir.path().string() + " --out " +
+              dir / "V.csv" + " --start-model " + dir / "S.json");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("kincal detect: no starting model: "), std::string::npos) << run.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "V.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "S.json"));
+}
+
 TEST(CliDetect, NoImageWithTheTargetIsAFailureThatWritesNothing) {
   TempDir dir("detect-none");
   { std::ofstream(dir / "blank.pgm") << "P5\n64 48\n255\n" << std::string(64 * 48, '\xc8'); }
