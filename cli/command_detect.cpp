@@ -129,31 +129,17 @@ int run_detect(const Args& args) {
     result = vision::detect_images(request);
     progress.finish();
   }
+  std::optional<vision::StartRequest> start;
+  if (vm.count("start-model")) start = vision::StartRequest{mounting, mechanism, intrinsics};
+  const vision::DetectOutputs outputs = vision::detect_outputs(request, result, start);
   std::vector<std::pair<std::string, std::string>> files;
-  if (result.found() > 0) files.emplace_back("--out", result.csv(request));
-  std::string start_text;
-  bool start_failed = false;
-  if (vm.count("start-model") && result.found() > 0 && !result.interrupted) {
-    vision::StartRequest start;
-    start.mounting = mounting;
-    start.mechanism = mechanism;
-    start.intrinsics = intrinsics;
-    try {
-      const vision::StartResult started = vision::start_model(request, result, start);
-      files.emplace_back("--start-model", started.model_text);
-      start_text = started.text();
-    } catch (const std::invalid_argument& e) {
-      err() << "kincal detect: no starting model: " << e.what() << "\n";
-      start_failed = true;
-    }
-  }
-  if (!json_file.empty()) {
-    nlohmann::ordered_json j = json_document("kincal-detect");
-    j.update(result.json());
-    files.emplace_back("--json", j.dump(2) + "\n");
-  }
+  if (!outputs.csv.empty()) files.emplace_back("--out", outputs.csv);
+  if (!outputs.model_text.empty()) files.emplace_back("--start-model", outputs.model_text);
+  if (!outputs.start_error.empty())
+    err() << "kincal detect: no starting model: " << outputs.start_error << "\n";
+  if (!json_file.empty()) files.emplace_back("--json", outputs.json.dump(2) + "\n");
   if (!plan.to_stdout("--out") && (json_file.empty() || !plan.to_stdout("--json")))
-    out() << result.text() << start_text;
+    out() << result.text() << outputs.start_text;
   if (result.found() == 0) {
     if (!json_file.empty()) plan.write({files.back()});
     err() << "kincal detect: the target was found in none of the " << result.records.size()
@@ -169,7 +155,7 @@ int run_detect(const Args& args) {
     return 130;
   }
   // The table is written (detection worked), but what was asked for is not all there.
-  return start_failed ? 1 : 0;
+  return outputs.start_error.empty() ? 0 : 1;
 }
 
 #else

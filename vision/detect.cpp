@@ -376,6 +376,24 @@ StartResult start_model(const DetectRequest& request, const DetectResult& result
   return out;
 }
 
+DetectOutputs detect_outputs(const DetectRequest& request, const DetectResult& result,
+                             const std::optional<StartRequest>& start) {
+  DetectOutputs out;
+  if (result.found() > 0) out.csv = result.csv(request);
+  if (start && result.found() > 0 && !result.interrupted) {
+    try {
+      const StartResult started = start_model(request, result, *start);
+      out.model_text = started.model_text;
+      out.start_text = started.text();
+    } catch (const std::invalid_argument& e) {
+      out.start_error = e.what();
+    }
+  }
+  out.json = {{"format", "kincal-detect"}, {"version", 1}};
+  out.json.update(result.json());
+  return out;
+}
+
 std::string StartResult::text() const {
   std::ostringstream out;
   if (intrinsics.ok)

@@ -103,4 +103,19 @@ struct StartResult {
 StartResult start_model(const DetectRequest& request, const DetectResult& result,
                         const StartRequest& start);
 
+/// What `kincal detect` writes and says, for the program and Python alike.
+struct DetectOutputs {
+  std::string csv;          ///< the measurement file; "" when no image has the target
+  std::string model_text;   ///< the starting model's file; "" unless asked for and made
+  std::string start_text;   ///< start_model's words, when made
+  std::string start_error;  ///< why a starting model asked for was not made; "" otherwise
+  /// The report: {"format": "kincal-detect", "version": 1} and DetectResult::json().
+  nlohmann::ordered_json json;
+};
+
+/// The outputs of `result`: the table, the report and, with `start`, a starting model (not
+/// from an interrupted run, whose images are only part of the set).
+DetectOutputs detect_outputs(const DetectRequest& request, const DetectResult& result,
+                             const std::optional<StartRequest>& start);
+
 }  // namespace kincal::vision

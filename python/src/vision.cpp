@@ -58,33 +58,26 @@ py::dict detect_workflow(const std::string& target, const std::string& poses,
     request.stop_requested = [] { return sigint_received(); };
     result = vision::detect_images(request);
   }
-  std::vector<std::pair<std::string, std::string>> files;
-  if (result.found() > 0) files.emplace_back("out", result.csv(request));
-  std::string start_text, start_error;
-  if (!start_model.empty() && result.found() > 0 && !result.interrupted) {
-    vision::StartRequest start;
-    start.mounting =
+  std::optional<vision::StartRequest> start;
+  if (!start_model.empty()) {
+    start = vision::StartRequest{};
+    start->mounting =
         mounting == "eye-in-hand" ? CameraMounting::kEyeInHand : CameraMounting::kEyeToHand;
-    if (mechanism) start.mechanism = mechanism->model->mechanism_ptr();
+    if (mechanism) start->mechanism = mechanism->model->mechanism_ptr();
     if (!intrinsics.empty()) {
       CameraIntrinsics in;
       in.fx = intrinsics[0];
       in.fy = intrinsics[1];
       in.cx = intrinsics[2];
       in.cy = intrinsics[3];
-      start.intrinsics = in;
-    }
-    try {
-      const vision::StartResult started = vision::start_model(request, result, start);
-      files.emplace_back("start_model", started.model_text);
-      start_text = started.text();
-    } catch (const std::invalid_argument& e) {
-      start_error = e.what();
+      start->intrinsics = in;
     }
   }
-  nlohmann::ordered_json report = {{"format", "kincal-detect"}, {"version", 1}};
-  report.update(result.json());
-  if (!json.empty()) files.emplace_back("json", report.dump(2) + "\n");
+  const vision::DetectOutputs outputs = vision::detect_outputs(request, result, start);
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!outputs.csv.empty()) files.emplace_back("out", outputs.csv);
+  if (!outputs.model_text.empty()) files.emplace_back("start_model", outputs.model_text);
+  if (!json.empty()) files.emplace_back("json", outputs.json.dump(2) + "\n");
   {
     py::gil_scoped_release release;
     if (result.found() > 0) {
@@ -94,10 +87,10 @@ py::dict detect_workflow(const std::string& target, const std::string& poses,
     }
   }
   py::dict answer;
-  answer["report"] = report.dump();
-  answer["text"] = result.text() + start_text;
-  answer["csv"] = result.found() > 0 ? result.csv(request) : std::string();
-  answer["start_error"] = start_error;
+  answer["report"] = outputs.json.dump();
+  answer["text"] = result.text() + outputs.start_text;
+  answer["csv"] = outputs.csv;
+  answer["start_error"] = outputs.start_error;
   answer["interrupted"] = result.interrupted;
   return answer;
 }
