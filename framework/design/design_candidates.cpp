@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -149,11 +150,15 @@ DesignSetup make_design_setup(const MeasurementModel& model, const DesignOptions
                                     ": forward kinematics at the nominal values " + fk.describe());
       for (int sensor = 0; sensor < static_cast<int>(model.sensors().size()); ++sensor) {
         const int o = model.sensor_reading_offset(sensor);
-        if (std::isnan(existing->readings(row, o))) continue;
-        MatrixXd x(model.sensors()[sensor]->num_readings(), n);
+        const int k = model.sensors()[sensor]->num_readings();
+        const auto measured = existing->readings.row(row).segment(o, k).array();
+        if (measured.isNaN().all()) continue;
+        MatrixXd x(k, n);
         sensor_rows(model, s, J, sensor, x);
+        for (int r = 0; r < k; ++r)
+          if (std::isnan(measured[r])) x.row(r).setZero();  // a point not seen informs nothing
         s.base_information += x.transpose() * x;
-        s.existing_readings += static_cast<int>(x.rows());
+        s.existing_readings += static_cast<int>((!measured.isNaN()).count());
       }
     }
   }
@@ -199,6 +204,17 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
   VectorXd readings(model.num_readings()), q(na);
   MatrixXd J(model.num_readings(), model.num_parameters());
   Eigen::Ref<MatrixXd> J_ref(J);
+  // Where a sensor can miss (a camera), a candidate holds only the readings it would take
+  // there (the target in front of the camera, inside the image, not edge-on: what simulate
+  // draws), and a configuration in which no sensor reads anything is no candidate.
+  const bool check_view = model.sensors_can_miss();
+  VectorXd seen(check_view ? model.num_readings() : 0);
+  // A sensor with more readings than free parameters (a camera's 2 x points) is stored as the
+  // n x n triangular factor of its information (X^T X = R^T R): the same information in fewer
+  // rows, which the exchange and the bound then handle at a fraction of the cost.
+  std::vector<MatrixXd> sensor_block(num_sensors);
+  for (int s = 0; s < num_sensors; ++s) sensor_block[s].resize(k[s], n);
+  Eigen::HouseholderQR<MatrixXd> qr;
   Random rng(derive_seed(options.seed, kCandidateStream));
   int kept = 0;
   for (int i = 0; i < total; ++i) {
@@ -219,15 +235,43 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
       ++out.rejected_singular;
       continue;
     }
+    if (check_view) {
+      model.simulate_at_pose(nominal, fk.pose, seen);
+      if (seen.array().isNaN().all()) {
+        ++out.rejected_unseen;
+        continue;
+      }
+    }
     if (corner) ++out.num_corners;
     out.configurations.row(kept) = q.transpose();
     out.margins[kept] = margin;
     for (int s = 0; s < num_sensors; ++s) {
-      const int first = out.row_offset.back();
-      sensor_rows(model, setup, J, s, out.rows.middleRows(first, k[s]));
+      const int first = out.row_offset.back(), o = model.sensor_reading_offset(s);
+      MatrixXd& X = sensor_block[s];
+      sensor_rows(model, setup, J, s, X);
+      int taken = k[s];
+      if (check_view) {
+        taken = 0;
+        for (int r = 0; r < k[s]; ++r) {
+          if (std::isnan(seen[o + r]))
+            X.row(r).setZero();  // not seen: no information
+          else
+            ++taken;
+        }
+        if (taken == 0) continue;  // this sensor reads nothing here: no candidate
+      }
+      int stored = k[s];
+      if (k[s] > n) {
+        qr.compute(X);
+        stored = n;
+        out.rows.middleRows(first, n) = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+      } else {
+        out.rows.middleRows(first, k[s]) = X;
+      }
       out.configuration.push_back(kept);
       out.sensor.push_back(s);
-      out.row_offset.push_back(first + k[s]);
+      out.readings.push_back(taken);
+      out.row_offset.push_back(first + stored);
     }
     ++kept;
   }

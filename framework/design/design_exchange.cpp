@@ -23,8 +23,12 @@ namespace {
 constexpr int kMaxRows = 16;
 using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
 
-// M^-1 and, per candidate, G = X^T M^-1 X and (A, I) H = X^T M^-1 W M^-1 X kept up to date
-// under rank-one changes of M.
+// M^-1 and, per candidate, G = X M^-1 X^T and (A, I) H = X M^-1 W M^-1 X^T kept up to date
+// under rank-one changes of M, for candidates of at most kMaxRows rows. A design with larger
+// candidates (a camera view: up to n rows, the factor of its information) is "blocked": G
+// and H would take n^2 per candidate and n^3 per update, so M^-1 is recomputed after each
+// change instead, the candidates are screened by the first-order gain <M^-1, X^T X> (D; with
+// M^-1 W M^-1 for A and I), and the best kScreened compared by their exact gain.
 class ExchangeState {
  public:
   ExchangeState(const DesignCandidates& candidates, const DesignSetup& setup,
@@ -39,14 +43,21 @@ class ExchangeState {
     M0_ = setup.base_information;
     M0_.diagonal().array() += 1e-9 * std::max(mean_row, 1e-300) + 1e-300;
     unit_rows_ = true;
-    g_offset_.push_back(0);
     for (int c = 0; c < c_.size(); ++c) {
-      const int k = rows(c);
-      if (k > kMaxRows)
-        throw std::invalid_argument("a sensor with more than 16 readings cannot be designed for");
-      unit_rows_ = unit_rows_ && k == 1;
-      g_offset_.push_back(g_offset_.back() + k * k);
+      unit_rows_ = unit_rows_ && rows(c) == 1;
+      blocked_ = blocked_ || rows(c) > kMaxRows;
     }
+    if (blocked_) {
+      // Each candidate's information X^T X, for the screening.
+      information_.resize(c_.size());
+      for (int c = 0; c < c_.size(); ++c) {
+        const auto X = block(c);
+        information_[c].noalias() = X.transpose() * X;
+      }
+      return;
+    }
+    g_offset_.push_back(0);
+    for (int c = 0; c < c_.size(); ++c) g_offset_.push_back(g_offset_.back() + rows(c) * rows(c));
     g_.resize(g_offset_.back());
     h_.resize(linear_ ? g_offset_.back() : 0);
     // One candidate row per column: the products over all candidates below read each row
@@ -64,6 +75,10 @@ class ExchangeState {
       M_.noalias() += X.transpose() * X;
     }
     Minv_ = M_.llt().solve(MatrixXd::Identity(n_, n_));
+    if (blocked_) {
+      if (linear_) screen_weight_.noalias() = Minv_ * W_ * Minv_;
+      return;
+    }
     P_t_.noalias() = Minv_ * rows_t_;  // column i: M^-1 x_i
     if (linear_) PW_t_.noalias() = W_ * P_t_;
     for (int c = 0; c < c_.size(); ++c) {
@@ -76,13 +91,14 @@ class ExchangeState {
     }
   }
 
-  void add(int c) { change(c, +1); }
-  void remove(int c) { change(c, -1); }
+  void add(int c) { blocked_ ? change_blocked(c, +1) : change(c, +1); }
+  void remove(int c) { blocked_ ? change_blocked(c, -1) : change(c, -1); }
 
   // How much adding c improves the criterion (larger is better); E: lambda_min after.
   double gain(int c) const {
     const int k = rows(c);
     if (criterion_ == DesignCriterion::kE) return lambda_min_with(c);
+    if (blocked_) return blocked_gain(c);
     if (k == 1) {
       const double g = g_[g_offset_[c]];
       return linear_ ? h_[g_offset_[c]] / (1 + g) : std::log1p(g);
@@ -97,7 +113,7 @@ class ExchangeState {
   // One reading per candidate (the rows are rank-one updates): the exchange step can look at
   // the design without candidate `c` before changing anything, and leave the state alone when
   // `c` is still the best choice, as it is for most steps once the design has settled.
-  bool can_stage() const { return unit_rows_; }
+  bool can_stage() const { return unit_rows_ && !blocked_; }
 
   // Prepares removing c: the product over the candidates that the removal's update needs,
   // without applying it.
@@ -139,6 +155,7 @@ class ExchangeState {
   // The best of the candidates marked available (ties: the lowest index).
   int best(const std::vector<char>& available) const {
     if (criterion_ == DesignCriterion::kE) return best_e(available);
+    if (blocked_) return best_blocked(available);
     int best_c = -1;
     double best_gain = -std::numeric_limits<double>::infinity();
     // D with one reading per candidate: log(1 + g) is increasing in g, so g ranks alike.
@@ -187,7 +204,9 @@ class ExchangeState {
       if (available[c] || (staged && c == staged_)) {
         const int k = rows(c);
         double trace = 0;
-        if (staged)
+        if (blocked_)
+          trace = Minv_.cwiseProduct(information_[c]).sum();
+        else if (staged)
           trace = staged_g(c);
         else
           for (int r = 0; r < k; ++r) trace += g_[g_offset_[c] + r * k + r];
@@ -205,6 +224,47 @@ class ExchangeState {
       }
     }
     return best_c;
+  }
+
+  // The exact gain of a blocked candidate: log det(I + G) (D) or trace((I + G)^-1 H) (A, I).
+  double blocked_gain(int c) const {
+    const auto X = block(c);
+    const MatrixXd P = Minv_ * X.transpose();  // n x k
+    MatrixXd G = X * P;
+    G.diagonal().array() += 1;
+    const Eigen::LLT<MatrixXd> llt(G);
+    if (!linear_) return 2 * llt.matrixLLT().diagonal().array().log().sum();
+    const MatrixXd H = P.transpose() * W_ * P;
+    return llt.solve(H).trace();
+  }
+
+  // The best available blocked candidate: the kScreened with the largest first-order gain,
+  // compared by their exact gain (ties: the lowest index).
+  int best_blocked(const std::vector<char>& available) const {
+    const MatrixXd& weight = linear_ ? screen_weight_ : Minv_;
+    std::vector<std::pair<double, int>>& ranked = ranked_;
+    ranked.clear();
+    for (int c = 0; c < c_.size(); ++c)
+      if (available[c]) ranked.push_back({-weight.cwiseProduct(information_[c]).sum(), c});
+    const std::size_t keep = std::min<std::size_t>(ranked.size(), kScreened);
+    std::partial_sort(ranked.begin(), ranked.begin() + keep, ranked.end());
+    int best_c = -1;
+    double best_value = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < keep; ++i) {
+      const int c = ranked[i].second;
+      const double v = blocked_gain(c);
+      if (v > best_value || (v == best_value && c < best_c)) {
+        best_value = v;
+        best_c = c;
+      }
+    }
+    return best_c;
+  }
+
+  void change_blocked(int c, double sign) {
+    M_ += sign * information_[c];
+    Minv_ = M_.llt().solve(MatrixXd::Identity(n_, n_));
+    if (linear_) screen_weight_.noalias() = Minv_ * W_ * Minv_;
   }
 
   void change(int c, double sign) {
@@ -269,7 +329,10 @@ class ExchangeState {
   const DesignCandidates& c_;
   DesignCriterion criterion_;
   int n_;
-  bool linear_ = false, unit_rows_ = true;
+  bool linear_ = false, unit_rows_ = true, blocked_ = false;
+  static constexpr std::size_t kScreened = 32;
+  std::vector<MatrixXd> information_;  // blocked: each candidate's X^T X
+  MatrixXd screen_weight_;             // blocked A, I: M^-1 W M^-1
   MatrixXd W_, M0_, M_, Minv_, ab_, uz_, M_staged_;
   MatrixXd rows_t_, P_t_, PW_t_;  // candidate rows, M^-1 and W M^-1 times them, per column
   VectorXd u_, v_;

@@ -117,6 +117,21 @@ Measurements design_rows(const MeasurementModel& model, const DesignCandidates& 
         .segment(model.sensor_reading_offset(s), model.sensors()[s]->num_readings())
         .setZero();
   }
+  if (model.sensors_can_miss()) {
+    // The readings a sensor would not take there (a camera's points out of view) stay
+    // missing, as the candidate left them out (make_design_candidates).
+    const VectorXd nominal = model.parameters().nominal_values();
+    auto ws = model.make_workspace();
+    VectorXd seen(model.num_readings());
+    for (int r = 0; r < m.size(); ++r) {
+      const VectorXd q = m.actuators.row(r).transpose();
+      const ForwardKinematicsResult fk = model.predict(nominal, q, seen, nullptr, ws);
+      if (!fk.ok()) continue;  // a candidate is reachable: not reached here
+      model.simulate_at_pose(nominal, fk.pose, seen);
+      for (int k = 0; k < model.num_readings(); ++k)
+        if (std::isnan(seen[k])) m.readings(r, k) = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
   return m;
 }
 

@@ -104,16 +104,24 @@ class SingularityGauge {
 /// sensors: each (configuration, sensor) pair is a candidate, so that design chooses the
 /// placements too) or by its only sensor.
 struct DesignCandidates {
-  MatrixXd configurations;         ///< reachable candidate configurations x num_actuators
-  VectorXd margins;                ///< their singularity margins
-  int num_corners = 0;             ///< the first configurations are the box's corners
-  int rejected_unreachable = 0;    ///< drawn configurations forward kinematics fails at
-  int rejected_singular = 0;       ///< drawn configurations below the singularity margin
+  MatrixXd configurations;       ///< reachable candidate configurations x num_actuators
+  VectorXd margins;              ///< their singularity margins
+  int num_corners = 0;           ///< the first configurations are the box's corners
+  int rejected_unreachable = 0;  ///< drawn configurations forward kinematics fails at
+  int rejected_singular = 0;     ///< drawn configurations below the singularity margin
+  /// Drawn configurations in which no sensor takes a reading (a camera's target out of view).
+  int rejected_unseen = 0;
   std::vector<int> configuration;  ///< per candidate: its configuration (row)
   std::vector<int> sensor;         ///< per candidate: its sensor (index in the model)
-  std::vector<int> row_offset;     ///< candidate c owns rows row_offset[c] .. row_offset[c + 1]
-  MatrixXd rows;                   ///< normalised whitened information rows, all candidates
-  bool stopped = false;            ///< the monitor stopped the draw: fewer than asked for
+  /// Per candidate: the readings its sensor takes there (fewer than the sensor has where it
+  /// can miss some: a camera's points out of view).
+  std::vector<int> readings;
+  /// Candidate c owns rows row_offset[c] .. row_offset[c + 1]: one per reading, or, for a
+  /// sensor with more readings than free parameters (a camera), the n rows of the triangular
+  /// factor R of the readings' information (X^T X = R^T R).
+  std::vector<int> row_offset;
+  MatrixXd rows;         ///< normalised whitened information rows, all candidates
+  bool stopped = false;  ///< the monitor stopped the draw: fewer than asked for
   int size() const { return static_cast<int>(sensor.size()); }
 };
 
@@ -192,7 +200,8 @@ double criterion_value(DesignCriterion criterion, const MatrixXd& information,
 MatrixXd design_covariance(const MatrixXd& information, const DesignSetup& setup);
 
 /// The chosen configurations as a measurement table: one row per distinct configuration, the
-/// readings of the sensors chosen there set to 0 and the others NaN (missing).
+/// readings of the sensors chosen there set to 0 and the others NaN (missing), as are the
+/// readings a sensor would not take there (a camera's points out of view).
 Measurements design_rows(const MeasurementModel& model, const DesignCandidates& candidates,
                          const std::vector<int>& chosen);
 

@@ -196,8 +196,11 @@ std::string search_html(const ExperimentDesignResult& r, double random) {
       summary_row("candidates", fmt(static_cast<double>(c.size()), 9) + " reachable (" +
                                     fmt(c.num_corners, 9) + " corners of the box + random draws)");
   out += summary_row(
-      "rejected", fmt(c.rejected_unreachable, 9) + " unreachable, " + fmt(c.rejected_singular, 9) +
-                      " below the singularity margin " + fmt(r.options.min_singularity_margin, 3));
+      "rejected",
+      fmt(c.rejected_unreachable, 9) + " unreachable, " + fmt(c.rejected_singular, 9) +
+          " below the singularity margin " + fmt(r.options.min_singularity_margin, 3) +
+          (c.rejected_unseen ? ", " + fmt(c.rejected_unseen, 9) + " with nothing in view"
+                             : std::string()));
   out += summary_row("criterion", "greedy start " + fmt(finite_or_nan(e.greedy_value), 6) +
                                       ", after the exchange " +
                                       fmt(finite_or_nan(e.criterion_value), 6) +

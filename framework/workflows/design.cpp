@@ -182,8 +182,11 @@ ExperimentDesignResult design_experiment(const ExperimentDesignRequest& request)
     throw std::invalid_argument(
         "only " + std::to_string(candidates.size()) + " reachable candidates (" +
         std::to_string(candidates.rejected_unreachable) + " unreachable, " +
-        std::to_string(candidates.rejected_singular) + " near-singular) for " +
-        option(request, "poses") + " " + std::to_string(design.count) + "; raise " +
+        std::to_string(candidates.rejected_singular) + " near-singular" +
+        (candidates.rejected_unseen
+             ? ", " + std::to_string(candidates.rejected_unseen) + " with nothing in view"
+             : std::string()) +
+        ") for " + option(request, "poses") + " " + std::to_string(design.count) + "; raise " +
         option(request, "candidates") + " or lower " + option(request, "singularity-margin"));
   const long long new_readings = [&] {
     long long k = 0;
@@ -270,9 +273,12 @@ std::string design_text(const ExperimentDesignResult& r, const std::string& temp
       static_cast<unsigned long long>(design.seed));
   out += format_text(
       "candidates: %d (%d box corners + random; rejected: %d unreachable, %d below the "
-      "singularity margin %g)\n",
+      "singularity margin %g%s)\n",
       candidates.size(), candidates.num_corners, candidates.rejected_unreachable,
-      candidates.rejected_singular, design.min_singularity_margin);
+      candidates.rejected_singular, design.min_singularity_margin,
+      model.sensors_can_miss()
+          ? format_text(", %d with nothing in view", candidates.rejected_unseen).c_str()
+          : "");
   out += format_text("exchange: %d passes, %d exchanges; criterion %s: greedy %.6g -> %.6g\n",
                      result.passes, result.exchanges, criterion, result.greedy_value,
                      result.criterion_value);
@@ -344,6 +350,7 @@ nlohmann::ordered_json design_json(const ExperimentDesignResult& r,
                      {"corners", candidates.num_corners},
                      {"rejected_unreachable", candidates.rejected_unreachable},
                      {"rejected_singular", candidates.rejected_singular},
+                     {"rejected_unseen", candidates.rejected_unseen},
                      {"singularity_margin", design.min_singularity_margin}};
   Json noise = Json::object();
   for (int i = 0; i < model.num_readings(); ++i)
