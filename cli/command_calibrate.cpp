@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
@@ -18,7 +19,11 @@
 #include "kincal/framework/report/calibration_page.hpp"
 #include "kincal/framework/workflows/calibrate_report.hpp"
 #include "kincal/models/camera_start.hpp"
+#include "kincal/models/camera_views.hpp"
 #include "kincal/models/model_io.hpp"
+#if KINCAL_WITH_VISION
+#include "kincal/vision/thumbnail.hpp"
+#endif
 
 namespace kincal::cli {
 
@@ -36,6 +41,22 @@ OutputPlan plan_files(const po::variables_map& vm) {
   if (vm.count("html")) plan.output("--html", vm["html"].as<std::string>());
   plan.check();
   return plan;
+}
+
+// Each camera view drawn on its image (the page for people), when OpenCV can read them.
+void draw_views_on_images(std::vector<ImageViews>& views, const std::string& folder) {
+  bool named = false;
+  for (const ImageViews& sensor : views)
+    for (const ImageView& view : sensor.views) named = named || !view.image.empty();
+  if (!named) return;
+#if KINCAL_WITH_VISION
+  const std::string unread = vision::draw_views_on_images(views, folder);
+  if (!unread.empty()) note("calibrate", unread + " (--images DIR)");
+#else
+  (void)folder;
+  note("calibrate",
+       "the views are drawn without their images: this kincal was built without OpenCV");
+#endif
 }
 
 }  // namespace
@@ -58,7 +79,14 @@ int run_calibrate(const Args& args) {
       "numerical rank threshold relative to the largest scaled singular value")(
       "tolerance-priors", po::value<std::string>()->default_value("auto"),
       "priors from the model's stated tolerances (param_error; std = half-width / sqrt(3)) on "
-      "the free parameters: auto (with a camera, when no prior is given), on, or off");
+      "the free parameters: auto (with a camera, when no prior is given), on, or off")(
+      "step", po::value<std::vector<std::string>>(),
+      "calibration in steps: before the full solve, solve for the free parameters matching "
+      "these glob patterns only (comma-separated, e.g. 'camera.*'), the others held; repeat "
+      "for several steps, in order. The full solve starts where the steps end")(
+      "images", po::value<std::string>(),
+      "with a camera and --html: the folder the data's `image` column is relative to (default: "
+      "the data file's folder); each view is drawn on its image");
   add_json_option(options, "the report");
   add_allow_rank_deficient_option(options);
   add_deprecated_alias(options, "report", "json", po::value<std::string>());
@@ -125,6 +153,9 @@ int run_calibrate(const Args& args) {
   request.seed = vm["seed"].as<Seed>().value;
   request.tolerance_priors =
       parse_tolerance_priors(vm["tolerance-priors"].as<std::string>(), "--tolerance-priors");
+  if (vm.count("step"))
+    for (const std::string& text : vm["step"].as<std::vector<std::string>>())
+      request.steps.push_back(parse_calibration_step(text, "--step"));
   request.on_note = [](const std::string& text) { note("calibrate", text); };
   CalibrateResult result = calibrate(request);
   const Summary& summary = result.summary;
@@ -150,15 +181,20 @@ int run_calibrate(const Args& args) {
     extra_text += sensitivity_text(*sensitivity);
   }
   if (judged) extra_text += "target: " + judged->verdict + "\n";
-  // A camera's views, each against the pose its points alone give (models/camera_start.hpp).
-  if (solved) {
-    std::vector<std::string> labels;
-    for (int line : request.measurements.lines)
-      labels.push_back(request.data_file + ":" + std::to_string(line));
-    const CameraViewChecks views =
-        camera_view_checks(*model, result.parameters, request.measurements.data, labels);
+  // A camera's views: their reprojection error, and each against the pose its points alone
+  // give (models/camera_start.hpp).
+  CameraViewChecks views;
+  if (solved && has_camera(*model)) {
+    views = calibration_camera_views(*model, result.parameters, request.measurements,
+                                     request.data_file);
     extra_text += views.text;
-    if (!views.json.empty()) extra["view_checks"] = views.json;
+    extra["camera_views"] = views.views_json;
+    extra["view_checks"] = views.json;
+    if (vm.count("html"))
+      draw_views_on_images(views.views,
+                           vm.count("images")
+                               ? vm["images"].as<std::string>()
+                               : std::filesystem::path(request.data_file).parent_path().string());
   }
   if (!report_to_stdout) out() << calibration_text(result, extra_text);
   nlohmann::ordered_json report_json = calibration_json(result, extra);
@@ -189,6 +225,7 @@ int run_calibrate(const Args& args) {
     report::CalibrationPageExtras page;
     page.target = judged;
     page.sensitivity = sensitivity;
+    page.image_views = views.views;
     if (!model_sha256.empty()) {
       page.calibrated_model_file = vm["out"].as<std::string>();
       page.calibrated_model_sha256 = model_sha256;

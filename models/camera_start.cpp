@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/base/format_text.hpp"
+#include "kincal/models/camera_views.hpp"
 
 namespace kincal {
 
@@ -415,12 +416,17 @@ nlohmann::ordered_json view_checks_json(const std::string& camera,
 
 CameraViewChecks camera_view_checks(const MeasurementModel& model,
                                     const Eigen::Ref<const VectorXd>& params,
-                                    const Measurements& data, std::vector<std::string> labels) {
+                                    const Measurements& data, std::vector<std::string> labels,
+                                    const std::vector<std::string>& images) {
   for (int k = static_cast<int>(labels.size()); k < data.size(); ++k)
     labels.push_back("row " + std::to_string(k + 1));
   CameraViewChecks out;
   for (std::size_t s = 0; s < model.sensors().size(); ++s) {
     if (!dynamic_cast<const Camera*>(model.sensors()[s].get())) continue;
+    out.views.push_back(
+        camera_image_views(model, static_cast<int>(s), params, data, labels, images));
+    out.text += image_views_text(out.views.back());
+    out.views_json.push_back(image_views_json(out.views.back()));
     const auto checks = check_views(model, static_cast<int>(s), params, data);
     const std::string& name = model.sensors()[s]->name();
     out.text += view_checks_text(name, checks, labels);

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "kincal/framework/analysis/image_views.hpp"
 #include "kincal/framework/calibration/calibration_problem.hpp"
 #include "kincal/framework/kinematics/hand_eye.hpp"
 #include "kincal/models/camera.hpp"
@@ -86,15 +87,21 @@ nlohmann::ordered_json view_checks_json(const std::string& camera,
                                         const std::vector<ViewCheck>& checks,
                                         const std::vector<std::string>& labels);
 
-/// Every camera of `model` checked view by view at `params` (check_views), in words and as
-/// the JSON array a calibration report holds under "view_checks"; both empty without a
-/// camera. `labels` name the rows (e.g. "D.csv:12"); empty: row numbers from 1.
+/// Every camera of `model` view by view at `params`: its reprojection error
+/// (camera_image_views, models/camera_views.hpp) and each view's pose checked (check_views),
+/// in words, as the JSON arrays a calibration report holds under "camera_views" and
+/// "view_checks", and as the views the page for people draws; all empty without a camera.
+/// `labels` name the rows (e.g. "D.csv:12"; empty: row numbers from 1), `images` the image
+/// of each row when known (the measurement file's `image` column; may be empty).
 struct CameraViewChecks {
   std::string text;
-  nlohmann::ordered_json json = nlohmann::ordered_json::array();
+  nlohmann::ordered_json json = nlohmann::ordered_json::array();        ///< "view_checks"
+  nlohmann::ordered_json views_json = nlohmann::ordered_json::array();  ///< "camera_views"
+  std::vector<ImageViews> views;
 };
 CameraViewChecks camera_view_checks(const MeasurementModel& model,
                                     const Eigen::Ref<const VectorXd>& params,
-                                    const Measurements& data, std::vector<std::string> labels);
+                                    const Measurements& data, std::vector<std::string> labels,
+                                    const std::vector<std::string>& images = {});
 
 }  // namespace kincal

@@ -176,7 +176,7 @@ def main():
     print(run(detect).stdout, end="")
     calibration = run([k, "calibrate", "--model", path("start.json"), "--data",
                        path("readings.csv"), "--out", path("calibrated.json"), "--json",
-                       path("report.json")])
+                       path("report.json"), "--html", path("report.html"), "--images", set_dir])
     print(calibration.stdout, end="")
 
     with open(path("report.json")) as f:

@@ -201,6 +201,37 @@ CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits) {
   return header;
 }
 
+std::map<int, std::string> read_csv_text_column(const std::string& path, const std::string& column,
+                                                const CsvLimits& limits) {
+  std::map<int, std::string> out;
+  std::ifstream in = open_measurement_file(path);
+  try {
+    LineReader reader(in, path, limits);
+    std::string line;
+    char separator = ',';
+    int index = -1;
+    bool header = true;
+    std::vector<std::string> fields;
+    while (reader.next(line)) {
+      if (is_skipped(line)) continue;
+      if (header) {
+        header = false;
+        separator = detect_separator(line, path + ":" + std::to_string(reader.line_number()));
+        split_fields(line, separator, fields);
+        for (std::size_t c = 0; c < fields.size() && index < 0; ++c)
+          if (fields[c] == column) index = static_cast<int>(c);
+        if (index < 0) return out;
+        continue;
+      }
+      split_fields(line, separator, fields);
+      out[reader.line_number()] = index < static_cast<int>(fields.size()) ? fields[index] : "";
+    }
+  } catch (const std::ios_base::failure& e) {
+    throw std::invalid_argument(path + ": cannot read measurement file (" + e.what() + ")");
+  }
+  return out;
+}
+
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,
                                     const std::vector<std::string>& actuator_names,
                                     const std::vector<std::string>& reading_names,

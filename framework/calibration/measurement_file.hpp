@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <istream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,13 @@ struct CsvHeader {
   int line = 0;
 };
 CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits = {});
+
+/// The text of column `column` (its trimmed field) in each data row of `path` (the rows after
+/// the header that are not blank or comments), by the row's 1-based line; empty when the header
+/// has no such column, and "" for a row too short to have it. For names beside the numbers:
+/// the image each row of `kincal detect` came from. Throws as read_csv_header.
+std::map<int, std::string> read_csv_text_column(const std::string& path, const std::string& column,
+                                                const CsvLimits& limits = {});
 
 /// read_measurements for `model`'s actuators and readings, then convert_column_units: the
 /// configurations of a file whose readings may all be empty (a design template). A sensor's

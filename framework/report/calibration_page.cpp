@@ -475,6 +475,11 @@ std::string calibration_html(const CalibrateResult& result, const CalibrationPag
   if (r.position_after.points > 0)
     page.add_section("position-error", "3-D position error of the measured point",
                      measured_position_error_html(r));
+  if (!extras.image_views.empty()) {
+    std::string html;
+    for (const ImageViews& views : extras.image_views) html += image_views_html(views);
+    page.add_section("camera-views", "Camera views", html);
+  }
   page.add_section("pose-accuracy", "Predicted pose accuracy", pose_accuracy_section(r, extras));
   if (extras.sensitivity)
     page.add_section("sensitivity", "Sensitivity to fixed parameters",

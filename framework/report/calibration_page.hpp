@@ -18,6 +18,7 @@
 
 #include "kincal/framework/analysis/calibration_verdict.hpp"
 #include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
+#include "kincal/framework/analysis/image_views.hpp"
 #include "kincal/framework/analysis/target_accuracy.hpp"
 #include "kincal/framework/workflows/calibrate.hpp"
 
@@ -31,6 +32,9 @@ struct CalibrationPageExtras {
   /// The sensitivity to the fixed parameters (fixed_parameter_sensitivity): a chart and a
   /// table.
   std::optional<SensitivityResult> sensitivity;
+  /// Each camera's views (camera_view_checks, models/camera_start.hpp): a section with the
+  /// reprojection error per view and every view drawn with its residual vectors.
+  std::vector<ImageViews> image_views;
   /// The calibrated model file written with the report and its SHA-256 (empty: none).
   std::string calibrated_model_file, calibrated_model_sha256;
 };

@@ -55,6 +55,9 @@ svg .sv{fill:#1f5fa8} svg .sv-weak{fill:#e0a100} svg .sv-null{fill:#c0392b}
 svg .outlier-ring{fill:none;stroke:#c0392b;stroke-width:1.5} svg .legend{font-size:10px;fill:#333}
 svg .s0{fill:#1f5fa8} svg .s1{fill:#2e8b57} svg .s2{fill:#8e44ad} svg .s3{fill:#d35400} svg .s4{fill:#16a085} svg .s5{fill:#7f8c8d}
 svg .label{font-size:10px;fill:#222;font-family:monospace}
+div.views{display:flex;flex-wrap:wrap;gap:10px} figure.view{margin:0;font-size:.8em;text-align:center}
+figure.view svg{margin:0 0 2px 0;border:1px solid #ccc} svg .blank{fill:#f2f2f2}
+svg .seen{fill:none;stroke:#1f5fa8} svg .residual{stroke:#d0021b}
 )";
 
 }  // namespace

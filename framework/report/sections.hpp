@@ -12,6 +12,7 @@
 #include "kincal/framework/analysis/calibration_verdict.hpp"
 #include "kincal/framework/analysis/fixed_parameter_sensitivity.hpp"
 #include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/framework/analysis/image_views.hpp"
 #include "kincal/framework/analysis/pose_accuracy.hpp"
 #include "kincal/framework/analysis/target_accuracy.hpp"
 
@@ -36,6 +37,12 @@ std::string pose_accuracy_html(int samples, const std::vector<PredictionColumn>&
 /// For each fixed parameter, the pose error an error in it leaves after calibrating the free
 /// ones, as a bar chart and a table; `target_mm` (NaN: none) is drawn as a line.
 std::string sensitivity_html(const SensitivityResult& sensitivity, double target_mm);
+
+/// A camera's views (framework/analysis/image_views.hpp): the reprojection error overall and
+/// per view in a table, and each view drawn at its image's proportions, on its thumbnail when
+/// there is one, with the points measured and their residual vectors (measured to predicted)
+/// magnified by one factor for every view, stated above them.
+std::string image_views_html(const ImageViews& views);
 
 /// The finding on a target: good when met, do-not-load when not, a note when it could not be
 /// judged.

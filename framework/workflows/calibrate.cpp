@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/analysis/calibration_baselines.hpp"
+#include "kincal/framework/base/format_text.hpp"
 #include "kincal/framework/calibration/constrained_problem.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
 #include "kincal/framework/calibration/equivalent_solutions.hpp"
@@ -126,9 +127,10 @@ std::shared_ptr<const MeasurementModel> with_tolerance_priors(
     for (int i : parameters.free_indices())
       stated += parameters[i].error_half_width > 0 && std::isfinite(parameters[i].error_half_width);
     if (stated > 0 && note)
-      *note = "no priors from the stated tolerances, the default with a camera: the readings' "
-              "noise std is not stated to weigh them against (give --noise-std, e.g. 0.2px, or "
-              "reading_std in the model file)";
+      *note =
+          "no priors from the stated tolerances, the default with a camera: the readings' "
+          "noise std is not stated to weigh them against (give --noise-std, e.g. 0.2px, or "
+          "reading_std in the model file)";
     return model;
   }
   auto copy = std::make_shared<MeasurementModel>(*model);
@@ -149,6 +151,74 @@ std::shared_ptr<const MeasurementModel> with_tolerance_priors(
                    "absorb the camera's errors (tolerance priors off to fit without them)"
                  : "");
   return copy;
+}
+
+namespace {
+
+// The start of the solve after the steps of request.steps (see there), as free parameters
+// `free`; each step's outcome is said.
+VectorXd solve_steps(const CalibrateRequest& request,
+                     const std::shared_ptr<const MeasurementModel>& model, const Measurements& data,
+                     const VectorXd& nominal, const std::vector<int>& free, const Solver& solver,
+                     const SolverOptions& options,
+                     const std::function<void(const std::string&)>& say) {
+  const ParameterSet& parameters = model->parameters();
+  VectorXd current = nominal;
+  const int count = static_cast<int>(request.steps.size());
+  for (int k = 0; k < count; ++k) {
+    const std::vector<std::string>& patterns = request.steps[k];
+    std::string named;
+    for (const std::string& p : patterns) named += (named.empty() ? "" : " ") + p;
+    std::vector<int> step_free;
+    for (int i : free)
+      for (const std::string& p : patterns)
+        if (glob_match(p, parameters[i].name)) {
+          step_free.push_back(i);
+          break;
+        }
+    if (step_free.empty())
+      throw std::invalid_argument("calibrate: step " + std::to_string(k + 1) + " (" + named +
+                                  ") frees none of the free parameters");
+    const CalibrationProblem step(model, data, current, step_free);
+    Prior prior = model_prior(step);
+    for (std::size_t j = 0; j < step_free.size(); ++j)
+      prior.mean[static_cast<int>(j)] = nominal[step_free[j]];  // the prior stays at nominal
+    VectorXd x = step.initial_free_parameters();
+    const CalibrationSolve solved =
+        solve_calibration(solver, step, prior, x, options, Formulation::kNested);
+    current = step.full_parameters(x);
+    say(format_text(
+        "step %d of %d (%s): %d parameters, cost %.6g -> %.6g (%s)", k + 1, count, named.c_str(),
+        static_cast<int>(step_free.size()), solved.summary.initial_cost, solved.summary.final_cost,
+        reached_solution(solved.summary) ? "converged"
+                                         : ("not converged: " + solved.summary.message).c_str()));
+  }
+  VectorXd start(free.size());
+  for (std::size_t i = 0; i < free.size(); ++i) start[static_cast<int>(i)] = current[free[i]];
+  return start;
+}
+
+}  // namespace
+
+std::vector<std::string> parse_calibration_step(const std::string& text,
+                                                const std::string& option) {
+  std::vector<std::string> patterns;
+  std::string::size_type start = 0;
+  while (true) {
+    const auto comma = text.find(',', start);
+    std::string p =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    p.erase(0, p.find_first_not_of(" \t"));
+    p.erase(p.find_last_not_of(" \t") + 1);
+    if (p.empty())
+      throw std::invalid_argument(option + " '" + text +
+                                  "': expected glob patterns of parameter names separated by "
+                                  "commas (camera.*,*.offset)");
+    patterns.push_back(p);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return patterns;
 }
 
 CalibrateResult calibrate(const CalibrateRequest& request) {
@@ -216,6 +286,8 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
   const CalibrationProblem problem(model, data, nominal, free);
   VectorXd x = problem.initial_free_parameters();
   const Prior prior = model_prior(problem);
+  if (!request.steps.empty())
+    x = solve_steps(request, model, data, nominal, free, *solver, options, say);
   const Formulation requested =
       request.formulation ? *request.formulation : default_formulation(*model);
   // With a prior: the MAP estimate, through the same backend (docs/theory.md). Whatever the

@@ -68,12 +68,24 @@ struct CalibrateRequest {
   /// given stays); kOff never. What was done is a note.
   enum class TolerancePriors { kAuto, kOn, kOff };
   TolerancePriors tolerance_priors = TolerancePriors::kAuto;
+  /// Calibration in steps (as ROS robot_calibration's calibration_steps): before the solve,
+  /// each step solves for the free parameters matching its glob patterns only ("camera.*"),
+  /// the others at their current values, each from where the previous step left them; the
+  /// solve of every free parameter then starts there. The prior stays centred on the nominal
+  /// values, so the steps change where the solve starts, not what it estimates. A step that
+  /// frees none of the free parameters is an error; what each step did is a note. Empty:
+  /// one solve.
+  std::vector<std::vector<std::string>> steps;
   /// Names of the inputs, in messages and in the report only; may be empty.
   std::string model_file, data_file;
   /// Called with each note as it arises (they are in CalibrateResult::notes as well), so that
   /// a terminal shows them in order with other output; may be empty.
   std::function<void(const std::string&)> on_note;
 };
+
+/// A step of CalibrateRequest::steps from its text: glob patterns separated by commas
+/// ("camera.*,*.offset"); throws std::invalid_argument naming `option` for an empty one.
+std::vector<std::string> parse_calibration_step(const std::string& text, const std::string& option);
 
 /// "auto", "on" or "off"; throws std::invalid_argument naming `option` for anything else.
 CalibrateRequest::TolerancePriors parse_tolerance_priors(const std::string& text,

@@ -140,7 +140,7 @@ def _calibrate(
     fix: List[str], prior_std: List[str], noise_std: str, folds: int, starts: int, seed: int,
     rcond: float, allow_rank_deficient: bool, formulation: str, skip_bad_rows: bool,
     threads: int, out: str, json: str, html: str, model_path: str, inputs: List[str],
-    catch_sigint: bool, tolerance_priors: str,
+    catch_sigint: bool, tolerance_priors: str, images: str, steps: List[str],
 ) -> Dict[str, Any]: ...
 def _validate(
     model: Model, data_path: Optional[str], actuators: Any, readings: Any,

@@ -109,6 +109,8 @@ def calibrate(
     out: Optional[PathLike] = None,
     json: Optional[PathLike] = None,
     html: Optional[PathLike] = None,
+    images: Optional[PathLike] = None,
+    steps: Sequence[str] = (),
 ) -> Report:
     """Calibrates ``model`` (a Model or a model file) from ``data`` (Measurements or a
     measurement file): the calibrate workflow, as ``kincal calibrate`` runs it.
@@ -122,7 +124,11 @@ def calibrate(
     cannot determine instead of stopping; ``tolerance_priors`` priors from the stated
     tolerances (``"auto"``: with a camera, when no prior is given; ``"on"``; ``"off"``);
     ``out``, ``json`` and ``html`` write the
-    calibrated model and the reports (checked before the solve, written whole after it).
+    calibrated model and the reports (checked before the solve, written whole after it). With a
+    camera, the page draws each view on its image, named by the data file's ``image`` column
+    (as ``kincal.detect`` writes it) relative to ``images`` (default: the data file's folder).
+    ``steps`` calibrates in steps, as ``--step``: each a comma-separated list of glob patterns
+    (``["camera.*"]``) solved for alone first, in order; the full solve starts where they end.
 
     Returns the report (``to_dict()`` is the program's JSON) with ``report.text`` (the text
     report), ``report.notes`` (what a user should read) and ``report.calibrated_model`` (a
@@ -140,7 +146,7 @@ def calibrate(
             list(fix), specs, noise_std or "", folds, starts, seed, rcond, allow_rank_deficient,
             formulation or "", skip_bad_rows, threads, _path(out), _path(json), _path(html),
             model_path, inputs, threading.current_thread() is threading.main_thread(),
-            tolerance_priors)
+            tolerance_priors, _path(images), list(steps))
     except ValueError as e:
         raise KincalError(str(e)) from None
     report = _report("calibrate", answer)

@@ -37,16 +37,36 @@
 #include "kincal/framework/workflows/simulate.hpp"
 #include "kincal/framework/workflows/validate_report.hpp"
 #include "kincal/models/camera_start.hpp"
+#include "kincal/models/camera_views.hpp"
 #include "kincal/models/export_formats.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/urdf_io.hpp"
 #include "model_handle.hpp"
+#if KINCAL_WITH_VISION
+#include "kincal/vision/thumbnail.hpp"
+#endif
 
 namespace kincal::python {
 
 namespace {
 
 using Json = nlohmann::ordered_json;
+
+// Each camera view drawn on its image for the page, when this module has OpenCV; what to tell
+// the user ("" when nothing).
+std::string draw_views_on_images(std::vector<ImageViews>& views, const std::string& folder) {
+  bool named = false;
+  for (const ImageViews& sensor : views)
+    for (const ImageView& view : sensor.views) named = named || !view.image.empty();
+  if (!named) return "";
+#if KINCAL_WITH_VISION
+  const std::string unread = vision::draw_views_on_images(views, folder);
+  return unread.empty() ? "" : unread + " (images=DIR)";
+#else
+  (void)folder;
+  return "the views are drawn without their images: this module was built without OpenCV";
+#endif
+}
 
 // The measurements of a call: the file `path`, read and screened as the program does, or the
 // arrays (already in the model's column order and units), screened the same way.
@@ -169,7 +189,8 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
                             bool skip_bad_rows, int threads, const std::string& out,
                             const std::string& json, const std::string& html,
                             const std::string& model_path, const std::vector<std::string>& inputs,
-                            bool catch_sigint, const std::string& tolerance_priors) {
+                            bool catch_sigint, const std::string& tolerance_priors,
+                            const std::string& images, const std::vector<std::string>& steps) {
   if (!(rcond > 0 && rcond < 1)) throw std::invalid_argument("rcond must be in (0, 1)");
   if (folds != 0 && folds < 2)
     throw std::invalid_argument("folds must be at least 2 (the number of cross-validation folds)");
@@ -198,6 +219,8 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
   request.starts = starts;
   request.seed = seed;
   request.tolerance_priors = parse_tolerance_priors(tolerance_priors, "tolerance_priors");
+  for (const std::string& text : steps)
+    request.steps.push_back(parse_calibration_step(text, "steps"));
 
   CalibrateResult result;
   bool interrupted = false;
@@ -207,21 +230,29 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
     result = calibrate(request);
     interrupted = sigint.interrupted();
   }
-  // A camera's views against the poses their points alone give, as the program adds them.
+  // A camera's views: their reprojection error, and each against the pose its points alone
+  // give, as the program adds them.
   Json extra = Json::object();
   std::string extra_text;
-  if (result.solved) {
-    std::vector<std::string> labels;
-    for (int line : request.measurements.lines)
-      labels.push_back(request.data_file + ":" + std::to_string(line));
-    const CameraViewChecks views =
-        camera_view_checks(*model, result.parameters, request.measurements.data, labels);
+  kincal::report::CalibrationPageExtras page;
+  std::vector<std::string> notes = result.notes;
+  if (result.solved && has_camera(*model)) {
+    CameraViewChecks views = calibration_camera_views(*model, result.parameters,
+                                                      request.measurements, request.data_file);
     extra_text = views.text;
-    if (!views.json.empty()) extra["view_checks"] = views.json;
+    extra["camera_views"] = views.views_json;
+    extra["view_checks"] = views.json;
+    if (!html.empty()) {
+      const std::string folder =
+          !images.empty() ? images
+                          : std::filesystem::path(request.data_file).parent_path().string();
+      const std::string said = draw_views_on_images(views.views, folder);
+      if (!said.empty()) notes.push_back(said);
+    }
+    page.image_views = std::move(views.views);
   }
   Json report = calibration_json(result, extra);
   std::string model_text;
-  kincal::report::CalibrationPageExtras page;
   if (result.solved && !out.empty()) {
     model_text = calibrated_model_text(*model, result.parameters, result.fixed_by_identifiability);
     page.calibrated_model_file = out;
@@ -239,7 +270,7 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
   py::dict answer;
   answer["report"] = report.dump();
   answer["text"] = calibration_text(result, extra_text);
-  answer["notes"] = result.notes;
+  answer["notes"] = notes;
   answer["solved"] = result.solved;
   answer["interrupted"] = interrupted;
   MeasurementModel calibrated = *model;
@@ -767,7 +798,7 @@ void bind_workflows(py::module_& m) {
         py::arg("seed"), py::arg("rcond"), py::arg("allow_rank_deficient"), py::arg("formulation"),
         py::arg("skip_bad_rows"), py::arg("threads"), py::arg("out"), py::arg("json"),
         py::arg("html"), py::arg("model_path"), py::arg("inputs"), py::arg("catch_sigint"),
-        py::arg("tolerance_priors"),
+        py::arg("tolerance_priors"), py::arg("images"), py::arg("steps"),
         "The calibrate workflow (kincal.calibrate is its face): a dict with the report's "
         "JSON text, the text report, the notes, solved, interrupted and the calibrated Model.");
   m.def("_validate", &validate_workflow, py::arg("model"), py::arg("data_path"),

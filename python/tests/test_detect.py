@@ -59,3 +59,45 @@ def test_detect_refuses_bad_input_in_one_line(tmp_path: Path) -> None:
     with pytest.raises(kincal.KincalError, match="missing.pgm': no such file"):
         kincal.detect("chessboard:5x7:20mm", tmp_path / "V.csv", poses=tmp_path / "poses.csv")
     assert not (tmp_path / "V.csv").exists()
+
+
+def test_calibrate_reports_each_camera_view_and_draws_it_on_its_image(tmp_path: Path, program: str) -> None:
+    """The reprojection error per view, as the program reports it, and the page drawing each
+    view on the image the data's `image` column names (blank frames and a note without it)."""
+    model = tmp_path / "M.json"
+    subprocess.run([program, "model", "--preset", "ur5-urdf-camera", "--out", str(model)],
+                   check=True)
+    subprocess.run([program, "simulate", "--model", str(model), "--poses", "6",
+                    "--noise-half-width", "0.5px", "--param-error", "0.1mm,0.0005rad",
+                    "--validation", "1", "--write-data", str(tmp_path / "sim.csv")],
+                   check=True, stdout=subprocess.DEVNULL)
+    lines, k = [], 0
+    for line in (tmp_path / "sim.csv").read_text().splitlines():
+        if not line or line.startswith("#"):
+            lines.append(line)
+        elif not any(l and not l.startswith("#") for l in lines):
+            lines.append("image," + line)
+        else:
+            lines.append(f"v{k}.pgm,{line}")
+            k += 1
+    (tmp_path / "views.csv").write_text("\n".join(lines) + "\n")
+    (tmp_path / "images").mkdir()
+    for i in range(k):
+        write_board(tmp_path / "images" / f"v{i}.pgm", 20)
+    report = kincal.calibrate(model, tmp_path / "views.csv", noise_std="0.3px", fix=["camera.*"],
+                              html=tmp_path / "R.html", images=tmp_path / "images")
+    views = report["camera_views"][0]
+    assert [v["image"] for v in views["views"]] == [f"v{i}.pgm" for i in range(k)]
+    assert abs(views["rms_px"] - 2 ** 0.5 * report["residual_rms"]) < 1e-9 * views["rms_px"]
+    assert "reprojection error of camera" in report.text
+    html = (tmp_path / "R.html").read_text()
+    if built_with_opencv():
+        assert html.count("<image ") == k
+    else:
+        assert html.count("<image ") == 0
+        assert any("without OpenCV" in n for n in report.notes)
+    blank = kincal.calibrate(model, tmp_path / "views.csv", noise_std="0.3px", fix=["camera.*"],
+                             html=tmp_path / "B.html")
+    assert (tmp_path / "B.html").read_text().count("<image ") == 0
+    if built_with_opencv():
+        assert any(f"{k} image(s) named in the data not read" in n for n in blank.notes)

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <sstream>
 
 #include "kincal/models/presets.hpp"
@@ -253,6 +255,26 @@ TEST(MeasurementFileSeparators, DecimalCommaAndMixedSeparatorsAreOneLineErrors) 
       std::string::npos);
   EXPECT_NE(error_of("leg1;leg2\tleg3;leg4;leg5;leg6;gauge\n").find("both ';' and tabs"),
             std::string::npos);
+}
+
+}  // namespace
+}  // namespace kincal
+
+namespace kincal {
+namespace {
+
+TEST(MeasurementFileTextColumn, GivesEachDataRowsFieldByLineOrNothingWithoutTheColumn) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("kincal-text-column-" + std::to_string(::getpid()) + ".csv");
+  {
+    std::ofstream out(path);
+    out << "\xEF\xBB\xBFimage,leg1\n# a comment\nimages/a.png,1\n\n b.png ,2\n3\n";
+  }
+  const auto column = read_csv_text_column(path.string(), "image");
+  EXPECT_EQ(column, (std::map<int, std::string>{{3, "images/a.png"}, {5, "b.png"}, {6, "3"}}));
+  EXPECT_TRUE(read_csv_text_column(path.string(), "label").empty());
+  std::filesystem::remove(path);
+  EXPECT_THROW(read_csv_text_column(path.string(), "image"), std::invalid_argument);
 }
 
 }  // namespace

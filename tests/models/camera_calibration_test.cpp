@@ -162,17 +162,21 @@ TEST(CameraDoNoHarm, ACameraFitThatWouldMakeTheRobotWorseIsToldAndPriorsPreventI
 // and tolerances stated, priors from them are the default (a note says so), and the
 // calibrated robot is not worse than nominal held out; tolerance priors off gives the plain
 // fit, which is.
-TEST(CameraDoNoHarm, TolerancePriorsAreTheCalibrateWorkflowsDefaultWithACamera) {
-  // The pixels' noise stated, as a prior needs it: 1.5 px (a reading_std of 1 is the same as
-  // none stated).
+// 30 views of the good nominal camera case at 1.5 px of noise, the noise stated as a prior
+// needs it (a reading_std of 1 is the same as none stated), with `validation` held-out ones.
+Scenario views_at_1_5_px(int validation) {
   auto model = good_nominal_camera();
   for (const std::string& name : model->reading_names()) model->set_reading_std(name, 1.5);
   ScenarioOptions options;
   options.num_configurations = 30;
   options.noise_half_width.set(kPixel, 1.5 * std::sqrt(3.0));
   options.seed = 3;
-  options.num_validation = 200;
-  const Scenario views = make_scenario(model, options);
+  options.num_validation = validation;
+  return make_scenario(model, options);
+}
+
+TEST(CameraDoNoHarm, TolerancePriorsAreTheCalibrateWorkflowsDefaultWithACamera) {
+  const Scenario views = views_at_1_5_px(200);
   CalibrateRequest request;
   request.model = views.model;
   request.measurements.data = views.calibration;
@@ -193,11 +197,11 @@ TEST(CameraDoNoHarm, TolerancePriorsAreTheCalibrateWorkflowsDefaultWithACamera) 
   EXPECT_FALSE(plain.report.prior);
   EXPECT_GT(validation_errors(views, plain.parameters).position_mean_mm,
             2 * nominal.position_mean_mm);
-  std::printf("calibrate workflow: held-out position error %.3f mm nominal, %.3f mm with the "
-              "default tolerance priors, %.3f mm with them off\n",
-              nominal.position_mean_mm,
-              validation_errors(views, with_priors.parameters).position_mean_mm,
-              validation_errors(views, plain.parameters).position_mean_mm);
+  std::printf(
+      "calibrate workflow: held-out position error %.3f mm nominal, %.3f mm with the "
+      "default tolerance priors, %.3f mm with them off\n",
+      nominal.position_mean_mm, validation_errors(views, with_priors.parameters).position_mean_mm,
+      validation_errors(views, plain.parameters).position_mean_mm);
 
   // Without the noise stated, auto says why it adds no prior.
   std::string note;
@@ -214,6 +218,45 @@ TEST(CameraDoNoHarm, TolerancePriorsAreTheCalibrateWorkflowsDefaultWithACamera) 
   // Without a camera, auto adds nothing either; on does.
   const auto gauge = make_preset("cube-hexapod");
   EXPECT_EQ(with_tolerance_priors(gauge, CalibrateRequest::TolerancePriors::kAuto, &note), gauge);
+}
+
+// Calibration in steps (CalibrateRequest::steps): the camera first, the robot held, then the
+// whole solve from there. The steps change the start, not the estimate: the same MAP
+// estimate as one solve, each step said in a note; a step that frees nothing is an error.
+TEST(CameraCalibrationSteps, TheCameraFirstThenEverythingReachesTheOneSolvesEstimate) {
+  const Scenario views = views_at_1_5_px(1);
+  const auto& model = views.model;
+  CalibrateRequest request;
+  request.model = views.model;
+  request.measurements.data = views.calibration;
+  const CalibrateResult one = calibrate(request);
+  ASSERT_TRUE(one.solved) << one.summary.message;
+  request.steps = {parse_calibration_step("camera.f?, camera.c?,camera.k?,camera.p?", "--step"),
+                   {"camera.*"}};
+  const CalibrateResult stepped = calibrate(request);
+  ASSERT_TRUE(stepped.solved) << stepped.summary.message;
+  int said = 0;
+  for (const std::string& note : stepped.notes)
+    said +=
+        note.rfind("step 1 of 2 (camera.f? camera.c? camera.k? camera.p?): 8 parameters", 0) == 0 ||
+        note.rfind("step 2 of 2 (camera.*): ", 0) == 0;
+  EXPECT_EQ(said, 2);
+  ASSERT_EQ(stepped.free, one.free);
+  for (std::size_t i = 0; i < one.free.size(); ++i) {
+    const int p = one.free[i];
+    EXPECT_NEAR(stepped.parameters[p], one.parameters[p],
+                1e-3 * one.report.uncertainty.std[static_cast<int>(i)])
+        << model->parameters()[p].name;
+  }
+  request.steps = {{"nothing.*"}};
+  try {
+    calibrate(request);
+    ADD_FAILURE() << "a step that frees nothing was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("step 1 (nothing.*) frees none"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(parse_calibration_step("camera.*,,", "--step"), std::invalid_argument);
 }
 
 }  // namespace
