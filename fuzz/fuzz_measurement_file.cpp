@@ -1,4 +1,5 @@
-// libFuzzer target: the measurement CSV reader (framework/calibration/measurement_file.hpp).
+// libFuzzer target: the measurement CSV reader (framework/calibration/measurement_file.hpp),
+// and its reader of a text column (parse_csv_text_column).
 // Any input must either be read or be refused with std::invalid_argument carrying one short
 // line; what is read must be finite and must survive a write/read round trip bit for bit.
 // Small limits, so that the line- and file-size paths are reached by short inputs.
@@ -27,7 +28,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   kincal::CsvLimits limits;
   limits.max_line_bytes = 256;
   limits.max_file_bytes = 4096;
-  std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  // The text column reader (the images of `kincal detect`'s rows): read or refused in one
+  // line, and a data row's line at most once.
+  try {
+    std::istringstream column_in(text);
+    const auto column = kincal::parse_csv_text_column(column_in, "F.csv", "image", limits);
+    for (const auto& [line, value] : column)
+      if (line < 2 || value.find('\n') != std::string::npos) fail("text column", value);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    if (what.rfind("F.csv", 0) != 0 || what.find('\n') != std::string::npos || what.size() > 400)
+      fail("text column message", what);
+  }
+  std::istringstream in(text);
   kincal::MeasurementTable table;
   try {
     table = kincal::parse_measurements(in, "F.csv", kActuators, kReadings, limits);

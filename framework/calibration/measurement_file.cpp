@@ -201,12 +201,12 @@ CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits) {
   return header;
 }
 
-std::map<int, std::string> read_csv_text_column(const std::string& path, const std::string& column,
-                                                const CsvLimits& limits) {
+std::map<int, std::string> parse_csv_text_column(std::istream& in, const std::string& source,
+                                                 const std::string& column,
+                                                 const CsvLimits& limits) {
   std::map<int, std::string> out;
-  std::ifstream in = open_measurement_file(path);
   try {
-    LineReader reader(in, path, limits);
+    LineReader reader(in, source, limits);
     std::string line;
     char separator = ',';
     int index = -1;
@@ -216,7 +216,7 @@ std::map<int, std::string> read_csv_text_column(const std::string& path, const s
       if (is_skipped(line)) continue;
       if (header) {
         header = false;
-        separator = detect_separator(line, path + ":" + std::to_string(reader.line_number()));
+        separator = detect_separator(line, source + ":" + std::to_string(reader.line_number()));
         split_fields(line, separator, fields);
         for (std::size_t c = 0; c < fields.size() && index < 0; ++c)
           if (fields[c] == column) index = static_cast<int>(c);
@@ -227,9 +227,15 @@ std::map<int, std::string> read_csv_text_column(const std::string& path, const s
       out[reader.line_number()] = index < static_cast<int>(fields.size()) ? fields[index] : "";
     }
   } catch (const std::ios_base::failure& e) {
-    throw std::invalid_argument(path + ": cannot read measurement file (" + e.what() + ")");
+    throw std::invalid_argument(source + ": cannot read measurement file (" + e.what() + ")");
   }
   return out;
+}
+
+std::map<int, std::string> read_csv_text_column(const std::string& path, const std::string& column,
+                                                const CsvLimits& limits) {
+  std::ifstream in = open_measurement_file(path);
+  return parse_csv_text_column(in, path, column, limits);
 }
 
 MeasurementTable parse_measurements(std::istream& in, const std::string& source,

@@ -90,6 +90,10 @@ CsvHeader read_csv_header(const std::string& path, const CsvLimits& limits = {})
 /// the image each row of `kincal detect` came from. Throws as read_csv_header.
 std::map<int, std::string> read_csv_text_column(const std::string& path, const std::string& column,
                                                 const CsvLimits& limits = {});
+/// The same from a stream; `source` names it in messages.
+std::map<int, std::string> parse_csv_text_column(std::istream& in, const std::string& source,
+                                                 const std::string& column,
+                                                 const CsvLimits& limits = {});
 
 /// read_measurements for `model`'s actuators and readings, then convert_column_units: the
 /// configurations of a file whose readings may all be empty (a design template). A sensor's
