@@ -44,6 +44,27 @@ std::shared_ptr<MeasurementModel> import_model(const po::variables_map& vm) {
     options.point = Vector3d(v[0], v[1], v[2]);
   }
   options.base_link = vm.count("base") ? vm["base"].as<std::string>() : "";
+  if (vm.count("compliance")) {
+    const std::string masses = vm["compliance"].as<std::string>();
+    if (masses == "auto")
+      options.compliance = UrdfCompliance::kAuto;
+    else if (masses == "urdf")
+      options.compliance = UrdfCompliance::kInertials;
+    else if (masses == "fitted")
+      options.compliance = UrdfCompliance::kFitted;
+    else
+      throw CliError("--compliance '" + masses + "': expected urdf, fitted or nothing (auto)");
+  }
+  options.payload_column = vm["payload-column"].as<bool>();
+  if (vm.count("payload-centre")) {
+    const auto v =
+        parse_numbers(vm["payload-centre"].as<std::string>(), 3, "payload-centre", "x,y,z in mm");
+    options.payload_centre = Vector3d(v[0], v[1], v[2]);
+  }
+  if ((options.payload_column || vm.count("payload-centre")) &&
+      options.compliance == UrdfCompliance::kNone)
+    throw CliError(std::string(options.payload_column ? "--payload-column" : "--payload-centre") +
+                   " needs --compliance (a payload matters through the joints' compliance)");
   options.tip_link = vm["tip"].as<std::string>();
   const std::string text = read_text(path);
   try {
@@ -70,6 +91,13 @@ int run_model(const Args& args) {
       "--urdf: point-tracker (laser tracker: a point) or pose-tracker (a frame)")(
       "point", po::value<std::string>(),
       "--urdf: the point tracker's target x,y,z in the tip link's frame, mm (default 0,0,0)")(
+      "compliance", po::value<std::string>()->implicit_value("auto"),
+      "--urdf: joint compliance under gravity: the URDF's <inertial> masses (urdf), masses "
+      "fitted as moments (fitted), or the inertials when there are any (no value)")(
+      "payload-column", po::bool_switch(),
+      "--compliance: the payload's mass per row, measurement column payload (kg)")(
+      "payload-centre", po::value<std::string>(),
+      "--compliance: the payload's centre of mass x,y,z in the tip link's frame, mm")(
       "out", po::value<std::string>()->default_value("-"), "model file to write, - for stdout");
   add_free_fix_options(options);
   po::variables_map vm;
@@ -83,9 +111,10 @@ int run_model(const Args& args) {
     plan.check();
     model = import_model(vm);
   } else {
-    for (const char* option : {"tip", "base", "point"})
+    for (const char* option : {"tip", "base", "point", "compliance", "payload-centre"})
       if (vm.count(option)) throw CliError(std::string("--") + option + " needs --urdf");
     if (!vm["sensor"].defaulted()) throw CliError("--sensor needs --urdf");
+    if (vm["payload-column"].as<bool>()) throw CliError("--payload-column needs --urdf");
     try {
       model = make_preset(vm["preset"].as<std::string>());
     } catch (const std::invalid_argument& e) {

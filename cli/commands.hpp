@@ -35,6 +35,7 @@ int run_reproduce(const Args& args);
 int run_model(const Args& args);
 int run_fk(const Args& args);
 int run_ik(const Args& args);
+int run_compensate(const Args& args);
 int run_calibrate(const Args& args);
 int run_observability(const Args& args);
 int run_solver_suite(const Args& args);

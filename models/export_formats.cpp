@@ -137,13 +137,19 @@ bool tracker_frames(const MeasurementModel& model, MeasuredFrames& frames) {
 }  // namespace
 
 std::string export_urdf(const MeasurementModel& model, const ExportSource& source) {
-  if (dynamic_cast<const UrdfArm*>(&model.mechanism())) {
-    const std::string header =
+  if (const auto* urdf_arm = dynamic_cast<const UrdfArm*>(&model.mechanism())) {
+    std::string header =
         " kincal export: calibrated from " + source.model_file + " (sha256 " + source.sha256 +
         "). The robot's own URDF with the calibrated joint origins (origin * origin error * "
         "offset) and two fixed joints added: from the root link `world` (the frame the "
         "measurements were taken in) to the robot, and from the tip link to `tcp` (the "
         "measured point or frame). ";
+    if (urdf_arm->has_compliance())
+      header +=
+          "It holds the geometry only: the joints' compliance under gravity stays in the model "
+          "file, and loading this URDF alone leaves the deflection uncorrected (the calibration "
+          "report says by how much at the measured configurations); kincal compensate writes "
+          "joint commands that include it. ";
     try {
       return export_urdf_arm(model, model.parameters().nominal_values(), header);
     } catch (const UrdfError& e) {
@@ -305,6 +311,20 @@ std::string export_json(const MeasurementModel& model, const ExportSource& sourc
     }
     out["tip"] = pose_json(frame_from_parameters(g.tip));
     out["tool"] = pose_json(frame_from_parameters(g.tool));
+    if (urdf_arm->has_compliance()) {
+      // delta_i = c_i tau_i(q) (or the fitted moments) added to q_i: docs/theory.md.
+      Json values = Json::object();
+      const VectorXd v = mechanism_values(model);
+      for (int k : urdf_arm->non_geometric_parameters()) {
+        const Parameter& p = model.parameters()[k];
+        values[p.name] = {{"value", v[k]}, {"unit", p.unit}};
+      }
+      out["compliance"] = {
+          {"masses", to_string(g.compliance.masses)},
+          {"gravity_in_base_link",
+           {g.compliance.gravity.x(), g.compliance.gravity.y(), g.compliance.gravity.z()}},
+          {"parameters", values}};
+    }
     MeasuredFrames frames;
     if (tracker_frames(model, frames)) {
       out["world_from_base_frame"] = pose_json(frames.world_from_mechanism);

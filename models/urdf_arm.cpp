@@ -69,9 +69,36 @@ UrdfArm::UrdfArm(UrdfArmGeometry geometry) : geometry_(std::move(geometry)) {
   add_frame_parameters(parameters_, "tool", geometry_.tool);
   if (!geometry_.base.allFinite() || !geometry_.tool.allFinite() || !geometry_.tip.allFinite())
     throw std::invalid_argument("URDF arm: non-finite base, tip or tool frame");
+  if (geometry_.compliance.enabled) {
+    std::vector<std::string> joint_names;
+    std::vector<bool> revolute;
+    for (const UrdfArmJoint& j : joints) {
+      joint_names.push_back(j.name);
+      revolute.push_back(is_revolute(j.type));
+    }
+    compliance_ = JointCompliance(geometry_.compliance, joint_names, revolute);
+    VectorXd home = VectorXd::Zero(num_joints());
+    for (int i = 0; i < num_joints(); ++i) home[i] = joints[static_cast<std::size_t>(i)].home;
+    GravityChain at_home;
+    gravity_chain(home, at_home);
+    compliance_.scale_tolerances(at_home);
+    geometry_.compliance = compliance_.spec();  // the gravity direction made unit
+    for (const Parameter& p : compliance_.parameters()) {
+      if (!names.insert(p.name).second)
+        throw std::invalid_argument("URDF arm: parameter '" + p.name + "' is named twice");
+      parameters_.push_back(p);
+    }
+    if (geometry_.compliance.payload_column) {
+      if (names.count("payload"))
+        throw std::invalid_argument("URDF arm: a joint named 'payload' and a payload column");
+      // Drawn in [0, max] around half the maximum by simulation and design.
+      actuators_.push_back({"payload", kKilogram, 0.5 * geometry_.compliance.payload_max, false});
+    }
+  }
 
-  home_q_.resize(num_joints());
+  home_q_.resize(num_actuators());
   for (int i = 0; i < num_joints(); ++i) home_q_[i] = joints[i].home;
+  if (has_payload_actuator()) home_q_[num_joints()] = 0.5 * geometry_.compliance.payload_max;
   const ForwardKinematicsResult home =
       forward_kinematics(urdf_arm_parameters(geometry_), home_q_, Pose{});
   if (!home.ok()) throw std::invalid_argument("URDF arm: home pose " + home.describe());
@@ -87,7 +114,19 @@ VectorXd urdf_arm_parameters(const UrdfArmGeometry& geometry) {
     p[UrdfArm::joint_index(i) + UrdfArm::kOffset] = geometry.joints[i].offset;
   }
   p.tail<6>() = geometry.tool;
-  return p;
+  if (!geometry.compliance.enabled) return p;
+  std::vector<std::string> names;
+  std::vector<bool> revolute;
+  for (const UrdfArmJoint& j : geometry.joints) {
+    names.push_back(j.name);
+    revolute.push_back(is_revolute(j.type));
+  }
+  const JointCompliance compliance(geometry.compliance, names, revolute);
+  VectorXd out(p.size() + compliance.num_parameters());
+  out << p, VectorXd::Zero(compliance.num_parameters());
+  for (int k = 0; k < compliance.num_parameters(); ++k)
+    out[p.size() + k] = compliance.parameters()[static_cast<std::size_t>(k)].nominal;
+  return out;
 }
 
 UrdfArmGeometry UrdfArm::geometry_from(const ParamsRef& params) const {
@@ -98,6 +137,9 @@ UrdfArmGeometry UrdfArm::geometry_from(const ParamsRef& params) const {
     g.joints[i].offset = params[joint_index(i) + kOffset];
   }
   g.tool = params.segment<6>(tool_index());
+  if (has_compliance())
+    g.compliance =
+        compliance_.spec_with(params.segment(compliance_index(), compliance_.num_parameters()));
   return g;
 }
 
@@ -152,7 +194,66 @@ struct TipRecord : serial_chain::PoseOnly {
   void finish(const Pose& tip_frame, const Pose&) { tip = tip_frame; }
 };
 
+// J_pose_params of the geometric parameters and J_pose_q of the joints in one walk: the
+// compliance parameters' columns are J_pose_q times the deflections' derivatives.
+class ParameterAndJointColumns : public serial_chain::ParameterColumns {
+ public:
+  using JointColumnsMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxCompliantJoints>;
+  ParameterAndJointColumns(Eigen::Ref<Matrix6Xd>& J, JointColumnsMatrix& Jq)
+      : ParameterColumns(J), Jq_(Jq) {}
+  void joint(int i, bool revolute, const Vector3d& axis, const Vector3d& origin) {
+    if (revolute)
+      serial_chain::rotation_column(Jq_.col(i), axis, origin);
+    else
+      serial_chain::translation_column(Jq_.col(i), axis);
+  }
+  void finish(const Pose& tip, const Pose& end) {
+    ParameterColumns::finish(tip, end);
+    for (Eigen::Index c = 0; c < Jq_.cols(); ++c)
+      Jq_.col(c).head<3>() += Jq_.col(c).tail<3>().cross(end.translation);
+  }
+
+ private:
+  JointColumnsMatrix& Jq_;
+};
+
 }  // namespace
+
+void UrdfArm::gravity_chain(const ActuatorsRef& q, GravityChain& chain) const {
+  chain.joints = num_joints();
+  Pose frame;  // the base link
+  for (int i = 0; i < num_joints(); ++i) {
+    const UrdfArmJoint& joint = geometry_.joints[static_cast<std::size_t>(i)];
+    const Pose before = compose(frame, origins_[static_cast<std::size_t>(i)]);
+    chain.revolute[i] = is_revolute(joint.type);
+    chain.axis[i] = before.rotation * joint.axis;
+    chain.origin[i] = before.translation;
+    frame = compose(before, urdf_joint_motion(joint, q[i]));
+    chain.link[i] = frame;
+  }
+  chain.tip = compose(frame, tip_);
+}
+
+template <class Record>
+Pose UrdfArm::walk_deflected(const ParamsRef& params, const ActuatorsRef& q,
+                             Record&& record) const {
+  if (!has_compliance()) return serial_chain::walk(Links(*this), params, q, record);
+  JointVector joints;
+  deflected_joints(params, q, joints);
+  return serial_chain::walk(Links(*this), params, joints, record);
+}
+
+void UrdfArm::deflected_joints(const ParamsRef& params, const ActuatorsRef& q, JointVector& joints,
+                               DeflectionJacobian* deflection) const {
+  const int n = num_joints();
+  joints = q.head(n);  // at most kMaxCompliantJoints: the constructor checked
+  GravityChain chain;
+  gravity_chain(q, chain);
+  JointVector delta;
+  const double payload = has_payload_actuator() ? q[n] : 0.0;
+  compliance_.deflections(chain, params.data() + compliance_index(), payload, delta, deflection);
+  joints += delta;
+}
 
 ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, const ActuatorsRef& q,
                                                     const Pose&,
@@ -162,7 +263,7 @@ ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, con
     result.status = ForwardKinematicsStatus::kInvalidActuators;
     return result;
   }
-  result.pose = serial_chain::walk(Links(*this), params, q, serial_chain::PoseOnly{});
+  result.pose = walk_deflected(params, q, serial_chain::PoseOnly{});
   if (!finite(result.pose)) {
     result.status = ForwardKinematicsStatus::kNonFinite;
     result.pose = Pose{};
@@ -172,18 +273,32 @@ ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, con
 
 Pose UrdfArm::tip_pose(const ParamsRef& params, const ActuatorsRef& q) const {
   TipRecord record;
-  serial_chain::walk(Links(*this), params, q, record);
+  walk_deflected(params, q, record);
   return record.tip;
 }
 
 void UrdfArm::pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose&,
                                    Eigen::Ref<Matrix6Xd> J_pose_params) const {
-  serial_chain::walk(Links(*this), params, q, serial_chain::ParameterColumns(J_pose_params));
+  if (!has_compliance()) {
+    serial_chain::walk(Links(*this), params, q, serial_chain::ParameterColumns(J_pose_params));
+    return;
+  }
+  JointVector joints;
+  DeflectionJacobian deflection;
+  deflected_joints(params, q, joints, &deflection);
+  const int first = compliance_index();
+  Eigen::Ref<Matrix6Xd> geometric = J_pose_params.leftCols(first);
+  ParameterAndJointColumns::JointColumnsMatrix Jq(6, num_joints());
+  serial_chain::walk(Links(*this), params, joints, ParameterAndJointColumns(geometric, Jq));
+  for (int p = 0; p < compliance_.num_parameters(); ++p)
+    J_pose_params.col(first + p).noalias() = Jq * deflection.col(p);
 }
 
 Pose UrdfArm::joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                              Eigen::Ref<Matrix6Xd> J_pose_q) const {
-  return serial_chain::walk(Links(*this), params, q, serial_chain::JointColumns(J_pose_q));
+  J_pose_q.rightCols(J_pose_q.cols() - num_joints()).setZero();  // the payload moves nothing
+  Eigen::Ref<Matrix6Xd> J_joints = J_pose_q.leftCols(num_joints());
+  return walk_deflected(params, q, serial_chain::JointColumns(J_joints));
 }
 
 InverseKinematicsResult UrdfArm::inverse_kinematics(const ParamsRef& params, const Pose& pose,
@@ -202,9 +317,7 @@ InverseKinematicsResult UrdfArm::inverse_kinematics_from(
   }
   return serial_chain::inverse_kinematics(
       pose, start, q, options,
-      [&](const VectorXd& x) {
-        return serial_chain::walk(Links(*this), params, x, serial_chain::PoseOnly{});
-      },
+      [&](const VectorXd& x) { return walk_deflected(params, x, serial_chain::PoseOnly{}); },
       [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 
@@ -214,7 +327,16 @@ std::vector<int> UrdfArm::identification_priority() const {
     for (int k = 0; k < 6; ++k) priority[static_cast<std::size_t>(joint_index(j) + k)] = 2;
     priority[static_cast<std::size_t>(joint_index(j) + kOffset)] = 1;
   }
+  // Where the data cannot tell a deflection from a geometric error, the geometry keeps it.
+  for (int k = 0; k < compliance_.num_parameters(); ++k)
+    priority[static_cast<std::size_t>(compliance_index() + k)] = 3;
   return priority;
+}
+
+std::vector<int> UrdfArm::non_geometric_parameters() const {
+  std::vector<int> out;
+  for (int k = 0; k < compliance_.num_parameters(); ++k) out.push_back(compliance_index() + k);
+  return out;
 }
 
 std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {
@@ -227,14 +349,15 @@ void free_what_home_configurations_determine(MeasurementModel& model, double a, 
                                              double d) {
   const auto& arm = dynamic_cast<const UrdfArm&>(model.mechanism());
   const VectorXd nominal = model.parameters().nominal_values();
-  VectorXd home(arm.num_joints()), q(arm.num_joints()), readings(model.num_readings());
+  VectorXd home(arm.num_actuators()), q(arm.num_actuators()), readings(model.num_readings());
   arm.home_actuators(nominal, home);
   auto ws = model.make_workspace();
   const int configurations = 30;
   MatrixXd J(configurations * model.num_readings(), model.num_parameters());
   MatrixXd block(model.num_readings(), model.num_parameters());
   for (int c = 0; c < configurations; ++c) {
-    for (int i = 0; i < q.size(); ++i)
+    q = home;
+    for (int i = 0; i < arm.num_joints(); ++i)
       q[i] = home[i] + arm.actuators()[static_cast<std::size_t>(i)].default_range *
                            std::sin(a * c + b * i + d * c * i);
     Eigen::Ref<MatrixXd> ref(block);

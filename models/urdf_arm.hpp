@@ -16,6 +16,12 @@
 //   C_tip   the fixed joints from the last moving joint's child link to the tip link
 //   T_tool  the tool frame (6 parameters tool.*) on the tip link: the measured point or frame
 //
+// Optionally (geometry.compliance, models/joint_compliance.hpp) each joint deflects under
+// gravity and the payload: q_i + o_i becomes q_i + delta_i(q) + o_i, delta_i = c_i tau_i(q),
+// with the compliance parameters after the tool frame's (so that a model without compliance
+// keeps its layout) and, when the payload's mass is a measurement column, an actuator
+// "payload" (kg) after the joints.
+//
 // Each E_i is a full 6-DOF frame about the nominal origin, so every geometric error of the
 // chain is representable and the parametrisation is regular at the nominal for any axes
 // (no DH-style jump when axes are parallel). It is redundant: a revolute joint's rotation
@@ -34,6 +40,7 @@
 
 #include "kincal/framework/kinematics/measurement_model.hpp"
 #include "kincal/framework/kinematics/mechanism.hpp"
+#include "kincal/models/joint_compliance.hpp"
 #include "kincal/models/serial_chain.hpp"
 
 namespace kincal {
@@ -66,6 +73,8 @@ struct UrdfArmGeometry {
   std::vector<UrdfArmJoint> joints;
   Vector6d tip = Vector6d::Zero();  ///< C_tip, as origin
   Vector6d tool = Vector6d::Zero();
+  /// Joint compliance under gravity; off unless enabled.
+  ComplianceSpec compliance;
   /// The URDF the geometry was read from, kept so that an export can re-emit the user's own
   /// robot description (names, limits, inertials, meshes) with the corrections.
   std::string urdf_file, urdf_text;
@@ -88,6 +97,13 @@ class UrdfArm final : public Mechanism {
   const Pose& home_pose() const override { return home_pose_; }
   const UrdfArmGeometry& nominal_geometry() const { return geometry_; }
   int num_joints() const { return static_cast<int>(geometry_.joints.size()); }
+  /// The joint compliance model (enabled() false when the arm has none).
+  const JointCompliance& compliance() const { return compliance_; }
+  bool has_compliance() const { return compliance_.enabled(); }
+  /// Whether the payload's mass is an actuator (the last, after the joints).
+  bool has_payload_actuator() const {
+    return compliance_.enabled() && geometry_.compliance.payload_column;
+  }
 
   InverseKinematicsResult home_actuators(const ParamsRef& params,
                                          Eigen::Ref<VectorXd> q) const override;
@@ -106,15 +122,26 @@ class UrdfArm final : public Mechanism {
   void pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose& pose,
                             Eigen::Ref<Matrix6Xd> J_pose_params) const override;
 
-  /// J_pose_q (6 x joints) and the pose at q.
+  /// J_pose_q (6 x actuators) and the pose at q: the joints' columns at the deflected joint
+  /// values (the deflection's own change with q, about 1e-3 of it, left out: this Jacobian
+  /// steers inverse kinematics; pose_jacobian_actuators is exact), the payload's zero.
   Pose joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                       Eigen::Ref<Matrix6Xd> J_pose_q) const;
+
+  /// The joint values after the deflection under gravity, the joints only; `deflection`
+  /// (joints x compliance parameters) when given. Only for an arm with compliance.
+  void deflected_joints(const ParamsRef& params, const ActuatorsRef& q, JointVector& joints,
+                        DeflectionJacobian* deflection = nullptr) const;
+  /// The nominal chain at q as gravity sees it (models/joint_compliance.hpp).
+  void gravity_chain(const ActuatorsRef& q, GravityChain& chain) const;
 
   /// A joint's zero turned by pi with the links after it turned back
   /// (models/urdf_arm_symmetry.cpp).
   /// 0 for the parameters the joints do not feel (base, tool), 1 for the joints' zero
   /// offsets, 2 for their origin errors (urdf_arm_parameter_priority).
   std::vector<int> identification_priority() const override;
+  /// The compliance parameters.
+  std::vector<int> non_geometric_parameters() const override;
   bool nearer_equivalent(const ParamsRef& params, const ParamsRef& nominal,
                          const std::vector<bool>& changeable, const VectorXd& scale, VectorXd& out,
                          std::string* what) const override;
@@ -129,6 +156,8 @@ class UrdfArm final : public Mechanism {
   static int joint_index(int joint) { return kFrameParameters + kJointParameters * joint; }
   static constexpr int kOffset = 6;  ///< within a joint's block, after the origin error
   int tool_index() const { return joint_index(num_joints()); }
+  /// The first compliance parameter (after the tool frame's six).
+  int compliance_index() const { return tool_index() + kFrameParameters; }
 
  private:
   bool is_revolute_joint(int joint) const {
@@ -137,10 +166,14 @@ class UrdfArm final : public Mechanism {
   /// The links (origin, origin error, joint motion), for serial_chain::walk
   /// (models/urdf_arm.cpp).
   struct Links;
+  /// serial_chain::walk at the joint values q deflected under gravity (q without compliance).
+  template <class Record>
+  Pose walk_deflected(const ParamsRef& params, const ActuatorsRef& q, Record&& record) const;
 
   UrdfArmGeometry geometry_;
   std::vector<Actuator> actuators_;
   std::vector<Parameter> parameters_;
+  JointCompliance compliance_;
   std::vector<Pose> origins_;  ///< C_i
   Pose tip_;                   ///< C_tip
   Pose home_pose_;
@@ -175,6 +208,9 @@ void free_what_home_configurations_determine(MeasurementModel& model, double a, 
 std::string ur5_urdf_text();
 std::string ur5_urdf_description();
 std::shared_ptr<MeasurementModel> make_ur5_urdf();
+/// The preset `ur5-urdf-compliance`: the same arm with joint compliance and a payload column.
+std::string ur5_urdf_compliance_description();
+std::shared_ptr<MeasurementModel> make_ur5_urdf_compliance();
 
 /// Registers the urdf-arm type (model-file reader/writer) and the preset ur5-urdf.
 void register_urdf_arm(ModelRegistry& registry);

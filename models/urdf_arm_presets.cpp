@@ -9,6 +9,7 @@
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/models/point_tracker.hpp"
 #include "kincal/models/urdf_arm.hpp"
+#include "kincal/models/urdf_io.hpp"
 
 namespace kincal {
 
@@ -175,7 +176,9 @@ std::string ur5_urdf_description() {
          "around home determine (QR with column pivoting), the other 36 fixed";
 }
 
-std::shared_ptr<MeasurementModel> make_ur5_urdf() {
+namespace {
+
+UrdfArmGeometry ur5_geometry() {
   UrdfArmGeometry g;
   g.urdf_file = "ur5.urdf";
   g.urdf_text = kUr5Urdf;
@@ -189,12 +192,42 @@ std::shared_ptr<MeasurementModel> make_ur5_urdf() {
               revolute("wrist_2_joint", 0, 0, 109.15, kPi / 2, two_pi, -90),
               revolute("wrist_3_joint", 0, 0, 94.65, -kPi / 2, two_pi, 0)};
   g.tip << 0, 0, 82.3, 0, 0, 0;
-  auto arm = std::make_shared<UrdfArm>(g);
+  return g;
+}
+
+}  // namespace
+
+std::shared_ptr<MeasurementModel> make_ur5_urdf() {
+  auto arm = std::make_shared<UrdfArm>(ur5_geometry());
   auto tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), Vector3d(40, 30, 50));
   auto model =
       std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
   // The identification Jacobian at nominal on 30 fixed configurations spread over the default
   // box around home; the parameters its pivoted QR keeps are the free set.
+  free_what_home_configurations_determine(*model, 1.7, 2.3, 0.1);
+  return model;
+}
+
+std::string ur5_urdf_compliance_description() {
+  return "the UR5 of ur5-urdf with joint compliance under gravity: its URDF's masses (UR's "
+         "published masses and centres), 1e-5 rad/Nm per joint, a payload of 0 to 5 kg 50 mm "
+         "beyond the flange read per row (column payload, kg); free: what 30 configurations "
+         "around home determine";
+}
+
+std::shared_ptr<MeasurementModel> make_ur5_urdf_compliance() {
+  UrdfArmGeometry g = ur5_geometry();
+  g.compliance = import_urdf(kUr5Urdf, "ur5.urdf", "base_link", "flange").compliance;
+  g.compliance.enabled = true;
+  g.compliance.payload_column = true;
+  g.compliance.payload_max = 5.0;
+  g.compliance.payload.centre = Vector3d(0, 0, 50);
+  for (const UrdfArmJoint& j : g.joints)
+    g.compliance.values.emplace_back(j.name + ".compliance", 1e-5);
+  auto arm = std::make_shared<UrdfArm>(g);
+  auto tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), Vector3d(40, 30, 50));
+  auto model =
+      std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
   free_what_home_configurations_determine(*model, 1.7, 2.3, 0.1);
   return model;
 }

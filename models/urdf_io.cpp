@@ -209,6 +209,52 @@ void check_name(const std::string& text, const XmlText& xml, const char* kind,
                   ": rename it in the URDF");
 }
 
+// The mass every link of the subtree at `link` adds to a chain segment (the links rigidly
+// fixed to a moving joint's child link, and the branches off the chain with their own moving
+// joints at zero), first moment in the segment's frame; `stop` is the chain's next moving
+// joint, whose subtree is the next segment's.
+void add_subtree_mass(const urdf::ModelInterface& model, const urdf::LinkConstSharedPtr& link,
+                      const Pose& in_segment, const urdf::JointConstSharedPtr& stop, double& mass,
+                      Vector3d& moment) {
+  if (link->inertial && link->inertial->mass > 0) {
+    const Vector3d centre = compose(in_segment, from_urdf(link->inertial->origin)).translation;
+    mass += link->inertial->mass;
+    moment += link->inertial->mass * centre;
+  }
+  for (const auto& joint : link->child_joints) {
+    if (joint == stop) continue;
+    const urdf::LinkConstSharedPtr child = model.getLink(joint->child_link_name);
+    if (child)
+      add_subtree_mass(model, child,
+                       compose(in_segment, from_urdf(joint->parent_to_joint_origin_transform)),
+                       stop, mass, moment);
+  }
+}
+
+// The URDF's inertials as the masses each moving joint of `chain` carries (its child link's
+// frame): empty when the URDF has none along or beyond the chain.
+std::vector<PointMass> chain_masses(const urdf::ModelInterface& model,
+                                    const std::vector<urdf::JointConstSharedPtr>& chain) {
+  std::vector<urdf::JointConstSharedPtr> moving;
+  for (const auto& joint : chain)
+    if (joint->type != urdf::Joint::FIXED) moving.push_back(joint);
+  std::vector<PointMass> out;
+  double total = 0;
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    const urdf::JointConstSharedPtr stop = i + 1 < moving.size() ? moving[i + 1] : nullptr;
+    double mass = 0;
+    Vector3d moment = Vector3d::Zero();
+    add_subtree_mass(model, model.getLink(moving[i]->child_link_name), Pose{}, stop, mass, moment);
+    PointMass m;
+    m.mass = mass;
+    if (mass > 0) m.centre = moment / mass;
+    total += mass;
+    out.push_back(m);
+  }
+  if (!(total > 0)) out.clear();
+  return out;
+}
+
 UrdfArmGeometry import_read(const ReadUrdf& r, const std::string& text, const std::string& file,
                             const std::string& base_link, const std::string& tip_link) {
   const urdf::ModelInterfaceSharedPtr& model = r.model;
@@ -285,6 +331,9 @@ UrdfArmGeometry import_read(const ReadUrdf& r, const std::string& text, const st
     throw UrdfError("no moving joint between link '" + message_excerpt(g.base_link) +
                     "' and link '" + message_excerpt(tip_link) + "'");
   g.tip = frame_parameters(pending);
+  // Kept for --compliance (off here: a model file writes the masses only when it uses them).
+  g.compliance.links = chain_masses(*model, chain);
+  if (!g.compliance.links.empty()) g.compliance.masses_source = "URDF inertials";
   return g;
 }
 
@@ -585,8 +634,27 @@ std::shared_ptr<MeasurementModel> model_from_urdf(const std::string& text, const
     throw std::invalid_argument(
         "a point is the target of a point tracker; a pose tracker's marker starts at the tip "
         "frame");
-  std::shared_ptr<const Mechanism> arm =
-      std::make_shared<UrdfArm>(import_urdf(text, file, options.base_link, options.tip_link));
+  UrdfArmGeometry geometry = import_urdf(text, file, options.base_link, options.tip_link);
+  if (options.compliance != UrdfCompliance::kNone) {
+    ComplianceSpec& c = geometry.compliance;
+    c.enabled = true;
+    if (options.compliance == UrdfCompliance::kInertials && c.links.empty())
+      throw std::invalid_argument(
+          "the URDF has no <inertial> masses on the chain: use fitted masses (--compliance "
+          "fitted)");
+    const bool fitted = options.compliance == UrdfCompliance::kFitted ||
+                        (options.compliance == UrdfCompliance::kAuto && c.links.empty());
+    if (fitted) {
+      c.masses = GravityMasses::kFitted;
+      c.links.clear();
+      c.masses_source.clear();
+    }
+    c.payload_column = options.payload_column;
+    c.payload.centre = options.payload_centre;
+  } else {
+    geometry.compliance = ComplianceSpec{};
+  }
+  std::shared_ptr<const Mechanism> arm = std::make_shared<UrdfArm>(std::move(geometry));
   std::shared_ptr<const Sensor> tracker;
   if (options.sensor == "point-tracker")
     tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), options.point);
@@ -595,6 +663,8 @@ std::shared_ptr<MeasurementModel> model_from_urdf(const std::string& text, const
   auto model =
       std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
   model->parameters().set_free("*", true);
+  // Gravity's tilt acts only through the compliances (zero at the start): it is freed by hand.
+  if (options.compliance != UrdfCompliance::kNone) model->parameters().set_free("gravity.*", false);
   // The model file written from a URDF is one kincal reads: within a model file's size (the
   // URDF's text grows when escaped as JSON) and accepted by the model reader. import_urdf
   // refuses what it knows the reader would; this catches the rest before anything is written.

@@ -27,12 +27,20 @@ namespace kincal {
 UrdfArmGeometry import_urdf(const std::string& text, const std::string& file,
                             const std::string& base_link, const std::string& tip_link);
 
+/// Joint compliance of a model imported from a URDF (models/joint_compliance.hpp): none, the
+/// URDF's <inertial> masses when it has them and fitted masses otherwise, the inertials (an
+/// error without them), or fitted masses.
+enum class UrdfCompliance { kNone, kAuto, kInertials, kFitted };
+
 /// What a model imported from a URDF measures with: one tracker on the tip link.
 struct UrdfModelOptions {
   std::string base_link;  ///< empty: the URDF's root link
   std::string tip_link;
   std::string sensor = "point-tracker";  ///< or "pose-tracker"
   Vector3d point = Vector3d::Zero();     ///< the point tracker's target in the tip frame, mm
+  UrdfCompliance compliance = UrdfCompliance::kNone;
+  bool payload_column = false;  ///< the payload's mass per row, column "payload" (kg)
+  Vector3d payload_centre = Vector3d::Zero();  ///< in the tip link's frame, mm
 };
 
 /// A model of the arm in the URDF `text` (recorded as `file`) with one tracker, every

@@ -25,6 +25,9 @@ struct Actuator {
   /// Half-width, in `unit`, of the box around the home configuration from which simulation
   /// and experiment design draw configurations unless told otherwise (model file or CLI).
   double default_range = 0;
+  /// Whether a controller commands it (a joint, a leg); false for an input the mechanism
+  /// reads but nobody commands (a payload's mass): compensation leaves it as given.
+  bool commanded = true;
 };
 
 struct ForwardKinematicsOptions {
@@ -152,6 +155,11 @@ class Mechanism {
   /// is redundant on purpose says here which of two equivalent parameters should carry the
   /// error (models/urdf_arm.hpp).
   virtual std::vector<int> identification_priority() const { return {}; }
+  /// The parameters that are not geometry (a joint's compliance under gravity,
+  /// models/joint_compliance.hpp): what a kinematic description (URDF, DH table) cannot hold,
+  /// so that a report can say what loading only the geometry leaves uncorrected. Empty (the
+  /// default): every parameter is geometry.
+  virtual std::vector<int> non_geometric_parameters() const { return {}; }
 };
 
 }  // namespace kincal

@@ -33,7 +33,15 @@ UnitRegistry::UnitRegistry()
              {"deg", kRadian, kRadiansPerDegree, "an angle"},
              {kPixel, kPixel, 1, "an image coordinate"},
              // SI's unit one, of dimensionless numbers (a lens's distortion coefficients).
-             {"one", "one", 1, "a dimensionless number"}} {}
+             {"one", "one", 1, "a dimensionless number"},
+             // Joint compliance under gravity (models/joint_compliance.hpp): a revolute
+             // joint's compliance, a prismatic one's, a fitted moment (compliance times a
+             // weight, per metre of lever), and the payload's mass.
+             {"rad/Nm", "rad/Nm", 1, "a joint compliance"},
+             {"mm/N", "mm/N", 1, "a linear compliance"},
+             {"rad/m", "rad/m", 1, "a compliance times a weight"},
+             {"kg", "kg", 1, "a mass"},
+             {"g", "kg", 1e-3, "a mass"}} {}
 
 UnitRegistry& UnitRegistry::global() {
   static UnitRegistry registry;

@@ -26,7 +26,9 @@ struct Unit {
 };
 
 /// The units kincal knows. Built in: mm (lengths; m converts to it), rad (angles; deg), px
-/// (image coordinates), one (dimensionless numbers: a lens's distortion coefficients). A plug-in adds its own when it is loaded. Thread-safe.
+/// (image coordinates), one (dimensionless numbers: a lens's distortion coefficients),
+/// rad/Nm, mm/N and rad/m (joint compliances, models/joint_compliance.hpp), kg (masses; g
+/// converts to it). A plug-in adds its own when it is loaded. Thread-safe.
 class UnitRegistry {
  public:
   static UnitRegistry& global();

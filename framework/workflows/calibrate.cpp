@@ -356,6 +356,7 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
   result.parameters = problem.full_parameters(x);
   result.free = std::move(free);
   result.verdict = judge_calibration(report);
+  if (result.solved) result.geometry_only = geometry_only_effect(*model, result.parameters, data);
   return result;
 }
 

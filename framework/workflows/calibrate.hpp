@@ -27,6 +27,7 @@
 
 #include "kincal/framework/analysis/calibration_report.hpp"
 #include "kincal/framework/analysis/calibration_verdict.hpp"
+#include "kincal/framework/analysis/geometry_only.hpp"
 #include "kincal/framework/analysis/identifiability_check.hpp"
 #include "kincal/framework/analysis/target_accuracy.hpp"
 #include "kincal/framework/calibration/calibration_solve.hpp"
@@ -115,6 +116,9 @@ struct CalibrateResult {
   CalibrationVerdict verdict;
   /// What a user should read, in order: the loading's notes, then the workflow's.
   std::vector<std::string> notes;
+  /// What a kinematic export leaves uncorrected at the measured configurations, when the
+  /// model has non-geometric parameters (joint compliance) not all zero.
+  std::optional<GeometryOnlyEffect> geometry_only;
 };
 
 /// The checks of a request that need no data, for a caller that wants them before it reads

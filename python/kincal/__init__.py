@@ -23,6 +23,7 @@ from .measurements import Measurements
 from .workflows import (
     calibrate,
     compare,
+    compensate,
     design,
     detect,
     export,
@@ -45,6 +46,7 @@ __all__ = [
     "__version__",
     "calibrate",
     "compare",
+    "compensate",
     "design",
     "detect",
     "export",

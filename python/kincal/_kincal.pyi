@@ -163,7 +163,12 @@ def _detect(
     json: str,
     catch_sigint: bool,
 ) -> Dict[str, Any]: ...
-def _model_from_urdf(path: str, tip: str, base: str, sensor: str, point: List[float]) -> Model: ...
+def _model_from_urdf(path: str, tip: str, base: str, sensor: str, point: List[float],
+                     compliance: str, payload_column: bool,
+                     payload_centre: List[float]) -> Model: ...
+def _compensate(model: Model, targets: str, nominal: Optional[Model], near: List[float],
+                payload: Optional[float], tolerance: float, out: str, json: str,
+                inputs: List[str]) -> Dict[str, Any]: ...
 def _observability(
     model: Model, data_path: Optional[str], actuators: Any, readings: Any, poses: int, seed: int,
     rcond: float, config_range: str, free: List[str], fix: List[str], prior_std: List[str],

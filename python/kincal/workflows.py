@@ -493,13 +493,62 @@ def model_from_urdf(
     base: Optional[str] = None,
     sensor: str = "point-tracker",
     point: Optional[Sequence[float]] = None,
+    compliance: Optional[str] = None,
+    payload_column: bool = False,
+    payload_centre: Optional[Sequence[float]] = None,
 ) -> "_kincal.Model":
     """A model imported from a URDF (the chain from ``base``, default the root link, to
     ``tip``), as ``kincal model --urdf``, every parameter free: ``sensor`` point-tracker or
-    pose-tracker, ``point`` the point tracker's target x, y, z (mm) on the tip link. Called
-    in the library (models/urdf_io.hpp)."""
+    pose-tracker, ``point`` the point tracker's target x, y, z (mm) on the tip link.
+    ``compliance`` adds joint compliance under gravity (``--compliance``): "auto" (the URDF's
+    inertial masses when it has them, else fitted), "urdf" or "fitted"; ``payload_column`` reads
+    the payload's mass per row (column ``payload``, kg), ``payload_centre`` its centre of mass
+    x, y, z (mm) in the tip link's frame. Called in the library (models/urdf_io.hpp)."""
     try:
         return _kincal._model_from_urdf(os.fspath(urdf), tip, base or "", sensor,
-                                        [float(v) for v in point] if point is not None else [])
+                                        [float(v) for v in point] if point is not None else [],
+                                        compliance or "", payload_column,
+                                        [float(v) for v in payload_centre]
+                                        if payload_centre is not None else [])
     except ValueError as e:
         raise KincalError(str(e)) from None
+
+
+def compensate(
+    model: ModelArg,
+    targets: PathLike,
+    *,
+    nominal: Optional[ModelArg] = None,
+    near: Optional[Sequence[float]] = None,
+    payload: Optional[float] = None,
+    tolerance: float = 1e-9,
+    out: Optional[PathLike] = None,
+    json: Optional[PathLike] = None,
+) -> Report:
+    """Corrected targets: the commands that make the calibrated ``model`` read what
+    ``targets`` (a CSV file) wants, as ``kincal compensate`` computes them, geometry and joint
+    deflection under gravity included. ``targets`` holds the wanted readings (the model's
+    reading columns) and optionally each row's starting commands; with ``nominal`` it holds
+    commands only and the wanted readings are the nominal model's there. ``near`` starts rows
+    without commands (default home); ``payload`` (kg) fills a payload column the file lacks.
+    ``out`` writes the commands' CSV, ``json`` the summary. Returns the summary as a Report,
+    with ``text``, ``commands`` (rows x actuators, NaN where a row failed) and ``statuses``."""
+    m, model_path = _model(model)
+    targets_path = os.fspath(targets)
+    inputs = [p for p in (model_path, targets_path) if p]
+    nominal_model: Optional["_kincal.Model"] = None
+    if nominal is not None:
+        nominal_model, nominal_path = _model(nominal)
+        if nominal_path:
+            inputs.append(nominal_path)
+    try:
+        answer = _kincal._compensate(
+            m, targets_path, nominal_model, [float(v) for v in near] if near is not None else [],
+            None if payload is None else float(payload), float(tolerance), _path(out), _path(json),
+            inputs)
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    result = _report("compensate", answer)
+    result.__dict__["commands"] = answer["commands"]
+    result.__dict__["statuses"] = list(answer["statuses"])
+    return result

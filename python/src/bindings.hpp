@@ -29,6 +29,21 @@ void bind_vision(py::module_& m);
 /// (framework/io/standard_output.hpp): a stream of its own that nothing reads, since the
 /// module prints nothing and passes "-" as the file "./-".
 const StandardOutput& python_output();
+void bind_compensate(py::module_& m);
+
+}  // namespace kincal::python
+
+#include "kincal/framework/io/output_plan.hpp"
+
+namespace kincal::python {
+
+/// The outputs asked for, checked before any work against the files read (`inputs`) and each
+/// other (python/src/workflows.cpp).
+OutputPlan plan_outputs(const std::vector<std::string>& inputs,
+                        const std::vector<std::pair<std::string, std::string>>& outputs);
+/// Writes (label, content) pairs as the program does (whole or not at all).
+void write_outputs(const OutputPlan& plan,
+                   const std::vector<std::pair<std::string, std::string>>& contents);
 
 /// Row-major view of a float64 matrix: what numpy gives without a copy.
 using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

@@ -96,27 +96,6 @@ LoadedMeasurements measurements_for(const MeasurementModel& model, const VectorX
   return screen_measurements(table_in_memory(std::move(data)), model, values, options, data_name);
 }
 
-// The outputs asked for, checked before any work against the files read (`inputs`) and each
-// other: labels are the keyword names. "-" is a file here, not standard output, and the
-// module prints nothing: its standard output is a stream of its own (python_output()).
-OutputPlan plan_outputs(const std::vector<std::string>& inputs,
-                        const std::vector<std::pair<std::string, std::string>>& outputs) {
-  OutputPlan plan(python_output());
-  for (const auto& path : inputs) plan.input("input", path);
-  for (const auto& [label, path] : outputs)
-    if (!path.empty()) plan.output(label, path == "-" ? "./-" : path);
-  plan.check();
-  return plan;
-}
-
-// Writes (label, content) pairs as the program does (whole or not at all).
-void write_outputs(const OutputPlan& plan,
-                   const std::vector<std::pair<std::string, std::string>>& contents) {
-  if (contents.empty()) return;
-  py::gil_scoped_release release;
-  plan.write(contents);
-}
-
 // The solver by name with its settings checked once, the robust loss among them.
 void choose_solver(CalibrateRequest& request, const std::string& name, int max_iterations,
                    const std::map<std::string, std::string>& backend_options,
@@ -717,8 +696,27 @@ std::string export_workflow(const ModelHandle& handle, const std::string& format
 
 // A model of the arm in a URDF file with one tracker (model_from_urdf).
 ModelHandle urdf_model(const std::string& path, const std::string& tip, const std::string& base,
-                       const std::string& sensor, const std::vector<double>& point) {
+                       const std::string& sensor, const std::vector<double>& point,
+                       const std::string& compliance, bool payload_column,
+                       const std::vector<double>& payload_centre) {
   UrdfModelOptions options;
+  if (compliance == "auto")
+    options.compliance = UrdfCompliance::kAuto;
+  else if (compliance == "urdf")
+    options.compliance = UrdfCompliance::kInertials;
+  else if (compliance == "fitted")
+    options.compliance = UrdfCompliance::kFitted;
+  else if (!compliance.empty())
+    throw std::invalid_argument("compliance '" + compliance +
+                                "': expected \"auto\", \"urdf\" or \"fitted\"");
+  if ((payload_column || !payload_centre.empty()) && options.compliance == UrdfCompliance::kNone)
+    throw std::invalid_argument("payload_column and payload_centre need compliance");
+  options.payload_column = payload_column;
+  if (!payload_centre.empty()) {
+    if (payload_centre.size() != 3)
+      throw std::invalid_argument("payload_centre: expected x, y, z in mm");
+    options.payload_centre = Vector3d(payload_centre[0], payload_centre[1], payload_centre[2]);
+  }
   options.tip_link = tip;
   options.base_link = base;
   options.sensor = sensor;
@@ -742,6 +740,27 @@ ModelHandle urdf_model(const std::string& path, const std::string& tip, const st
 }
 
 }  // namespace
+
+// The outputs asked for, checked before any work against the files read (`inputs`) and each
+// other: labels are the keyword names. "-" is a file here, not standard output, and the
+// module prints nothing: its standard output is a stream of its own (python_output()).
+OutputPlan plan_outputs(const std::vector<std::string>& inputs,
+                        const std::vector<std::pair<std::string, std::string>>& outputs) {
+  OutputPlan plan(python_output());
+  for (const auto& path : inputs) plan.input("input", path);
+  for (const auto& [label, path] : outputs)
+    if (!path.empty()) plan.output(label, path == "-" ? "./-" : path);
+  plan.check();
+  return plan;
+}
+
+// Writes (label, content) pairs as the program does (whole or not at all).
+void write_outputs(const OutputPlan& plan,
+                   const std::vector<std::pair<std::string, std::string>>& contents) {
+  if (contents.empty()) return;
+  py::gil_scoped_release release;
+  plan.write(contents);
+}
 
 const StandardOutput& python_output() {
   // One per thread: a call writes its files with the GIL released.
@@ -789,7 +808,8 @@ void bind_workflows(py::module_& m) {
         "The model in a controller's format (kincal.export is its face); writes `out` when "
         "given, and returns the text.");
   m.def("_model_from_urdf", &urdf_model, py::arg("path"), py::arg("tip"), py::arg("base"),
-        py::arg("sensor"), py::arg("point"),
+        py::arg("sensor"), py::arg("point"), py::arg("compliance"), py::arg("payload_column"),
+        py::arg("payload_centre"),
         "A model imported from a URDF file (kincal.model_from_urdf is its face).");
   m.def("_calibrate", &calibrate_workflow, py::arg("model"), py::arg("data_path"),
         py::arg("actuators"), py::arg("readings"), py::arg("solver"), py::arg("max_iterations"),

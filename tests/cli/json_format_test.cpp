@@ -44,6 +44,7 @@ TEST(CliJson, EveryCommandsDocumentHasAFormatAndAVersion) {
       {"verify", "verify --report " + r + " --model " + c},
       {"check", "check --preset planar-3rpr"},
       {"compare", "compare --truth " + dir / "D.truth.json" + " --model " + c + " --poses 5"},
+      {"compensate", "compensate --model " + c + " --targets " + d + " --out /dev/null"},
   };
   // Commands whose result is a file of their own format, not a --json report.
   const std::map<std::string, std::string> documents = {
