@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "kincal/framework/base/message_excerpt.hpp"
+
 namespace kincal {
 
 const char* to_string(GravityMasses masses) {
@@ -92,13 +94,14 @@ JointCompliance::JointCompliance(const ComplianceSpec& spec,
     for (Parameter& p : parameters_)
       if (p.name == name) {
         if (!std::isfinite(value))
-          throw std::invalid_argument("joint compliance: '" + name + "' is not finite");
+          throw std::invalid_argument("joint compliance: '" + message_excerpt(name) +
+                                      "' is not finite");
         p.nominal = value;
         found = true;
       }
     if (!found)
-      throw std::invalid_argument("joint compliance: no parameter '" + name + "' in this model (" +
-                                  to_string(spec_.masses) + " masses)");
+      throw std::invalid_argument("joint compliance: no parameter '" + message_excerpt(name) +
+                                  "' in this model (" + to_string(spec_.masses) + " masses)");
   }
 }
 
@@ -132,6 +135,34 @@ void JointCompliance::scale_tolerances(const GravityChain& chain) {
     if (lever > 0)
       parameters_[static_cast<std::size_t>(moment_index_) + m].error_half_width = 1e-3 / lever;
   }
+}
+
+void JointCompliance::add_to(std::vector<Parameter>& parameters, std::vector<Actuator>& actuators,
+                             std::set<std::string>& names, const std::string& arm) const {
+  for (const Parameter& p : parameters_) {
+    if (!names.insert(p.name).second)
+      throw std::invalid_argument(arm + ": parameter '" + p.name + "' is named twice");
+    parameters.push_back(p);
+  }
+  if (spec_.payload_column) {
+    if (!names.insert("payload").second)
+      throw std::invalid_argument(arm + ": a joint named 'payload' and a payload column");
+    actuators.push_back({"payload", kKilogram, 0.5 * spec_.payload_max, false});
+  }
+}
+
+VectorXd JointCompliance::appended_to(const VectorXd& geometric) const {
+  VectorXd out(geometric.size() + num_parameters());
+  out.head(geometric.size()) = geometric;
+  for (int k = 0; k < num_parameters(); ++k)
+    out[geometric.size() + k] = parameters_[static_cast<std::size_t>(k)].nominal;
+  return out;
+}
+
+std::vector<int> JointCompliance::indices(int first) const {
+  std::vector<int> out;
+  for (int k = 0; k < num_parameters(); ++k) out.push_back(first + k);
+  return out;
 }
 
 ComplianceSpec JointCompliance::spec_with(const Eigen::Ref<const VectorXd>& values) const {

@@ -38,8 +38,11 @@
 // Limits: gravity only (no dynamics, no backlash, no link bending), linear joint stiffness.
 
 #include <Eigen/Core>
+#include <set>
 #include <string>
 #include <vector>
+
+#include "kincal/framework/kinematics/mechanism.hpp"
 
 #include "kincal/framework/kinematics/parameters.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
@@ -130,6 +133,16 @@ class JointCompliance {
   /// masses at their distances from the joint in `chain` (the arm at home): a light wrist's
   /// compliance may be 100 times a heavy shoulder's.
   void scale_tolerances(const GravityChain& chain);
+  /// Adds what an arm takes from this compliance: its parameters after `parameters` and, when
+  /// the payload's mass is a column, the actuator "payload" (kg, not commanded, drawn in
+  /// [0, max] by simulation and design) after `actuators`. `names` holds the names already
+  /// taken; `arm` names the arm in messages. Throws std::invalid_argument on a name taken twice.
+  void add_to(std::vector<Parameter>& parameters, std::vector<Actuator>& actuators,
+              std::set<std::string>& names, const std::string& arm) const;
+  /// `geometric` (an arm's other parameters) followed by this block's values.
+  VectorXd appended_to(const VectorXd& geometric) const;
+  /// The indices of its parameters when the first is at `first`.
+  std::vector<int> indices(int first) const;
   /// The spec with the parameter values `values` (this block's slice).
   ComplianceSpec spec_with(const Eigen::Ref<const VectorXd>& values) const;
 

@@ -1,5 +1,7 @@
 #include "kincal/models/serial_arm.hpp"
 
+#include "kincal/models/compliant_chain.hpp"
+
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -68,9 +70,29 @@ SerialArm::SerialArm(SerialArmGeometry geometry) : geometry_(std::move(geometry)
   add_frame_parameters(parameters_, "tool", geometry_.tool);
   if (!geometry_.base.allFinite() || !geometry_.tool.allFinite())
     throw std::invalid_argument("serial arm: non-finite base or tool frame");
+  if (geometry_.compliance.enabled) {
+    std::vector<std::string> joint_names;
+    std::vector<bool> revolute;
+    for (const SerialJoint& j : joints) {
+      joint_names.push_back(j.name);
+      revolute.push_back(j.type == JointType::kRevolute);
+    }
+    compliance_ = JointCompliance(geometry_.compliance, joint_names, revolute);
+    geometry_.compliance = compliance_.spec();
+    // Gravity's chain: the geometry as constructed, in the base's coordinates.
+    gravity_params_ = serial_arm_parameters(geometry_).head(parameters_.size());
+    gravity_params_.head<6>().setZero();
+    VectorXd home(num_joints());
+    for (int i = 0; i < num_joints(); ++i) home[i] = joints[static_cast<std::size_t>(i)].home;
+    GravityChain at_home;
+    gravity_chain(home, at_home);
+    compliance_.scale_tolerances(at_home);
+    compliance_.add_to(parameters_, actuators_, names, "serial arm");
+  }
 
-  home_q_.resize(num_joints());
+  home_q_.resize(num_actuators());
   for (int i = 0; i < num_joints(); ++i) home_q_[i] = joints[i].home;
+  if (has_payload_actuator()) home_q_[num_joints()] = 0.5 * geometry_.compliance.payload_max;
   const VectorXd nominal = serial_arm_parameters(geometry_);
   const ForwardKinematicsResult home = forward_kinematics(nominal, home_q_, Pose{});
   if (!home.ok()) throw std::invalid_argument("serial arm: home pose " + home.describe());
@@ -87,7 +109,14 @@ VectorXd serial_arm_parameters(const SerialArmGeometry& geometry) {
         j.convention == LinkConvention::kDh ? j.d : j.beta, j.theta;
   }
   p.tail<6>() = geometry.tool;
-  return p;
+  if (!geometry.compliance.enabled) return p;
+  std::vector<std::string> names;
+  std::vector<bool> revolute;
+  for (const SerialJoint& j : geometry.joints) {
+    names.push_back(j.name);
+    revolute.push_back(j.type == JointType::kRevolute);
+  }
+  return JointCompliance(geometry.compliance, names, revolute).appended_to(p);
 }
 
 SerialArmGeometry SerialArm::geometry_from(const ParamsRef& params) const {
@@ -102,6 +131,9 @@ SerialArmGeometry SerialArm::geometry_from(const ParamsRef& params) const {
     j.theta = link[kTheta];
   }
   g.tool = params.segment<6>(tool_index());
+  if (has_compliance())
+    g.compliance =
+        compliance_.spec_with(params.segment(compliance_index(), compliance_.num_parameters()));
   return g;
 }
 
@@ -155,6 +187,7 @@ struct SerialArm::Links {
     else
       record.parameter_rotation(c + kDOrBeta, frame.rotation.col(1), frame.translation);
     record.parameter_rotation(c + kTheta, z_prev, o_prev);
+    record.link(i, frame);
   }
 };
 
@@ -166,7 +199,8 @@ ForwardKinematicsResult SerialArm::forward_kinematics(const ParamsRef& params,
     result.status = ForwardKinematicsStatus::kInvalidActuators;
     return result;
   }
-  result.pose = serial_chain::walk(Links(*this), params, q, serial_chain::PoseOnly{});
+  result.pose = serial_chain::walk_deflected(Links(*this), compliance_layout(), params, q,
+                                             serial_chain::PoseOnly{});
   if (!result.pose.rotation.allFinite() || !result.pose.translation.allFinite()) {
     result.status = ForwardKinematicsStatus::kNonFinite;
     result.pose = Pose{};
@@ -178,12 +212,33 @@ void SerialArm::pose_jacobian_params(const ParamsRef& params, const ActuatorsRef
                                      Eigen::Ref<Matrix6Xd> J_pose_params) const {
   // The end pose is recomputed rather than taken from the argument: the columns must be
   // those of (params, q) whatever pose the caller holds.
-  serial_chain::walk(Links(*this), params, q, serial_chain::ParameterColumns(J_pose_params));
+  serial_chain::compliant_parameter_columns(Links(*this), compliance_layout(), params, q,
+                                            J_pose_params);
 }
 
 Pose SerialArm::joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                                Eigen::Ref<Matrix6Xd> J_pose_q) const {
-  return serial_chain::walk(Links(*this), params, q, serial_chain::JointColumns(J_pose_q));
+  return serial_chain::compliant_joint_columns(Links(*this), compliance_layout(), params, q,
+                                               J_pose_q);
+}
+
+serial_chain::ComplianceLayout SerialArm::compliance_layout() const {
+  return {&compliance_, compliance_index(), has_payload_actuator(), &gravity_params_};
+}
+
+void SerialArm::gravity_chain(const ActuatorsRef& q, GravityChain& chain) const {
+  serial_chain::gravity_chain(Links(*this), compliance_layout(), q, chain);
+}
+
+std::vector<int> SerialArm::non_geometric_parameters() const {
+  return compliance_.indices(compliance_index());
+}
+
+std::vector<int> SerialArm::identification_priority() const {
+  if (!has_compliance()) return {};
+  std::vector<int> priority(parameters_.size(), 0);
+  for (int k : non_geometric_parameters()) priority[static_cast<std::size_t>(k)] = 3;
+  return priority;
 }
 
 InverseKinematicsResult SerialArm::inverse_kinematics(const ParamsRef& params, const Pose& pose,
@@ -203,7 +258,8 @@ InverseKinematicsResult SerialArm::inverse_kinematics_from(
   return serial_chain::inverse_kinematics(
       pose, start, q, options,
       [&](const VectorXd& x) {
-        return serial_chain::walk(Links(*this), params, x, serial_chain::PoseOnly{});
+        return serial_chain::walk_deflected(Links(*this), compliance_layout(), params, x,
+                                            serial_chain::PoseOnly{});
       },
       [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }

@@ -23,12 +23,23 @@
 // kinematics numerical (damped least squares from the home joints); the walk from base to
 // tool and the inverse kinematics are those of every serial chain (serial_chain.hpp), this
 // arm gives its links. See docs/theory.md.
+//
+// Optionally (geometry.compliance, models/joint_compliance.hpp) each joint deflects under
+// gravity and the payload, as the urdf-arm's do: the compliance parameters after the tool
+// frame's, a payload actuator after the joints when its mass is a column, link masses'
+// centres in DH frame i (the frame after link i, as manufacturers' tables give them). The
+// torques are taken on the arm's geometry as constructed (the model file's values).
 
 #include <string>
 #include <vector>
 
 #include "kincal/framework/kinematics/mechanism.hpp"
+#include "kincal/models/joint_compliance.hpp"
 #include "kincal/models/serial_chain.hpp"
+
+namespace kincal::serial_chain {
+struct ComplianceLayout;
+}
 
 namespace kincal {
 
@@ -62,6 +73,8 @@ struct SerialArmGeometry {
   Vector6d base = Vector6d::Zero();
   std::vector<SerialJoint> joints;
   Vector6d tool = Vector6d::Zero();
+  /// Joint compliance under gravity; off unless enabled.
+  ComplianceSpec compliance;
 };
 
 class SerialArm final : public Mechanism {
@@ -88,6 +101,20 @@ class SerialArm final : public Mechanism {
   /// Closed form: one pose per joint vector, whatever the start.
   const SerialArmGeometry& nominal_geometry() const { return geometry_; }
   int num_joints() const { return static_cast<int>(geometry_.joints.size()); }
+  const JointCompliance& compliance() const { return compliance_; }
+  bool has_compliance() const { return compliance_.enabled(); }
+  bool has_payload_actuator() const {
+    return compliance_.enabled() && geometry_.compliance.payload_column;
+  }
+  /// The first compliance parameter (after the tool frame's six).
+  int compliance_index() const { return tool_index() + kFrameParameters; }
+  /// The compliance parameters.
+  std::vector<int> non_geometric_parameters() const override;
+  /// Where the data cannot tell a deflection from a geometric error, the geometry keeps it
+  /// (empty without compliance: no preference).
+  std::vector<int> identification_priority() const override;
+  /// The nominal chain at q as gravity sees it (models/joint_compliance.hpp).
+  void gravity_chain(const ActuatorsRef& q, GravityChain& chain) const;
 
   /// The home joint values of the model (whatever the parameters).
   InverseKinematicsResult home_actuators(const ParamsRef& params,
@@ -131,8 +158,11 @@ class SerialArm final : public Mechanism {
  private:
   /// The DH/Hayati links, for serial_chain::walk (models/serial_arm.cpp).
   struct Links;
+  serial_chain::ComplianceLayout compliance_layout() const;
 
   SerialArmGeometry geometry_;
+  JointCompliance compliance_;
+  VectorXd gravity_params_;  ///< the geometry as constructed, the base at identity
   std::vector<Actuator> actuators_;
   std::vector<Parameter> parameters_;
   Pose home_pose_;

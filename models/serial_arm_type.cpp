@@ -23,6 +23,8 @@
 //                                                  0.5 rad / 50 mm
 //       }, ... ],
 //     "tool": { "position": [x, y, z], "rotation_zyx_deg": [rx, ry, rz] }   optional, identity
+//     "compliance": { ... }   optional, none: joint compliance under gravity, centres of mass
+//                             in DH frame i (models/joint_compliance_file.hpp)
 //   }
 // Link i is Rz(theta + q) Tz(d) Tx(a) Rx(alpha) ("dh") or Rz(theta + q) Tx(a) Rx(alpha)
 // Ry(beta) ("hayati"); see models/serial_arm.hpp.
@@ -33,6 +35,7 @@
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
+#include "kincal/models/joint_compliance_file.hpp"
 #include "kincal/models/serial_arm.hpp"
 #include "kincal/models/serial_arm_presets.hpp"
 
@@ -110,7 +113,7 @@ SerialJoint read_joint(const Json& j, const JsonPath& at, int index) {
 }
 
 std::shared_ptr<const Mechanism> read_serial_arm(const Json& j, const JsonPath& where) {
-  check_keys(j, where, {"type", "base", "joints", "tool"});
+  check_keys(j, where, {"type", "base", "joints", "tool", "compliance"});
   SerialArmGeometry g;
   if (const Json* base = optional(j, "base")) g.base = frame(*base, where / "base");
   if (const Json* tool = optional(j, "tool")) g.tool = frame(*tool, where / "tool");
@@ -132,6 +135,8 @@ std::shared_ptr<const Mechanism> read_serial_arm(const Json& j, const JsonPath& 
                 "joint names");
     g.joints.push_back(joint);
   }
+  if (const Json* c = optional(j, "compliance"))
+    g.compliance = read_compliance(*c, where / "compliance", g.joints.size());
   try {
     return std::make_shared<SerialArm>(std::move(g));
   } catch (const std::invalid_argument& e) {
@@ -175,6 +180,8 @@ Json write_serial_arm(const Mechanism& mechanism, const Eigen::Ref<const VectorX
     out["joints"].push_back(j);
   }
   out["tool"] = pose_json(tool.head<3>(), tool.tail<3>());
+  if (arm.has_compliance())
+    out["compliance"] = compliance_json(arm.geometry_from(values).compliance);
   return out;
 }
 

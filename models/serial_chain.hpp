@@ -88,6 +88,8 @@ struct PoseOnly {
   /// Joint i turns the end about the unit axis through `origin` (revolute) or moves it
   /// along the axis (prismatic).
   void joint(int /*i*/, bool /*revolute*/, const Vector3d& /*axis*/, const Vector3d& /*origin*/) {}
+  /// Link i's frame once joint i has moved (the frame of the joint's child link).
+  void link(int /*i*/, const Pose& /*frame*/) {}
   /// The walk is done: `tip` is the frame the tool block follows, `end` the chain's end.
   void finish(const Pose& /*tip*/, const Pose& /*end*/) {}
 };

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/analysis/identifiability.hpp"
+#include "kincal/models/compliant_chain.hpp"
 
 namespace kincal {
 
@@ -77,23 +78,15 @@ UrdfArm::UrdfArm(UrdfArmGeometry geometry) : geometry_(std::move(geometry)) {
       revolute.push_back(is_revolute(j.type));
     }
     compliance_ = JointCompliance(geometry_.compliance, joint_names, revolute);
+    // Gravity's chain: the URDF's origins and axes, no error, no offset, the base at identity.
+    gravity_params_ = VectorXd::Zero(static_cast<Eigen::Index>(parameters_.size()));
     VectorXd home = VectorXd::Zero(num_joints());
     for (int i = 0; i < num_joints(); ++i) home[i] = joints[static_cast<std::size_t>(i)].home;
     GravityChain at_home;
     gravity_chain(home, at_home);
     compliance_.scale_tolerances(at_home);
     geometry_.compliance = compliance_.spec();  // the gravity direction made unit
-    for (const Parameter& p : compliance_.parameters()) {
-      if (!names.insert(p.name).second)
-        throw std::invalid_argument("URDF arm: parameter '" + p.name + "' is named twice");
-      parameters_.push_back(p);
-    }
-    if (geometry_.compliance.payload_column) {
-      if (names.count("payload"))
-        throw std::invalid_argument("URDF arm: a joint named 'payload' and a payload column");
-      // Drawn in [0, max] around half the maximum by simulation and design.
-      actuators_.push_back({"payload", kKilogram, 0.5 * geometry_.compliance.payload_max, false});
-    }
+    compliance_.add_to(parameters_, actuators_, names, "URDF arm");
   }
 
   home_q_.resize(num_actuators());
@@ -121,12 +114,7 @@ VectorXd urdf_arm_parameters(const UrdfArmGeometry& geometry) {
     names.push_back(j.name);
     revolute.push_back(is_revolute(j.type));
   }
-  const JointCompliance compliance(geometry.compliance, names, revolute);
-  VectorXd out(p.size() + compliance.num_parameters());
-  out << p, VectorXd::Zero(compliance.num_parameters());
-  for (int k = 0; k < compliance.num_parameters(); ++k)
-    out[p.size() + k] = compliance.parameters()[static_cast<std::size_t>(k)].nominal;
-  return out;
+  return JointCompliance(geometry.compliance, names, revolute).appended_to(p);
 }
 
 UrdfArmGeometry UrdfArm::geometry_from(const ParamsRef& params) const {
@@ -183,6 +171,7 @@ struct UrdfArm::Links {
     else
       record.parameter_translation(c + kOffset, axis);
     frame = compose(frame, urdf_joint_motion(joint, q + params[c + kOffset]));
+    record.link(i, frame);
   }
 };
 
@@ -194,65 +183,19 @@ struct TipRecord : serial_chain::PoseOnly {
   void finish(const Pose& tip_frame, const Pose&) { tip = tip_frame; }
 };
 
-// J_pose_params of the geometric parameters and J_pose_q of the joints in one walk: the
-// compliance parameters' columns are J_pose_q times the deflections' derivatives.
-class ParameterAndJointColumns : public serial_chain::ParameterColumns {
- public:
-  using JointColumnsMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxCompliantJoints>;
-  ParameterAndJointColumns(Eigen::Ref<Matrix6Xd>& J, JointColumnsMatrix& Jq)
-      : ParameterColumns(J), Jq_(Jq) {}
-  void joint(int i, bool revolute, const Vector3d& axis, const Vector3d& origin) {
-    if (revolute)
-      serial_chain::rotation_column(Jq_.col(i), axis, origin);
-    else
-      serial_chain::translation_column(Jq_.col(i), axis);
-  }
-  void finish(const Pose& tip, const Pose& end) {
-    ParameterColumns::finish(tip, end);
-    for (Eigen::Index c = 0; c < Jq_.cols(); ++c)
-      Jq_.col(c).head<3>() += Jq_.col(c).tail<3>().cross(end.translation);
-  }
-
- private:
-  JointColumnsMatrix& Jq_;
-};
-
 }  // namespace
 
-void UrdfArm::gravity_chain(const ActuatorsRef& q, GravityChain& chain) const {
-  chain.joints = num_joints();
-  Pose frame;  // the base link
-  for (int i = 0; i < num_joints(); ++i) {
-    const UrdfArmJoint& joint = geometry_.joints[static_cast<std::size_t>(i)];
-    const Pose before = compose(frame, origins_[static_cast<std::size_t>(i)]);
-    chain.revolute[i] = is_revolute(joint.type);
-    chain.axis[i] = before.rotation * joint.axis;
-    chain.origin[i] = before.translation;
-    frame = compose(before, urdf_joint_motion(joint, q[i]));
-    chain.link[i] = frame;
-  }
-  chain.tip = compose(frame, tip_);
+serial_chain::ComplianceLayout UrdfArm::compliance_layout() const {
+  return {&compliance_, compliance_index(), has_payload_actuator(), &gravity_params_};
 }
 
-template <class Record>
-Pose UrdfArm::walk_deflected(const ParamsRef& params, const ActuatorsRef& q,
-                             Record&& record) const {
-  if (!has_compliance()) return serial_chain::walk(Links(*this), params, q, record);
-  JointVector joints;
-  deflected_joints(params, q, joints);
-  return serial_chain::walk(Links(*this), params, joints, record);
+void UrdfArm::gravity_chain(const ActuatorsRef& q, GravityChain& chain) const {
+  serial_chain::gravity_chain(Links(*this), compliance_layout(), q, chain);
 }
 
 void UrdfArm::deflected_joints(const ParamsRef& params, const ActuatorsRef& q, JointVector& joints,
                                DeflectionJacobian* deflection) const {
-  const int n = num_joints();
-  joints = q.head(n);  // at most kMaxCompliantJoints: the constructor checked
-  GravityChain chain;
-  gravity_chain(q, chain);
-  JointVector delta;
-  const double payload = has_payload_actuator() ? q[n] : 0.0;
-  compliance_.deflections(chain, params.data() + compliance_index(), payload, delta, deflection);
-  joints += delta;
+  serial_chain::deflect(Links(*this), compliance_layout(), params, q, joints, deflection);
 }
 
 ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, const ActuatorsRef& q,
@@ -263,7 +206,8 @@ ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, con
     result.status = ForwardKinematicsStatus::kInvalidActuators;
     return result;
   }
-  result.pose = walk_deflected(params, q, serial_chain::PoseOnly{});
+  result.pose = serial_chain::walk_deflected(Links(*this), compliance_layout(), params, q,
+                                             serial_chain::PoseOnly{});
   if (!finite(result.pose)) {
     result.status = ForwardKinematicsStatus::kNonFinite;
     result.pose = Pose{};
@@ -273,32 +217,20 @@ ForwardKinematicsResult UrdfArm::forward_kinematics(const ParamsRef& params, con
 
 Pose UrdfArm::tip_pose(const ParamsRef& params, const ActuatorsRef& q) const {
   TipRecord record;
-  walk_deflected(params, q, record);
+  serial_chain::walk_deflected(Links(*this), compliance_layout(), params, q, record);
   return record.tip;
 }
 
 void UrdfArm::pose_jacobian_params(const ParamsRef& params, const ActuatorsRef& q, const Pose&,
                                    Eigen::Ref<Matrix6Xd> J_pose_params) const {
-  if (!has_compliance()) {
-    serial_chain::walk(Links(*this), params, q, serial_chain::ParameterColumns(J_pose_params));
-    return;
-  }
-  JointVector joints;
-  DeflectionJacobian deflection;
-  deflected_joints(params, q, joints, &deflection);
-  const int first = compliance_index();
-  Eigen::Ref<Matrix6Xd> geometric = J_pose_params.leftCols(first);
-  ParameterAndJointColumns::JointColumnsMatrix Jq(6, num_joints());
-  serial_chain::walk(Links(*this), params, joints, ParameterAndJointColumns(geometric, Jq));
-  for (int p = 0; p < compliance_.num_parameters(); ++p)
-    J_pose_params.col(first + p).noalias() = Jq * deflection.col(p);
+  serial_chain::compliant_parameter_columns(Links(*this), compliance_layout(), params, q,
+                                            J_pose_params);
 }
 
 Pose UrdfArm::joint_jacobian(const ParamsRef& params, const ActuatorsRef& q,
                              Eigen::Ref<Matrix6Xd> J_pose_q) const {
-  J_pose_q.rightCols(J_pose_q.cols() - num_joints()).setZero();  // the payload moves nothing
-  Eigen::Ref<Matrix6Xd> J_joints = J_pose_q.leftCols(num_joints());
-  return walk_deflected(params, q, serial_chain::JointColumns(J_joints));
+  return serial_chain::compliant_joint_columns(Links(*this), compliance_layout(), params, q,
+                                               J_pose_q);
 }
 
 InverseKinematicsResult UrdfArm::inverse_kinematics(const ParamsRef& params, const Pose& pose,
@@ -317,7 +249,10 @@ InverseKinematicsResult UrdfArm::inverse_kinematics_from(
   }
   return serial_chain::inverse_kinematics(
       pose, start, q, options,
-      [&](const VectorXd& x) { return walk_deflected(params, x, serial_chain::PoseOnly{}); },
+      [&](const VectorXd& x) {
+        return serial_chain::walk_deflected(Links(*this), compliance_layout(), params, x,
+                                            serial_chain::PoseOnly{});
+      },
       [&](const VectorXd& x, Matrix6Xd& J) { return joint_jacobian(params, x, J); });
 }
 
@@ -334,9 +269,7 @@ std::vector<int> UrdfArm::identification_priority() const {
 }
 
 std::vector<int> UrdfArm::non_geometric_parameters() const {
-  std::vector<int> out;
-  for (int k = 0; k < compliance_.num_parameters(); ++k) out.push_back(compliance_index() + k);
-  return out;
+  return compliance_.indices(compliance_index());
 }
 
 std::vector<int> urdf_arm_parameter_priority(const MeasurementModel& model) {

@@ -43,6 +43,10 @@
 #include "kincal/models/joint_compliance.hpp"
 #include "kincal/models/serial_chain.hpp"
 
+namespace kincal::serial_chain {
+struct ComplianceLayout;
+}
+
 namespace kincal {
 
 class ModelRegistry;
@@ -166,14 +170,14 @@ class UrdfArm final : public Mechanism {
   /// The links (origin, origin error, joint motion), for serial_chain::walk
   /// (models/urdf_arm.cpp).
   struct Links;
-  /// serial_chain::walk at the joint values q deflected under gravity (q without compliance).
-  template <class Record>
-  Pose walk_deflected(const ParamsRef& params, const ActuatorsRef& q, Record&& record) const;
+  /// Where the compliance sits, for models/compliant_chain.hpp.
+  serial_chain::ComplianceLayout compliance_layout() const;
 
   UrdfArmGeometry geometry_;
   std::vector<Actuator> actuators_;
   std::vector<Parameter> parameters_;
   JointCompliance compliance_;
+  VectorXd gravity_params_;    ///< the gravity geometry: every parameter 0 (the URDF's chain)
   std::vector<Pose> origins_;  ///< C_i
   Pose tip_;                   ///< C_tip
   Pose home_pose_;
