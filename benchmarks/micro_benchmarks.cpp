@@ -84,8 +84,11 @@ const Scenario& serial_arm_scenario(const std::string& preset) {
     o.num_configurations = 60;
     o.num_validation = 0;
     o.seed = 1;
-    slot = std::make_unique<Scenario>(
-        make_scenario(preset == "ur5" ? make_ur5() : make_ur5_urdf(), o));
+    slot = std::make_unique<Scenario>(make_scenario(preset == "ur5" ? make_ur5()
+                                                    : preset == "ur5-urdf"
+                                                        ? make_ur5_urdf()
+                                                        : make_ur5_urdf_compliance(),
+                                                    o));
   }
   return *slot;
 }
@@ -161,6 +164,8 @@ BENCHMARK_CAPTURE(BM_MechanismWithJacobian, puma560_hand, puma560(false));
 BENCHMARK_CAPTURE(BM_MechanismWithJacobian, puma560_autodiff, puma560(true));
 BENCHMARK_CAPTURE(BM_MechanismWithJacobian, ur5_hand, serial_arm_scenario("ur5"));
 BENCHMARK_CAPTURE(BM_MechanismWithJacobian, ur5_urdf_hand, serial_arm_scenario("ur5-urdf"));
+BENCHMARK_CAPTURE(BM_MechanismWithJacobian, ur5_urdf_compliance,
+                  serial_arm_scenario("ur5-urdf-compliance"));
 
 // The whole per-configuration kernel of a calibration: forward kinematics, the readings and
 // the reading Jacobian (adjoint form for the hexapod).
@@ -185,6 +190,8 @@ BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, puma560_hand, puma560(false));
 BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, puma560_autodiff, puma560(true));
 BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, ur5_hand, serial_arm_scenario("ur5"));
 BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, ur5_urdf_hand, serial_arm_scenario("ur5-urdf"));
+BENCHMARK_CAPTURE(BM_PredictWithJacobianOf, ur5_urdf_compliance,
+                  serial_arm_scenario("ur5-urdf-compliance"));
 
 // A serial arm's inverse kinematics from home (serial_chain::inverse_kinematics: forward
 // kinematics and the joint Jacobian J_pose_q at every step) to the poses of the scenario's

@@ -158,7 +158,9 @@ TEST(SerialArmEvaluation, AllocatesNothingOnceWarm) {
   ScenarioOptions options;
   options.num_configurations = 20;
   options.num_validation = 0;
-  for (const auto& make : {make_puma560, make_ur5, make_ur5_urdf}) {
+  // The UR5 from its URDF with joint compliance and a payload column too: the deflections
+  // and their derivatives live in fixed-size scratch (models/compliant_chain.hpp).
+  for (const auto& make : {make_puma560, make_ur5, make_ur5_urdf, make_ur5_urdf_compliance}) {
     const Scenario scenario = make_scenario(make(), options);
     const auto problem = scenario.make_problem();
     const VectorXd x = problem->initial_free_parameters();
