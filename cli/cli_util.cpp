@@ -6,6 +6,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/plugin_option.hpp"
+#include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/framework/workflows/calibrate.hpp"
 
@@ -27,7 +28,8 @@ bool has_placeholder(const std::string& text) {
 
 }  // namespace
 
-std::string option_error_message(const po::error& e, const Args& args) {
+std::string option_error_message(const po::error& e, const Args& args,
+                                 const po::options_description& options) {
   for (const auto& arg : args) {
     if (!has_placeholder(arg)) continue;
     std::string option;
@@ -38,7 +40,17 @@ std::string option_error_message(const po::error& e, const Args& args) {
            "' holds a %name% sequence, which the option parser cannot quote in its message; "
            "check the options (kincal <command> --help)";
   }
-  return e.what();
+  std::string message = e.what();
+  if (const auto* unknown = dynamic_cast<const po::unknown_option*>(&e)) {
+    std::string given = unknown->get_option_name();
+    given.erase(0, given.find_first_not_of('-'));
+    std::vector<std::string> known;
+    for (const auto& option : options.options())
+      if (!option->long_name().empty()) known.push_back(option->long_name());
+    const std::string near = nearest_name(given, known);
+    if (!near.empty()) message += "; did you mean --" + near + "?";
+  }
+  return message;
 }
 
 namespace {
@@ -99,7 +111,7 @@ bool parse_command_line(const std::string& command, const Args& args,
       for (const auto& value : option.value) order.emplace_back(option.string_key, value);
     vm.insert({kOptionOrder, po::variable_value(boost::any(order), false)});
   } catch (const po::error& e) {
-    throw CliError(option_error_message(e, args));
+    throw CliError(option_error_message(e, args, options));
   }
   // Only now, with every token assigned to its option, are the plug-ins known: a value of
   // another option never names one (cli/plugin_option.hpp).

@@ -34,8 +34,10 @@ bool parse_command_line(const std::string& command, const Args& args,
 /// boost's message for `e`, except when an argument holds a "%name%" sequence: boost fills
 /// its messages' %placeholders% in a loop that never ends when the text it fills in holds
 /// the same placeholder (fuzz_cli_options found `--x%original_token%` hanging the program),
-/// so then a message of our own names the option and the argument.
-std::string option_error_message(const po::error& e, const Args& args);
+/// so then a message of our own names the option and the argument. An unknown option near a
+/// known one of `options` adds "; did you mean --seed?".
+std::string option_error_message(const po::error& e, const Args& args,
+                                 const po::options_description& options);
 
 /// An old spelling of an option, kept working: `--old_name` parses as `--current_name` (the
 /// same value semantic, which the caller passes again) and prints one line on stderr,

@@ -12,8 +12,31 @@ namespace kincal::cli {
 
 namespace {
 
-KinematicsRow inverse_from_values(const MeasurementModel& model, const std::vector<double>& v) {
-  return inverse_row(model, {v[0], v[1], v[2], v[3], v[4], v[5]});
+KinematicsRow inverse_from_values(const MeasurementModel& model, const std::vector<double>& v,
+                                  const VectorXd* near) {
+  return inverse_row(model, {v[0], v[1], v[2], v[3], v[4], v[5]}, near);
+}
+
+// The actuator values of a row, one per line with its name, then the readings.
+void print_row(const MeasurementModel& model, const KinematicsRow& row) {
+  const auto& names = model.mechanism().actuator_names();
+  // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
+  const auto& actuators = model.mechanism().actuators();
+  for (int i = 0; i < row.actuators.size(); ++i)
+    out() << format_text(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n",
+                         names[i].c_str(), row.actuators[i]);
+  const auto reading_names = model.reading_names();
+  for (int k = 0; k < row.readings.size(); ++k)
+    out() << format_text("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
+}
+
+// --near's actuator values, or none.
+VectorXd near_option(const po::variables_map& vm, const MeasurementModel& model) {
+  if (!vm.count("near")) return {};
+  const int n = model.mechanism().num_actuators();
+  const auto v =
+      parse_numbers(vm["near"].as<std::string>(), n, "near", "one value per actuator, in its unit");
+  return Eigen::Map<const VectorXd>(v.data(), n);
 }
 
 }  // namespace
@@ -25,7 +48,13 @@ int run_ik(const Args& args) {
       "x,y,z,rx,ry,rz: mm and degrees (write --pose=-5,... when it starts with a minus)")(
       "data", po::value<std::string>(),
       "instead of --pose: a CSV file with columns x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg (other "
-      "columns are ignored): one result per row, failures as statuses");
+      "columns are ignored): one result per row, failures as statuses")(
+      "near", po::value<std::string>(),
+      "q1,q2,...: the solution nearest these actuator values (a serial arm's branch), in "
+      "the actuators' units; default: from home")(
+      "all", po::bool_switch(),
+      "with --pose: every distinct solution found (from --near or home and 200 starts over "
+      "the joints' ranges), nearest first");
   // --poses is a count of configurations in every other command; a table is --data, as in fk.
   add_deprecated_alias(options, "poses", "data", po::value<std::string>());
   add_table_outputs(options);
@@ -38,10 +67,15 @@ int run_ik(const Args& args) {
     if (vm.count("pose")) throw CliError("give --pose or --data, not both");
     plan.input("--data", vm["data"].as<std::string>());
     if (!vm.count("model")) throw CliError("--model FILE is required");
+    if (vm["all"].as<bool>()) throw CliError("--all takes one --pose, not a table (--data)");
     plan.check();
     const auto model = load_model_option(vm);
+    const VectorXd near = near_option(vm, *model);
     OutputPlan table_plan = plan;
-    return run_table("ik", vm, table_plan, *model, "data", kPoseColumns, inverse_from_values);
+    return run_table("ik", vm, table_plan, *model, "data", kPoseColumns,
+                     [&](const MeasurementModel& m, const std::vector<double>& v) {
+                       return inverse_from_values(m, v, near.size() ? &near : nullptr);
+                     });
   }
   if (vm.count("out")) throw CliError("--out writes the table of --data; give --data FILE");
   const std::string json_file = json_output(vm);
@@ -49,9 +83,35 @@ int run_ik(const Args& args) {
   plan.check();
   if (!vm.count("pose")) throw CliError("--pose x,y,z,rx,ry,rz (or --data FILE) is required");
   const auto model = load_model_option(vm);
+  const VectorXd near = near_option(vm, *model);
   const std::string text = vm["pose"].as<std::string>();
-  const KinematicsRow row = inverse_from_values(
-      *model, parse_numbers(text, 6, "pose", "x,y,z in mm and rx,ry,rz in degrees"));
+  const std::vector<double> pose =
+      parse_numbers(text, 6, "pose", "x,y,z in mm and rx,ry,rz in degrees");
+  if (vm["all"].as<bool>()) {
+    const std::vector<KinematicsRow> solutions =
+        inverse_solutions(*model, {pose[0], pose[1], pose[2], pose[3], pose[4], pose[5]},
+                          near.size() ? &near : nullptr);
+    if (solutions.empty())
+      throw CliError("--pose '" + text +
+                     "': no solution found from 201 starts; expected a pose "
+                     "the model can reach");
+    if (!json_file.empty()) {
+      nlohmann::ordered_json json = {{"format", "kincal-ik"},
+                                     {"version", 1},
+                                     {"model", vm["model"].as<std::string>()},
+                                     {"solutions", nlohmann::ordered_json::array()}};
+      for (const KinematicsRow& s : solutions) json["solutions"].push_back(row_json(*model, s));
+      plan.write({{"--json", json.dump(2) + "\n"}});
+      if (plan.to_stdout("--json")) return 0;
+    }
+    for (std::size_t k = 0; k < solutions.size(); ++k) {
+      out() << format_text("solution %zu of %zu%s\n", k + 1, solutions.size(),
+                           k == 0 ? (near.size() ? " (nearest --near)" : " (nearest home)") : "");
+      print_row(*model, solutions[k]);
+    }
+    return 0;
+  }
+  const KinematicsRow row = inverse_from_values(*model, pose, near.size() ? &near : nullptr);
   if (row.status == "overflow")
     throw CliError("--pose '" + text +
                    "': the actuator values or readings at this pose are not finite numbers (the "
@@ -66,15 +126,8 @@ int run_ik(const Args& args) {
     plan.write({{"--json", json.dump(2) + "\n"}});
     if (plan.to_stdout("--json")) return 0;
   }
-  const auto& names = model->mechanism().actuator_names();
-  // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
+  print_row(*model, row);
   const auto& actuators = model->mechanism().actuators();
-  for (int i = 0; i < row.actuators.size(); ++i)
-    out() << format_text(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n",
-                         names[i].c_str(), row.actuators[i]);
-  const auto reading_names = model->reading_names();
-  for (int k = 0; k < row.readings.size(); ++k)
-    out() << format_text("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
   // The unit of each actuator value above, last so that the lines above stay name-value.
   std::string units;
   for (const auto& a : actuators) units += (units.empty() ? "" : ", ") + a.name + " " + a.unit;

@@ -20,7 +20,8 @@ void add_table_outputs(po::options_description& options) {
 int run_table(const std::string& command, const po::variables_map& vm, OutputPlan& plan,
               const MeasurementModel& model, const std::string& input_option,
               const std::vector<std::string>& columns,
-              KinematicsRow (*compute)(const MeasurementModel&, const std::vector<double>&)) {
+              const std::function<KinematicsRow(const MeasurementModel&,
+                                                const std::vector<double>&)>& compute) {
   const std::string input_file = vm[input_option].as<std::string>();
   const std::string json_file = json_output(vm);
   const std::string csv_file =

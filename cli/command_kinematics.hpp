@@ -2,6 +2,7 @@
 // What `kincal fk` and `kincal ik` share: the pose convention they print, and their table
 // mode (a file of actuator values or poses in, a table of results out).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ void add_table_outputs(po::options_description& options);
 int run_table(const std::string& command, const po::variables_map& vm, OutputPlan& plan,
               const MeasurementModel& model, const std::string& input_option,
               const std::vector<std::string>& columns,
-              KinematicsRow (*compute)(const MeasurementModel&, const std::vector<double>&));
+              const std::function<KinematicsRow(const MeasurementModel&,
+                                                const std::vector<double>&)>& compute);
 
 }  // namespace kincal::cli

@@ -117,7 +117,7 @@ int run_list(const Args& args) {
     }
     po::notify(vm);
   } catch (const po::error& e) {
-    throw CliError(option_error_message(e, args) + " (" + kUsage + ")");
+    throw CliError(option_error_message(e, args, options) + " (" + kUsage + ")");
   }
   const std::vector<std::pair<std::string, Entries (*)()>> sections = {
       {"solvers", solvers},

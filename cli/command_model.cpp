@@ -3,6 +3,7 @@
 
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/kinematics/names.hpp"
@@ -37,12 +38,27 @@ std::shared_ptr<MeasurementModel> import_model(const po::variables_map& vm) {
     throw CliError("--sensor '" + options.sensor + "': expected point-tracker or pose-tracker");
   if (vm.count("point") && options.sensor != "point-tracker")
     throw CliError(
-        "--point is the target of a point tracker; a pose tracker's marker starts at "
-        "the tip frame");
+        "--point is the target of a point tracker; a pose tracker's marker is --target "
+        "x,y,z,rx,ry,rz");
+  if (vm.count("target") && options.sensor != "pose-tracker")
+    throw CliError(
+        "--target is a pose tracker's marker (--sensor pose-tracker); a point tracker's "
+        "target is --point x,y,z");
   if (vm.count("point")) {
     const auto v = parse_numbers(vm["point"].as<std::string>(), 3, "point", "x,y,z in mm");
     options.point = Vector3d(v[0], v[1], v[2]);
   }
+  // Frames as a person writes them: mm and Z-Y-X angles in degrees (the --pose rule).
+  const auto frame_option = [&](const char* name) {
+    const auto v =
+        parse_numbers(vm[name].as<std::string>(), 6, name, "x,y,z in mm and rx,ry,rz in degrees");
+    Vector6d f;
+    f << v[0], v[1], v[2], v[3] * kRadiansPerDegree, v[4] * kRadiansPerDegree,
+        v[5] * kRadiansPerDegree;
+    return f;
+  };
+  if (vm.count("frame")) options.frame = frame_option("frame");
+  if (vm.count("target")) options.target = frame_option("target");
   options.base_link = vm.count("base") ? vm["base"].as<std::string>() : "";
   if (vm.count("compliance")) {
     const std::string masses = vm["compliance"].as<std::string>();
@@ -91,6 +107,12 @@ int run_model(const Args& args) {
       "--urdf: point-tracker (laser tracker: a point) or pose-tracker (a frame)")(
       "point", po::value<std::string>(),
       "--urdf: the point tracker's target x,y,z in the tip link's frame, mm (default 0,0,0)")(
+      "frame", po::value<std::string>(),
+      "--urdf: the tracker's frame in the arm's base coordinates, its starting value: "
+      "x,y,z,rx,ry,rz in mm and degrees (Z-Y-X; default identity)")(
+      "target", po::value<std::string>(),
+      "--urdf --sensor pose-tracker: the marker's frame on the tip link, x,y,z,rx,ry,rz in mm "
+      "and degrees (default identity)")(
       "compliance", po::value<std::string>()->implicit_value("auto"),
       "--urdf: joint compliance under gravity: the URDF's <inertial> masses (urdf), masses "
       "fitted as moments (fitted), or the inertials when there are any (no value)")(
@@ -111,7 +133,8 @@ int run_model(const Args& args) {
     plan.check();
     model = import_model(vm);
   } else {
-    for (const char* option : {"tip", "base", "point", "compliance", "payload-centre"})
+    for (const char* option :
+         {"tip", "base", "point", "frame", "target", "compliance", "payload-centre"})
       if (vm.count(option)) throw CliError(std::string("--") + option + " needs --urdf");
     if (!vm["sensor"].defaulted()) throw CliError("--sensor needs --urdf");
     if (vm["payload-column"].as<bool>()) throw CliError("--payload-column needs --urdf");

@@ -15,6 +15,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
+#include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/extension/plugin.hpp"
 #include "kincal/framework/io/output_files.hpp"
 #include "kincal/framework/io/output_plan.hpp"
@@ -145,7 +146,12 @@ int run(int argc, const char* const* argv) {
       return 2;
     }
   }
-  err() << "kincal: error: unknown command '" << message_excerpt(name) << "' (try kincal --help)\n";
+  std::vector<std::string> names;
+  for (const auto& command : commands()) names.push_back(command.name);
+  const std::string near = nearest_name(name, names);
+  err() << "kincal: error: unknown command '" << message_excerpt(name) << "'"
+        << (near.empty() ? std::string() : "; did you mean '" + near + "'?")
+        << " (try kincal --help)\n";
   return 2;
 }
 

@@ -131,6 +131,11 @@ class SerialArm final : public Mechanism {
   InverseKinematicsResult inverse_kinematics_from(
       const ParamsRef& params, const Pose& pose, const ActuatorsRef& start, Eigen::Ref<VectorXd> q,
       const SerialInverseKinematicsOptions& options = {}) const;
+  InverseKinematicsResult inverse_kinematics_near(const ParamsRef& params, const Pose& pose,
+                                                  const ActuatorsRef& start,
+                                                  Eigen::Ref<VectorXd> q) const override {
+    return inverse_kinematics_from(params, pose, start, q);
+  }
 
   /// Closed form; `start` and `options` are not used. Fails only on non-finite values.
   ForwardKinematicsResult forward_kinematics(

@@ -120,6 +120,11 @@ class UrdfArm final : public Mechanism {
   InverseKinematicsResult inverse_kinematics_from(
       const ParamsRef& params, const Pose& pose, const ActuatorsRef& start, Eigen::Ref<VectorXd> q,
       const SerialInverseKinematicsOptions& options = {}) const;
+  InverseKinematicsResult inverse_kinematics_near(const ParamsRef& params, const Pose& pose,
+                                                  const ActuatorsRef& start,
+                                                  Eigen::Ref<VectorXd> q) const override {
+    return inverse_kinematics_from(params, pose, start, q);
+  }
   ForwardKinematicsResult forward_kinematics(
       const ParamsRef& params, const ActuatorsRef& q, const Pose& start,
       const ForwardKinematicsOptions& options = {}) const override;

@@ -632,8 +632,13 @@ std::shared_ptr<MeasurementModel> model_from_urdf(const std::string& text, const
                                 "': expected point-tracker or pose-tracker");
   if (options.sensor != "point-tracker" && !options.point.isZero())
     throw std::invalid_argument(
-        "a point is the target of a point tracker; a pose tracker's marker starts at the tip "
-        "frame");
+        "a point is the target of a point tracker; a pose tracker's marker is its target "
+        "(x, y, z and three angles)");
+  if (options.sensor == "point-tracker" && !options.target.isZero())
+    throw std::invalid_argument(
+        "a target frame is a pose tracker's marker; a point tracker's target is its point");
+  if (!options.frame.allFinite() || !options.target.allFinite() || !options.point.allFinite())
+    throw std::invalid_argument("the tracker's frame, target or point is not finite");
   UrdfArmGeometry geometry = import_urdf(text, file, options.base_link, options.tip_link);
   if (options.compliance != UrdfCompliance::kNone) {
     ComplianceSpec& c = geometry.compliance;
@@ -657,9 +662,9 @@ std::shared_ptr<MeasurementModel> model_from_urdf(const std::string& text, const
   std::shared_ptr<const Mechanism> arm = std::make_shared<UrdfArm>(std::move(geometry));
   std::shared_ptr<const Sensor> tracker;
   if (options.sensor == "point-tracker")
-    tracker = std::make_shared<PointTracker>("tracker", Vector6d::Zero(), options.point);
+    tracker = std::make_shared<PointTracker>("tracker", options.frame, options.point);
   else
-    tracker = std::make_shared<PoseTracker>("tracker", Vector6d::Zero(), Vector6d::Zero());
+    tracker = std::make_shared<PoseTracker>("tracker", options.frame, options.target);
   auto model =
       std::make_shared<MeasurementModel>(arm, std::vector<std::shared_ptr<const Sensor>>{tracker});
   model->parameters().set_free("*", true);

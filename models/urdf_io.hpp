@@ -38,6 +38,11 @@ struct UrdfModelOptions {
   std::string tip_link;
   std::string sensor = "point-tracker";  ///< or "pose-tracker"
   Vector3d point = Vector3d::Zero();     ///< the point tracker's target in the tip frame, mm
+  /// The tracker's frame in the arm's base coordinates [x, y, z mm, rx, ry, rz rad] (Z-Y-X),
+  /// its starting value (identity: the tracker registered to the base).
+  Vector6d frame = Vector6d::Zero();
+  /// A pose tracker's marker in the tip link's frame [x, y, z mm, rx, ry, rz rad].
+  Vector6d target = Vector6d::Zero();
   UrdfCompliance compliance = UrdfCompliance::kNone;
   bool payload_column = false;  ///< the payload's mass per row, column "payload" (kg)
   Vector3d payload_centre = Vector3d::Zero();  ///< in the tip link's frame, mm

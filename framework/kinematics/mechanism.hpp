@@ -107,6 +107,16 @@ class Mechanism {
   virtual InverseKinematicsResult inverse_kinematics(const ParamsRef& params, const Pose& pose,
                                                      Eigen::Ref<VectorXd> q) const = 0;
 
+  /// The same, starting from the actuator values `start`: where inverse kinematics is
+  /// iterative and has several solutions (a serial arm's branches), the one it reaches from
+  /// `start`, the nearest in practice. The default ignores `start` (closed-form inverse
+  /// kinematics, one solution: a parallel mechanism's legs).
+  virtual InverseKinematicsResult inverse_kinematics_near(const ParamsRef& params, const Pose& pose,
+                                                          const ActuatorsRef& start,
+                                                          Eigen::Ref<VectorXd> q) const {
+    (void)start;
+    return inverse_kinematics(params, pose, q);
+  }
   /// Pose reached with actuator values q, iterating from `start`. Never returns a pose that
   /// does not satisfy the kinematics: failure is a status with a reason.
   virtual ForwardKinematicsResult forward_kinematics(

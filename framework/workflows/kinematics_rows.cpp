@@ -1,11 +1,13 @@
 #include "kincal/framework/workflows/kinematics_rows.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
 
@@ -59,7 +61,8 @@ KinematicsRow forward_row(const MeasurementModel& model, const VectorXd& actuato
   return row;
 }
 
-KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double, 6>& pose_deg) {
+KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double, 6>& pose_deg,
+                          const VectorXd* near) {
   KinematicsRow row;
   row.pose = pose_deg;
   row.pose_known = true;
@@ -70,8 +73,15 @@ KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double
   const VectorXd params = model_values(model);
   const Mechanism& mechanism = model.mechanism();
   row.actuators.resize(mechanism.num_actuators());
+  if (near && near->size() != mechanism.num_actuators())
+    throw std::invalid_argument("the start has " + std::to_string(near->size()) +
+                                " values; the model has " +
+                                std::to_string(mechanism.num_actuators()) + " actuators");
   const InverseKinematicsResult ik =
-      mechanism.inverse_kinematics(params.head(mechanism.num_parameters()), pose, row.actuators);
+      near ? mechanism.inverse_kinematics_near(params.head(mechanism.num_parameters()), pose, *near,
+                                               row.actuators)
+           : mechanism.inverse_kinematics(params.head(mechanism.num_parameters()), pose,
+                                          row.actuators);
   if (!ik.ok()) return failed(row, to_string(ik.status), "inverse kinematics " + ik.describe());
   row.readings.resize(model.num_readings());
   model.predict_at_pose(params, pose, row.readings);
@@ -82,6 +92,58 @@ KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double
                   "overflows)");
   row.actuators_known = true;
   return row;
+}
+
+std::vector<KinematicsRow> inverse_solutions(const MeasurementModel& model,
+                                             const std::array<double, 6>& pose,
+                                             const VectorXd* near, int starts) {
+  const Mechanism& mechanism = model.mechanism();
+  const int n = mechanism.num_actuators();
+  VectorXd home(n);
+  const VectorXd params = model_values(model);
+  if (!mechanism.home_actuators(params.head(mechanism.num_parameters()), home).ok())
+    home = VectorXd::Zero(n);
+  const VectorXd centre = near ? *near : home;
+  // The start of attempt k: the centre first, then a deterministic spread (a Halton-like
+  // sequence per joint) over the joints' ranges; inputs nobody commands stay at the centre.
+  const auto start = [&](int k) {
+    VectorXd s = centre;
+    if (k == 0) return s;
+    for (int i = 0; i < n; ++i) {
+      const Actuator& a = mechanism.actuators()[static_cast<std::size_t>(i)];
+      if (!a.commanded) continue;
+      const double u = std::fmod(0.5 + k * (0.6180339887498949 + 0.1 * std::sqrt(2.0 + i)), 1.0);
+      const double half = a.unit == kRadian ? kPi : 3 * a.default_range;
+      s[i] = centre[i] + (2 * u - 1) * half;
+    }
+    return s;
+  };
+  const auto same = [&](const VectorXd& a, const VectorXd& b) {
+    for (int i = 0; i < n; ++i) {
+      double d = a[i] - b[i];
+      if (mechanism.actuators()[static_cast<std::size_t>(i)].unit == kRadian) d = wrap_angle(d);
+      if (std::abs(d) > 1e-6) return false;
+    }
+    return true;
+  };
+  std::vector<KinematicsRow> found;
+  for (int k = 0; k <= starts; ++k) {
+    const VectorXd s = start(k);
+    KinematicsRow row = inverse_row(model, pose, &s);
+    if (!row.ok()) continue;
+    // A revolute joint's angle within half a turn of the centre: the same configuration.
+    for (int i = 0; i < n; ++i)
+      if (mechanism.actuators()[static_cast<std::size_t>(i)].unit == kRadian)
+        row.actuators[i] = centre[i] + wrap_angle(row.actuators[i] - centre[i]);
+    bool known = false;
+    for (const KinematicsRow& f : found) known = known || same(f.actuators, row.actuators);
+    if (!known) found.push_back(std::move(row));
+  }
+  const auto distance = [&](const KinematicsRow& r) { return (r.actuators - centre).norm(); };
+  std::stable_sort(found.begin(), found.end(), [&](const KinematicsRow& a, const KinematicsRow& b) {
+    return distance(a) < distance(b);
+  });
+  return found;
 }
 
 std::string rows_csv(const MeasurementModel& model, const std::vector<KinematicsRow>& rows) {

@@ -37,8 +37,19 @@ struct KinematicsRow {
 
 /// Forward kinematics from the model's home pose at the model's values.
 KinematicsRow forward_row(const MeasurementModel& model, const VectorXd& actuators);
-/// Inverse kinematics at `pose` (x, y, z mm, rx, ry, rz deg).
-KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double, 6>& pose);
+/// Inverse kinematics at `pose` (x, y, z mm, rx, ry, rz deg), from the model's home, or from
+/// `near` (the actuator values the solution should be nearest: a serial arm's branch).
+KinematicsRow inverse_row(const MeasurementModel& model, const std::array<double, 6>& pose,
+                          const VectorXd* near = nullptr);
+
+/// The distinct solutions inverse kinematics finds at `pose` from `near` (or home) and from
+/// `starts` more starting points spread over each joint's range (revolute: ±π around home;
+/// prismatic: 3 default ranges), nearest `near` (or home) first. Solutions that differ only by
+/// whole turns of revolute joints are one, their angles given within half a turn of `near`
+/// (or home). Joint limits are not checked. Empty when none is found.
+std::vector<KinematicsRow> inverse_solutions(const MeasurementModel& model,
+                                             const std::array<double, 6>& pose,
+                                             const VectorXd* near = nullptr, int starts = 200);
 
 /// CSV: line, the actuator columns, the pose columns, the reading columns, status, reason.
 /// Values of a failed row are empty. 17 significant digits.

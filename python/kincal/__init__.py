@@ -7,14 +7,18 @@
 
 Models (``Model.preset``, ``Model.load``, ``model_from_urdf``), forward and inverse
 kinematics over arrays, ``Measurements`` in kincal's CSV format, the workflows ``simulate``,
-``calibrate``, ``validate``, ``observability``, ``compare``, ``design``, ``export``,
+``calibrate``, ``validate``, ``observability``, ``compare``, ``design``, ``compensate``, ``export``,
 ``detect`` (images of a target, with OpenCV) and ``html_report`` (the library's, called
 directly with typed keyword arguments), the generic
 least-squares layer (``LeastSquaresProblem``, ``solve``) and studies on Dask
 (``kincal.studies``).
 """
 
-from . import _kincal
+from ._import_check import check_environment as _check_environment
+
+_check_environment()  # numpy, and the Python the extension was built for: a hint, not a traceback
+
+from . import _kincal  # noqa: E402
 from ._errors import KincalError, KincalInterrupt
 from ._kincal import Model, __version__, load_plugin, loaded_plugins, presets
 from ._reports import Report, Table

@@ -496,6 +496,8 @@ def model_from_urdf(
     compliance: Optional[str] = None,
     payload_column: bool = False,
     payload_centre: Optional[Sequence[float]] = None,
+    frame: Optional[Sequence[float]] = None,
+    target: Optional[Sequence[float]] = None,
 ) -> "_kincal.Model":
     """A model imported from a URDF (the chain from ``base``, default the root link, to
     ``tip``), as ``kincal model --urdf``, every parameter free: ``sensor`` point-tracker or
@@ -503,13 +505,18 @@ def model_from_urdf(
     ``compliance`` adds joint compliance under gravity (``--compliance``): "auto" (the URDF's
     inertial masses when it has them, else fitted), "urdf" or "fitted"; ``payload_column`` reads
     the payload's mass per row (column ``payload``, kg), ``payload_centre`` its centre of mass
-    x, y, z (mm) in the tip link's frame. Called in the library (models/urdf_io.hpp)."""
+    x, y, z (mm) in the tip link's frame. ``frame`` is the tracker's frame in the arm's base
+    coordinates and ``target`` a pose tracker's marker on the tip link, each x, y, z (mm), rx,
+    ry, rz (degrees, Z-Y-X), as ``--frame`` and ``--target``. Called in the library
+    (models/urdf_io.hpp)."""
     try:
         return _kincal._model_from_urdf(os.fspath(urdf), tip, base or "", sensor,
                                         [float(v) for v in point] if point is not None else [],
                                         compliance or "", payload_column,
                                         [float(v) for v in payload_centre]
-                                        if payload_centre is not None else [])
+                                        if payload_centre is not None else [],
+                                        [float(v) for v in frame] if frame is not None else [],
+                                        [float(v) for v in target] if target is not None else [])
     except ValueError as e:
         raise KincalError(str(e)) from None
 

@@ -17,6 +17,7 @@
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/parallel.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
@@ -698,8 +699,20 @@ std::string export_workflow(const ModelHandle& handle, const std::string& format
 ModelHandle urdf_model(const std::string& path, const std::string& tip, const std::string& base,
                        const std::string& sensor, const std::vector<double>& point,
                        const std::string& compliance, bool payload_column,
-                       const std::vector<double>& payload_centre) {
+                       const std::vector<double>& payload_centre, const std::vector<double>& frame,
+                       const std::vector<double>& target) {
   UrdfModelOptions options;
+  // Frames as a person writes them: mm and Z-Y-X angles in degrees (the CLI's --frame).
+  const auto frame_of = [](const std::vector<double>& v, const char* name) {
+    if (v.size() != 6)
+      throw std::invalid_argument(std::string(name) + ": expected x, y, z (mm), rx, ry, rz (deg)");
+    Vector6d f;
+    f << v[0], v[1], v[2], v[3] * kRadiansPerDegree, v[4] * kRadiansPerDegree,
+        v[5] * kRadiansPerDegree;
+    return f;
+  };
+  if (!frame.empty()) options.frame = frame_of(frame, "frame");
+  if (!target.empty()) options.target = frame_of(target, "target");
   if (compliance == "auto")
     options.compliance = UrdfCompliance::kAuto;
   else if (compliance == "urdf")
@@ -809,7 +822,7 @@ void bind_workflows(py::module_& m) {
         "given, and returns the text.");
   m.def("_model_from_urdf", &urdf_model, py::arg("path"), py::arg("tip"), py::arg("base"),
         py::arg("sensor"), py::arg("point"), py::arg("compliance"), py::arg("payload_column"),
-        py::arg("payload_centre"),
+        py::arg("payload_centre"), py::arg("frame"), py::arg("target"),
         "A model imported from a URDF file (kincal.model_from_urdf is its face).");
   m.def("_calibrate", &calibrate_workflow, py::arg("model"), py::arg("data_path"),
         py::arg("actuators"), py::arg("readings"), py::arg("solver"), py::arg("max_iterations"),

@@ -60,3 +60,15 @@ def test_compensated_commands_reach_the_wanted_readings(program, tmp_path):
     assert cli_out.read_text() == out.read_text()
     with pytest.raises(kincal.KincalError, match="an input"):
         kincal.compensate(model, str(targets), payload=2.0, out=str(targets))
+
+
+def test_tracker_frame_and_target_are_the_programs(program, source_dir):
+    urdf = source_dir / "examples" / "ur5-laser-tracker" / "ur5.urdf"
+    p = subprocess.run([program, "model", "--urdf", str(urdf), "--tip", "flange", "--sensor",
+                        "pose-tracker", "--frame", "1000,200,0,0,0,90", "--target",
+                        "0,0,50,0,90,0", "--out", "-"], capture_output=True, text=True, check=True)
+    model = kincal.model_from_urdf(str(urdf), "flange", sensor="pose-tracker",
+                                   frame=[1000, 200, 0, 0, 0, 90], target=[0, 0, 50, 0, 90, 0])
+    assert model.to_json() == p.stdout
+    with pytest.raises(kincal.KincalError, match="a target frame is a pose tracker's marker"):
+        kincal.model_from_urdf(str(urdf), "flange", target=[0, 0, 50, 0, 0, 0])

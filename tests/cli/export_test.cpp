@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "cli_runner.hpp"
-#include "kincal/models/export_formats.hpp"
 #include "kincal/framework/kinematics/pose.hpp"
+#include "kincal/models/export_formats.hpp"
 #include "kincal/models/model_io.hpp"
 #include "kincal/models/presets.hpp"
 #include "kincal/models/serial_arm.hpp"

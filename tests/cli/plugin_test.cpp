@@ -110,7 +110,8 @@ TEST(Plugins, SimulateRecoversTheTruthAndTheWorkflowRuns) {
   EXPECT_TRUE(contains(table.out, "\narm2,")) << table.out;
   const auto unknown = run_cli("export --model " + c + " --format dxf" + p);
   EXPECT_EQ(unknown.exit_code, 2);
-  EXPECT_TRUE(contains(unknown.err, "expected urdf, csv, json, camera-info, arm-table")) << unknown.err;
+  EXPECT_TRUE(contains(unknown.err, "expected urdf, csv, json, camera-info, arm-table"))
+      << unknown.err;
 }
 
 TEST(Plugins, CheckPassesOnThePluginAndNamesAFlippedSign) {
