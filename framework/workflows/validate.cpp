@@ -86,6 +86,7 @@ ValidateResult validate(const ValidateRequest& request) {
   if (!result.tested) v.verdict = "not_tested";
   result.position = compare_positions(model, loaded.data, v.residuals, request.before_values,
                                       request.before_is, request.data_file);
+  result.iso9283 = iso9283_statistics(*model, values, loaded.data);
   // Without a point, the before/after comparison is of the readings: their residuals with
   // the model the calibration started from (a row the starting model cannot reach: none).
   if (request.before_values && !result.shows_pose) try {

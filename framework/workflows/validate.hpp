@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/iso9283.hpp"
 #include "kincal/framework/analysis/position_error.hpp"
 #include "kincal/framework/analysis/validation.hpp"
 #include "kincal/framework/calibration/measurement_loading.hpp"
@@ -75,6 +76,9 @@ struct ValidateResult {
   /// gauges) agreeing says nothing of the pose (kPoseNotShown).
   bool shows_pose = false;
   PositionComparison position;
+  /// ISO 9283 pose and distance statistics, when the data repeat configurations of a
+  /// point-measuring sensor (framework/analysis/iso9283.hpp); empty otherwise.
+  Iso9283Stats iso9283;
   /// Without a point: the readings' residuals with before_values (configurations x readings;
   /// empty when there is no before or it cannot predict every row).
   MatrixXd before_residuals;

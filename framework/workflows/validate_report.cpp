@@ -78,6 +78,7 @@ std::string validation_text(const ValidateRequest& request, const ValidateResult
                         position.before_is.empty() ? "error" : "after", position.after.mean,
                         position.after.rms, position.after.max, model_name.c_str());
   }
+  if (result.iso9283.computed()) text << iso9283_text(result.iso9283, result.lines);
   if (tested)
     text << "standardized RMS " << format("%.3f", v.standardized_rms)
          << " (1 = as predicted), chi-square " << format("%.4g", v.chi_square) << " on "
@@ -141,6 +142,7 @@ nlohmann::ordered_json validation_json(const ValidateRequest& request, const Val
     errors["before_model"] = position.before_is.empty() ? Json() : Json(position.before_is);
     errors["after_model"] = request.model_file;
     out["position_error_mm"] = errors;
+    if (result.iso9283.computed()) out["iso9283"] = iso9283_json(result.iso9283, result.lines);
   }
   out["duplicate_rows"] = request.measurements.duplicate_rows;
   out["repeated_configurations"] = request.measurements.repeated_configurations;
