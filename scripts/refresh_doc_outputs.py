@@ -17,6 +17,11 @@ used by the next.
 machines); everything else must match, digits included. A block preceded by
 `<!-- doc-outputs: skip REASON -->` is not run (the script lists it with its reason).
 
+A transcript shows what a user sees doing what the page says, so an error in it is a page
+whose commands no longer work (a file the session never made: "cannot open model file")
+unless the page means it: a block preceded by `<!-- doc-outputs: shows-error -->` may print
+"kincal ...: error: ..."; any other that does is reported by both modes, and --check fails.
+
 Abridged blocks: a block preceded by `<!-- doc-outputs: abridge REGEX -->` shows, of each run
 of more than three consecutive output lines matching REGEX (Python's re.match; a parameter
 table's rows, say), the first two and one line saying how many more there are. The whole
@@ -46,6 +51,8 @@ ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 SKIP = re.compile(r"<!-- doc-outputs: skip (.+?) -->")
 ABRIDGE = re.compile(r"<!-- doc-outputs: abridge (.+?) -->")
+SHOWS_ERROR = re.compile(r"<!-- doc-outputs: shows-error -->")
+ERROR_LINE = re.compile(r"^kincal(?: [a-z-]+)?: error: ")
 TRANSCRIPTS = DOCS / "generated" / "transcripts"
 FULL_OUTPUT = "<sub>Full output: "  # starts the line after an abridged block
 KEEP = 2  # lines of a run shown before "… N more"
@@ -63,8 +70,9 @@ def mask(text):
 
 
 class Block:
-    def __init__(self, start, end, commands, outputs, skip, abridge):
+    def __init__(self, start, end, commands, outputs, skip, abridge, shows_error=False):
         self.start, self.end = start, end  # line indices of the fences
+        self.shows_error = shows_error  # the page means the error it shows
         self.commands, self.outputs, self.skip = commands, outputs, skip
         self.abridge = abridge  # the compiled REGEX of an abridged block, else None
         self.transcript = None  # its file under TRANSCRIPTS, set by main
@@ -124,7 +132,10 @@ def parse_page(lines):
     while i < len(lines):
         if lines[i] == "```console" and i + 1 < len(lines) and lines[i + 1].startswith("$ "):
             skip = abridge = None
+            shows_error = False
             for back in (i - 1, i - 2):
+                if back >= 0 and SHOWS_ERROR.search(lines[back]):
+                    shows_error = True
                 if back >= 0 and SKIP.search(lines[back]):
                     skip = SKIP.search(lines[back]).group(1)
                 if back >= 0 and ABRIDGE.search(lines[back]):
@@ -144,7 +155,7 @@ def parse_page(lines):
                 j += 1
             if skip and abridge:
                 sys.exit(f"refresh_doc_outputs: line {i + 1}: a block not run cannot be abridged")
-            blocks.append(Block(i, j, commands, outputs, skip, abridge))
+            blocks.append(Block(i, j, commands, outputs, skip, abridge, shows_error))
             i = j + 1
         else:
             i += 1
@@ -214,7 +225,7 @@ def main():
         pages = [ROOT / p if p == "README.md" else DOCS / p for p in args.pages]
     else:
         pages = [ROOT / "README.md"] + sorted(DOCS.glob("*.md"))
-    stale = []
+    stale, broken = [], []
     for page in pages:
         where = page.relative_to(ROOT)
         lines = page.read_text().split("\n")
@@ -243,6 +254,13 @@ def main():
                 if block.skip:
                     continue
                 full = [next(outputs) for _ in block.commands]
+                for command, out in zip(block.commands, full):
+                    errors = [line for line in out if ERROR_LINE.match(line)]
+                    if errors and not block.shows_error:
+                        broken.append(f"{where}:{block.start + 2}: '$ {command[0][:60]}' prints "
+                                      f"an error ({errors[0][:100]}); expected what the page "
+                                      "describes, or a block marked "
+                                      "<!-- doc-outputs: shows-error --> if it means the error")
                 link = None
                 if block.abridge:
                     name = os.path.relpath(block.transcript, page.parent)
@@ -298,6 +316,11 @@ def main():
         if not args.check and new_lines != lines:
             page.write_text("\n".join(new_lines))
     shutil.rmtree(bin_dir)
+    if broken:
+        print("\n".join(broken))
+        print(f"refresh_doc_outputs: {len(broken)} documented command(s) fail where the page "
+              "does not say they should")
+        return 1
     if args.check and stale:
         print("\n".join(stale))
         print(f"refresh_doc_outputs: {len(stale)} output(s) in docs/ differ from what the "
