@@ -58,6 +58,13 @@ int run_design(const Args& args) {
       "existing", po::value<std::string>(),
       "measurement file (CSV) already measured: its readings count as information, and the "
       "design adds to them")(
+      "within", po::value<std::string>(),
+      "draw the candidates in the range of the configurations of this CSV file (each "
+      "actuator from its least to its largest value: where the robot was measured), instead "
+      "of the box around home")(
+      "candidates-file", po::value<std::string>(),
+      "take the candidate configurations from this CSV file (the model's actuator columns, "
+      "unit suffixes allowed) instead of drawing them")(
       "singularity-margin",
       po::value<double>()->default_value(DesignOptions{}.min_singularity_margin),
       "keep configurations whose conditioning is at least this fraction of home's")(
@@ -115,7 +122,7 @@ int run_design(const Args& args) {
                      "': expected a finite length >= 0");
   }
   OutputPlan plan(console_output());
-  for (const char* option : {"model", "existing"})
+  for (const char* option : {"model", "existing", "within", "candidates-file"})
     if (vm.count(option)) plan.input(std::string("--") + option, vm[option].as<std::string>());
   plan.output("--out", vm["out"].as<std::string>());
   if (plan.to_stdout("--out")) throw CliError("--out needs a file name (the template)");
@@ -152,6 +159,29 @@ int run_design(const Args& args) {
   check_memory("--candidates " + std::to_string(design.num_random), design.num_random,
                kConfigurationBytes + 8.0 * model->num_readings() * (4.0 * n + 2 * 16 + 2),
                "candidate", matrix_bytes);
+  if (vm.count("within") && vm.count("candidates-file"))
+    throw CliError("give --within or --candidates-file, not both");
+  for (const char* option : {"within", "candidates-file"}) {
+    if (!vm.count(option)) continue;
+    const std::string path = vm[option].as<std::string>();
+    MatrixXd q;
+    try {
+      MeasurementTable table =
+          read_measurements(path, model->mechanism().actuator_names(), {}, data_limits(vm));
+      std::vector<std::string> units;
+      for (const Actuator& a : model->mechanism().actuators()) units.push_back(a.unit);
+      convert_column_units(table, units, {}, path);
+      q = table.data.actuators;
+    } catch (const std::invalid_argument& e) {
+      throw CliError(std::string("--") + option + ": " + e.what());
+    }
+    if (std::string(option) == "within") {
+      design.box_low = q.colwise().minCoeff().transpose();
+      design.box_high = q.colwise().maxCoeff().transpose();
+    } else {
+      design.given = q;
+    }
+  }
   if (vm.count("existing")) {
     const LoadedData loaded =
         load_measurements("design", vm["existing"].as<std::string>(), *model,
@@ -167,6 +197,10 @@ int run_design(const Args& args) {
   request.model = model;
   request.options = design;
   request.bound = vm["bound"].as<bool>();
+  // As calibrate: an arm imported from a URDF, its mask untouched, is designed for what the
+  // candidates determine.
+  request.when_rank_deficient =
+      when_rank_deficient(*model, false, vm.count("free") || vm.count("fix"));
   request.on_note = [](const std::string& text) { note("design", text); };
   const ExperimentDesignResult result = design_experiment(request);
   progress.finish();

@@ -71,6 +71,8 @@ MatrixXd triangular_factor(const Eigen::Ref<const MatrixXd>& A,
                                 " rows");
   const Eigen::Index n = A.cols() + B.cols();
   if (A.rows() <= n) {
+    // No factoring to do: [A B] itself (a comma initializer refuses an empty B's block).
+    if (B.cols() == 0) return A;
     MatrixXd both(A.rows(), n);
     both << A, B;
     return both;

@@ -187,8 +187,17 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
   const SingularityGauge gauge(model, nominal);
   const VectorXd& home = gauge.home_actuators();
   const VectorXd& range = model.actuator_ranges();
-  const int num_corners = na <= 12 ? (1 << na) : 0;
-  const int total = num_corners + std::max(options.num_random, 0);
+  const bool given = options.given.rows() > 0;
+  if (given && options.given.cols() != na)
+    throw std::invalid_argument("the candidate configurations have " +
+                                std::to_string(options.given.cols()) + " columns; the model has " +
+                                std::to_string(na) + " actuators");
+  const bool box = options.box_low.size() == na && options.box_high.size() == na;
+  const VectorXd low = box ? options.box_low : VectorXd(),
+                 high = box ? options.box_high : VectorXd();
+  const int num_corners = given ? 0 : na <= 12 ? (1 << na) : 0;
+  const int total = given ? static_cast<int>(options.given.rows())
+                          : num_corners + std::max(options.num_random, 0);
 
   DesignCandidates out;
   const int num_sensors = static_cast<int>(model.sensors().size());
@@ -223,8 +232,15 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
       break;
     }
     const bool corner = i < num_corners;
-    for (int a = 0; a < na; ++a)
-      q[a] = home[a] + (corner ? ((i >> a) & 1 ? range[a] : -range[a]) : rng.symmetric(range[a]));
+    if (given)
+      q = options.given.row(i).transpose();
+    else if (box)
+      for (int a = 0; a < na; ++a)
+        q[a] = corner ? ((i >> a) & 1 ? high[a] : low[a])
+                      : low[a] + (high[a] - low[a]) * rng.uniform01();
+    else  // home ± range, drawn as it always was (the same candidates for the same seed)
+      for (int a = 0; a < na; ++a)
+        q[a] = home[a] + (corner ? ((i >> a) & 1 ? range[a] : -range[a]) : rng.symmetric(range[a]));
     const ForwardKinematicsResult fk = model.predict(nominal, q, readings, &J_ref, ws);
     if (!fk.ok() || !J.allFinite()) {
       ++out.rejected_unreachable;

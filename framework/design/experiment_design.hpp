@@ -66,6 +66,12 @@ struct DesignOptions {
   /// A configuration is a candidate when its singularity margin (see singularity_margin) is
   /// at least this.
   double min_singularity_margin = 0.5;
+  /// The candidates' box per actuator, [box_low, box_high] (its corners and uniform draws in
+  /// it); both empty: home ± the model's actuator ranges.
+  VectorXd box_low, box_high;
+  /// Candidate configurations given (rows x actuators), used instead of drawing any: each is
+  /// still kept only where forward kinematics converges, the margin holds and a sensor reads.
+  MatrixXd given;
   int max_passes = 50;  ///< exchange passes at most (a pass that changes nothing stops)
   /// Per reading noise std (the reading's unit); empty: the model's reading_std().
   VectorXd noise_std;
@@ -144,8 +150,9 @@ DesignSetup make_design_setup(const MeasurementModel& model, const DesignOptions
                               const Measurements* existing);
 
 /// The candidates: the 2^num_actuators corners of the configuration box (when there are at
-/// most 2^12 of them) and options.num_random uniform draws in it, all at the nominal
-/// values, kept when forward kinematics converges and the singularity margin holds.
+/// most 2^12 of them) and options.num_random uniform draws in it (or the configurations of
+/// options.given), all at the nominal values, kept when forward kinematics converges and the
+/// singularity margin holds.
 DesignCandidates make_design_candidates(const MeasurementModel& model, const DesignSetup& setup,
                                         const DesignOptions& options);
 

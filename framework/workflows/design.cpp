@@ -1,12 +1,14 @@
 #include "kincal/framework/workflows/design.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include "kincal/framework/analysis/identifiability.hpp"
 #include "kincal/framework/analysis/identifiability_check.hpp"
 #include "kincal/framework/base/format_text.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
@@ -188,6 +190,43 @@ ExperimentDesignResult design_experiment(const ExperimentDesignRequest& request)
              : std::string()) +
         ") for " + option(request, "poses") + " " + std::to_string(design.count) + "; raise " +
         option(request, "candidates") + " or lower " + option(request, "singularity-margin"));
+  if (request.when_rank_deficient == WhenRankDeficient::kFixDependent) {
+    // What all the candidates together determine, preferred as calibrate prefers (the
+    // mechanism's identification priority): design for those, the others fixed.
+    const MatrixXd base = setup.base_information;
+    MatrixXd J(base.rows() + candidates.rows.rows(), n);
+    Eigen::SelfAdjointEigenSolver<MatrixXd> eig(base);
+    J.topRows(base.rows()) =
+        eig.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal() * eig.eigenvectors().transpose();
+    J.bottomRows(candidates.rows.rows()) = candidates.rows;
+    std::vector<int> priority;
+    const std::vector<int> all = model.identification_priority();
+    for (int i : setup.free_indices)
+      priority.push_back(all.empty() ? 0 : all[static_cast<std::size_t>(i)]);
+    const std::vector<int> keep = identifiable_subset(J, priority);
+    if (static_cast<int>(keep.size()) < n && !keep.empty()) {
+      auto reduced = std::make_shared<MeasurementModel>(model);
+      std::vector<std::string> fixed;
+      for (int c = 0; c < n; ++c)
+        if (std::find(keep.begin(), keep.end(), c) == keep.end()) {
+          fixed.push_back(model.parameters()[setup.free_indices[static_cast<std::size_t>(c)]].name);
+          reduced->parameters().set_free(fixed.back(), false);
+        }
+      ExperimentDesignRequest again = request;
+      again.model = reduced;
+      again.when_rank_deficient = WhenRankDeficient::kStop;
+      std::string text = "the candidates determine " + std::to_string(keep.size()) + " of the " +
+                         std::to_string(n) +
+                         " free parameters: designing for those, the others fixed at their "
+                         "model values (as calibrate keeps what its data determine):";
+      for (const std::string& name : fixed) text += " " + name;
+      say(text);
+      ExperimentDesignResult out = design_experiment(again);
+      out.notes.insert(out.notes.begin(), r.notes.begin(), r.notes.end());
+      out.fixed_for_design = fixed;
+      return out;
+    }
+  }
   const long long new_readings = [&] {
     long long k = 0;
     for (const auto& s : model.sensors()) k = std::max<long long>(k, s->num_readings());

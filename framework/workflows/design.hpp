@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "kincal/framework/analysis/identifiability_check.hpp"
 #include "kincal/framework/analysis/pose_accuracy.hpp"
 #include "kincal/framework/design/experiment_design.hpp"
 
@@ -41,6 +42,11 @@ struct ExperimentDesignRequest {
   std::optional<Measurements> existing;
   /// Also bound how good any design of these candidates can be (D, A, I).
   bool bound = false;
+  /// When even all the candidates cannot determine every free parameter: stop (kStop), or
+  /// design for the identifiable subset, the others fixed at their model values with a note
+  /// (kFixDependent: what calibrate does for an arm imported from a URDF; choose it with
+  /// when_rank_deficient, framework/analysis/identifiability_check.hpp).
+  WhenRankDeficient when_rank_deficient = WhenRankDeficient::kStop;
   /// In messages and the template: the model file (empty: "the model"), and how the face
   /// spells its options ("--" for the program, "" for Python).
   std::string model_file;
@@ -67,6 +73,9 @@ struct ExperimentDesignResult {
   PoseErrorPrediction designed_pose, random_pose, nominal_pose;
   std::string noise_source, model_file;
   std::vector<std::string> free_names;
+  /// The free parameters the candidates cannot determine, fixed for the design
+  /// (when_rank_deficient kFixDependent); empty otherwise.
+  std::vector<std::string> fixed_for_design;
   std::shared_ptr<const MeasurementModel> model;
   std::vector<std::string> notes;
 };

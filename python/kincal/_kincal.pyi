@@ -195,5 +195,6 @@ def _design(
     singularity_margin: float, orientation_length: str, config_range: str, free: List[str],
     fix: List[str], prior_std: List[str], noise_std: str, existing_path: Optional[str],
     existing_actuators: Any, existing_readings: Any, bound: bool, out: str, json: str,
-    html: str, model_path: str, inputs: List[str], catch_sigint: bool,
+    html: str, model_path: str, inputs: List[str], catch_sigint: bool, within: Any,
+    candidate_configurations: Any,
 ) -> Dict[str, Any]: ...

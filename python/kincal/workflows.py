@@ -16,6 +16,7 @@ import threading
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _kincal
 from ._errors import KincalError, KincalInterrupt
@@ -385,13 +386,17 @@ def design(
     noise_std: Optional[Quantity] = None,
     existing: Optional[DataArg] = None,
     bound: bool = False,
+    within: Optional[npt.ArrayLike] = None,
+    candidate_configurations: Optional[npt.ArrayLike] = None,
     out: Optional[PathLike] = None,
     json: Optional[PathLike] = None,
     html: Optional[PathLike] = None,
 ) -> Report:
     """Chooses ``count`` configurations worth measuring: the design workflow, as ``kincal
     design`` runs it. ``criterion`` D, A, E or I; ``candidates`` random candidates drawn in
-    the actuators' box (``config_range``, default each actuator's range) from ``seed``;
+    the actuators' box (``config_range``, default each actuator's range) from ``seed``, or in
+    the range of the configurations ``within`` (rows x actuators: where the robot was
+    measured, as ``--within``), or the given ``candidate_configurations`` (``--candidates-file``);
     ``noise_std`` the readings' noise (default the model's reading_std, which it must then
     state); ``existing`` data already measured (Measurements or a file); ``bound`` also bounds
     how good any design can be. ``report.configurations`` is a Measurements template of the
@@ -414,7 +419,10 @@ def design(
             _quantity(orientation_length) or "", _quantity(config_range) or "", list(free),
             list(fix), specs, _quantity(noise_std) or "", existing_path, existing_a, existing_r,
             bound, _path(out), _path(json), _path(html), model_path, inputs,
-            threading.current_thread() is threading.main_thread())
+            threading.current_thread() is threading.main_thread(),
+            None if within is None else np.asarray(within, dtype=float),
+            None if candidate_configurations is None
+            else np.asarray(candidate_configurations, dtype=float))
     except ValueError as e:
         raise KincalError(str(e)) from None
     if answer["stopped_before_design"]:

@@ -581,9 +581,24 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
                          const py::object& existing_actuators, const py::object& existing_readings,
                          bool bound, const std::string& out, const std::string& json,
                          const std::string& html, const std::string& model_path,
-                         const std::vector<std::string>& inputs, bool catch_sigint) {
+                         const std::vector<std::string>& inputs, bool catch_sigint,
+                         const py::object& within, const py::object& candidate_configurations) {
   ExperimentDesignRequest request;
   DesignOptions& design = request.options;
+  const py::ssize_t na = handle.model->mechanism().num_actuators();
+  if (!within.is_none() && !candidate_configurations.is_none())
+    throw std::invalid_argument("give within or candidate_configurations, not both");
+  if (!within.is_none()) {
+    const auto rows = as_rows(within, "within", na);
+    if (rows.shape(0) == 0) throw std::invalid_argument("within: no configuration");
+    const MatrixXd q = rows_view(rows);
+    design.box_low = q.colwise().minCoeff().transpose();
+    design.box_high = q.colwise().maxCoeff().transpose();
+  }
+  if (!candidate_configurations.is_none()) {
+    const auto rows = as_rows(candidate_configurations, "candidate_configurations", na);
+    design.given = rows_view(rows);
+  }
   design.count = count;
   design.num_random = candidates;
   design.seed = seed;
@@ -643,6 +658,7 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
   request.model = model;
   request.bound = bound;
   request.option_prefix = "";
+  request.when_rank_deficient = when_rank_deficient(*model, false, !free.empty() || !fix.empty());
   ExperimentDesignResult result;
   bool interrupted = false;
   {
@@ -812,7 +828,7 @@ void bind_workflows(py::module_& m) {
         py::arg("prior_std"), py::arg("noise_std"), py::arg("existing_path"),
         py::arg("existing_actuators"), py::arg("existing_readings"), py::arg("bound"),
         py::arg("out"), py::arg("json"), py::arg("html"), py::arg("model_path"), py::arg("inputs"),
-        py::arg("catch_sigint"),
+        py::arg("catch_sigint"), py::arg("within"), py::arg("candidate_configurations"),
         "The design workflow (kincal.design is its face): a dict with the report's JSON text, "
         "the text report, the notes, the configurations chosen and whether it was "
         "interrupted.");

@@ -1,0 +1,42 @@
+"""kincal.design inside a region (issue 40): ``within`` bounds the candidates by the measured
+configurations' range, ``candidate_configurations`` gives them, and an imported arm keeps what
+they determine; the same template as the program's."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import kincal
+
+
+def test_within_and_given_candidates(program, source_dir, tmp_path):
+    urdf = source_dir / "examples" / "ur5-laser-tracker" / "ur5.urdf"
+    model = kincal.model_from_urdf(str(urdf), "flange", point=[0, 0.09, 31])
+    measured = np.radians([[-60, -150, 30, -180, 40, -90], [60, -40, 140, -20, 140, 90]])
+    d = kincal.design(model, count=30, candidates=1000, noise_std="0.065mm", within=measured)
+    q = d.configurations.actuators
+    assert q.shape == (30, 6)
+    assert (q >= measured.min(axis=0) - 1e-12).all() and (q <= measured.max(axis=0) + 1e-12).all()
+    assert any("the candidates determine" in n for n in d.notes)
+    # The program, given the same range as a file, writes the same template.
+    model_file = tmp_path / "ur5.json"
+    model_file.write_text(model.to_json())
+    within = tmp_path / "within.csv"
+    np.savetxt(within, measured, delimiter=",", comments="", fmt="%.17g",
+               header="shoulder_pan_joint,shoulder_lift_joint,elbow_joint,wrist_1_joint,"
+                      "wrist_2_joint,wrist_3_joint")
+    out_py, out_cli = tmp_path / "py.csv", tmp_path / "cli.csv"
+    kincal.design(str(model_file), count=30, candidates=1000, noise_std="0.065mm",
+                  within=measured, out=str(out_py))
+    subprocess.run([program, "design", "--model", str(model_file), "--within", str(within),
+                    "--poses", "30", "--candidates", "1000", "--noise-std", "0.065mm",
+                    "--out", str(out_cli)], check=True, capture_output=True)
+    assert out_py.read_text() == out_cli.read_text()
+    given = measured[0] + (measured[1] - measured[0]) * np.random.default_rng(3).uniform(size=(80, 6))
+    g = kincal.design(model, count=20, noise_std="0.065mm", candidate_configurations=given)
+    for row in g.configurations.actuators:
+        assert np.isclose(given, row, rtol=0, atol=1e-12).all(axis=1).any()
+    with pytest.raises(kincal.KincalError, match="not both"):
+        kincal.design(model, count=20, noise_std="0.065mm", within=measured,
+                      candidate_configurations=given)
