@@ -32,7 +32,8 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run import GRID, HERE, JOINTS, TEST, read_dataset, run, write_measurements  # noqa: E402
+from run import (GRID, HERE, JOINTS, TEST, mean, read_dataset, run,  # noqa: E402
+                 write_measurements)
 
 MODELS = [("geometric", []), ("urdf masses", ["--compliance", "urdf"]),
           ("fitted", ["--compliance", "fitted"])]
@@ -51,10 +52,6 @@ def held_out(k, model, calibrate_on, test_on, out_json):
         report = json.load(f)
     errors = [math.sqrt(sum(row["tracker." + a] ** 2 for a in "xyz")) for row in v["residuals"]]
     return errors, report, calibrated
-
-
-def mean(values):
-    return sum(values) / len(values)
 
 
 def main():
