@@ -6,6 +6,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/plugin_option.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/framework/workflows/calibrate.hpp"
@@ -117,6 +118,7 @@ bool parse_command_line(const std::string& command, const Args& args,
   // another option never names one (cli/plugin_option.hpp).
   load_plugins(vm);
   resolve_deprecated_aliases(command, options, vm);
+  if (parse_only()) throw OptionsChecked{};
   if (vm.count("help")) {
     out() << "usage: kincal " << command << " [options]\n" << options;
     return false;

@@ -11,6 +11,7 @@
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/starts_option.hpp"
@@ -220,7 +221,7 @@ int run_calibrate(const Args& args) {
   } else {
     report_json["calibrated_model"] = nullptr;
   }
-  if (!report_file.empty()) outputs.push_back({"--json", report_json.dump(2) + "\n"});
+  if (!report_file.empty()) outputs.push_back({"--json", json_report_text(report_json)});
   if (vm.count("html")) {
     report::CalibrationPageExtras page;
     page.target = judged;

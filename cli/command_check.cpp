@@ -10,6 +10,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/framework/extension/model_registry.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
 #include "kincal/models/conformance.hpp"
@@ -121,7 +122,7 @@ int run_check(const Args& args) {
   if (!json_to_stdout)
     out() << (failures ? "FAILED: " + std::to_string(failures) + " of " : "passed: all ") << total
           << " checks\n";
-  if (!json_file.empty()) plan.write({{"--json", json.dump(2) + "\n"}});
+  if (!json_file.empty()) plan.write({{"--json", json_report_text(json)}});
   return failures ? 1 : 0;
 }
 

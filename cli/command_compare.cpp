@@ -6,6 +6,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/calibration/measurement_file.hpp"
 #include "kincal/framework/kinematics/model_pair.hpp"
@@ -75,7 +76,7 @@ int run_compare(const Args& args) {
   if (!quiet) out() << comparison_text(result);
   const nlohmann::ordered_json j = comparison_json(result);
   std::vector<std::pair<std::string, std::string>> outputs;
-  if (!json_file.empty()) outputs.push_back({"--json", j.dump(2) + "\n"});
+  if (!json_file.empty()) outputs.push_back({"--json", json_report_text(j)});
   if (vm.count("html")) outputs.push_back({"--html", report::compare_html(result)});
   plan.write(outputs);
   return 0;

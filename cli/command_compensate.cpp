@@ -7,6 +7,7 @@
 #include "kincal/cli/common_options.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/framework/workflows/compensate.hpp"
 
 namespace kincal::cli {
@@ -80,7 +81,7 @@ int run_compensate(const Args& args) {
     nlohmann::ordered_json json = compensate_json(*model, result);
     json["model"] = vm["model"].as<std::string>();
     json["targets"] = vm["targets"].as<std::string>();
-    contents.emplace_back("--json", json.dump(2) + "\n");
+    contents.emplace_back("--json", json_report_text(json));
   }
   plan.write(contents);
   if (!plan.to_stdout("--out") && (json_file.empty() || !plan.to_stdout("--json")))

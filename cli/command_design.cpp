@@ -15,6 +15,7 @@
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/cli/target_accuracy.hpp"
@@ -224,7 +225,7 @@ int run_design(const Args& args) {
   std::vector<std::pair<std::string, std::string>> outputs;
   if (vm.count("json") || vm.count("html")) {
     const Json j = design_json(result, template_path, judged ? to_json(*judged) : Json());
-    if (vm.count("json")) outputs.push_back({"--json", j.dump(2) + "\n"});
+    if (vm.count("json")) outputs.push_back({"--json", json_report_text(j)});
     if (vm.count("html"))
       outputs.push_back({"--html", report::design_html(result, template_path, judged)});
   }

@@ -9,6 +9,7 @@
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/cli/sensitivity_option.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
@@ -102,7 +103,7 @@ int run_observability(const Args& args) {
     if (sensitivity) extra["sensitivity"] = to_json(*sensitivity);
     const nlohmann::ordered_json out = observability_json(result, extra);
     std::vector<std::pair<std::string, std::string>> outputs;
-    if (vm.count("json")) outputs.push_back({"--json", out.dump(2) + "\n"});
+    if (vm.count("json")) outputs.push_back({"--json", json_report_text(out)});
     if (vm.count("html"))
       outputs.push_back({"--html", report::observability_html(result, sensitivity)});
     plan.write(outputs);

@@ -16,6 +16,7 @@
 #include "kincal/cli/interrupt.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/progress.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/framework/base/parallel.hpp"
@@ -121,7 +122,7 @@ int run_reproduce(const Args& args) {
   if (!json_file.empty()) {
     const nlohmann::ordered_json json =
         reproduce_json(choice.name, num_trials, partial, base, out_dir, tables.json_cases);
-    plan.write({{"--json", json.dump(2) + "\n"}});
+    plan.write({{"--json", json_report_text(json)}});
   }
   text << format_text(
       "pose errors are means over the validation poses (before = nominal geometry); "

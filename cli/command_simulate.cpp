@@ -11,6 +11,7 @@
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/simulation_report.hpp"
 #include "kincal/cli/starts_option.hpp"
@@ -190,7 +191,7 @@ int run_simulate(const Args& args) {
   // All outputs or none while the process runs (data without its truth file is useless);
   // the data file names its truth file's SHA-256, for a check after a crash.
   std::vector<std::pair<std::string, std::string>> outputs;
-  if (vm.count("json")) outputs.push_back({"--json", simulation_json(result).dump(2) + "\n"});
+  if (vm.count("json")) outputs.push_back({"--json", json_report_text(simulation_json(result))});
   if (vm.count("trace")) outputs.push_back({"--trace", simulation_trace_csv(result.run)});
   if (vm.count("write-data")) {
     const std::string truth = model_to_json(*model, result.scenario.truth).dump(2) + "\n";

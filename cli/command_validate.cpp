@@ -13,6 +13,7 @@
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/memory_check.hpp"
 #include "kincal/cli/model_args.hpp"
+#include "kincal/cli/project_record.hpp"
 #include "kincal/cli/shared_options.hpp"
 #include "kincal/cli/target_accuracy.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
@@ -156,7 +157,7 @@ int run_validate(const Args& args) {
     const Json out = validation_json(
         request, result, vm.count("report") ? vm["report"].as<std::string>() : "", target_result);
     std::vector<std::pair<std::string, std::string>> outputs;
-    if (vm.count("json")) outputs.push_back({"--json", out.dump(2) + "\n"});
+    if (vm.count("json")) outputs.push_back({"--json", json_report_text(out)});
     if (vm.count("html"))
       outputs.push_back(
           {"--html",

@@ -46,5 +46,6 @@ int run_design(const Args& args);
 int run_compare(const Args& args);
 int run_check(const Args& args);
 int run_detect(const Args& args);
+int run_project(const Args& args);
 
 }  // namespace kincal::cli

@@ -25,6 +25,7 @@ namespace kincal::cli {
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
       {"list", "list solver backends, preset models, mechanism and sensor types", run_list},
+      {"run", "run a project file: a whole calibration as one YAML or JSON file", run_project},
       {"simulate", "run one simulated calibration of a preset or a model file", run_simulate},
       {"reproduce", "Monte Carlo of the paper's five Table 2 cases", run_reproduce},
       {"model", "write a built-in model as an editable model file", run_model},

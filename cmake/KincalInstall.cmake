@@ -83,7 +83,7 @@ install(FILES "${PROJECT_BINARY_DIR}/kincalConfig.cmake"
 set(KINCAL_PC_DIR "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
 file(RELATIVE_PATH KINCAL_PC_TO_PREFIX "/prefix/${KINCAL_PC_DIR}" "/prefix")
 string(REGEX REPLACE "/$" "" KINCAL_PC_TO_PREFIX "${KINCAL_PC_TO_PREFIX}")
-set(KINCAL_PC_REQUIRES "eigen3 nlohmann_json urdfdom tinyxml")
+set(KINCAL_PC_REQUIRES "eigen3 nlohmann_json urdfdom tinyxml yaml-cpp")
 set(KINCAL_PC_CFLAGS "")
 set(KINCAL_PC_LIBS "")
 if(KINCAL_WITH_CERES)

@@ -29,8 +29,9 @@ set(CPACK_COMPONENT_RUNTIME_DESCRIPTION
     "Simulates calibrations, calibrates a mechanism model from measurement files, reports\n"
     "uncertainty and identifiability; solver backends gn, lm, Ceres, NLopt, Ipopt.")
 
-# urdfdom (with TinyXML): the library reads and writes URDF (models/urdf_io.hpp).
-set(KINCAL_DEV_DEPENDS libeigen3-dev nlohmann-json3-dev liburdfdom-dev pkg-config)
+# urdfdom (with TinyXML): the library reads and writes URDF (models/urdf_io.hpp); yaml-cpp:
+# project files (framework/io/project_file.hpp).
+set(KINCAL_DEV_DEPENDS libeigen3-dev nlohmann-json3-dev liburdfdom-dev libyaml-cpp-dev pkg-config)
 if(KINCAL_WITH_CERES)
   list(APPEND KINCAL_DEV_DEPENDS libceres-dev)
 endif()

@@ -108,7 +108,7 @@ for stage in "${stages[@]}"; do
       ;;
     fuzz)
       [ -x build-asan-clang/fuzz/fuzz_cli_options ] || timed "clang sanitizer build" build_clang
-      targets=(measurement_file model_file cli_options command_inputs urdf_file)
+      targets=(measurement_file model_file project_file cli_options command_inputs urdf_file)
       # kincal detect's inputs, when OpenCV was there to build it (KINCAL_WITH_OPENCV=AUTO)
       if [ -x build-asan-clang/fuzz/fuzz_detect_inputs ]; then targets+=(detect_inputs); fi
       for target in "${targets[@]}"; do

@@ -24,6 +24,7 @@ program_packages=(
   libeigen3-dev libceres-dev libgoogle-glog-dev libnlopt-cxx-dev coinor-libipopt-dev
   libboost-program-options-dev nlohmann-json3-dev
   liburdfdom-dev  # URDF import/export
+  libyaml-cpp-dev  # project files (kincal run PROJECT.yaml)
 )
 development_packages=(
   git liburdfdom-tools  # check_urdf in the tests

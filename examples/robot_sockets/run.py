@@ -25,7 +25,9 @@ where there is one:
 The authors' URDF was fitted on these sessions' data, held-out rows included: it is shown for
 reference, not as a held-out result.
 
-The calibrated robot is written as a URDF too (kincal export), into --out.
+The calibrated robot is written as a URDF too (kincal export), into --out. Last, the kincal
+commands again as project.yaml beside this script (kincal run, with the prepared model and
+training file as its inputs): they must write the same files (examples/project_check.py).
 
 Exit codes: 0 done and the calibration beats the nominal model on the held-out spread and
 distance; 1 a check failed; 2 bad arguments; 77 the dataset folder is missing (reported as
@@ -40,6 +42,9 @@ import os
 import shutil
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import project_check  # noqa: E402
 
 DISTANCE_MM = 50.0
 
@@ -211,6 +216,7 @@ def main():
     fitted = [s for s in sessions if s not in args.hold_out_session]
     if not fitted:
         ap.error("every session is held out: nothing to calibrate on")
+    args.out = os.path.abspath(args.out)  # the paths the outputs record: the project's, too
     os.makedirs(args.out, exist_ok=True)
     k = args.kincal
     path = lambda name: os.path.join(args.out, name)
@@ -332,6 +338,25 @@ def main():
               "(the session's other rows: %.2f-%.2f mm)"
               % (s, hole, min(left_out[(s, hole)]), max(left_out[(s, hole)]), min(miss), max(miss),
                  min(kept), max(kept)))
+    # The kincal commands above as one project file, on the prepared model and training file.
+    project_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "project.yaml")
+    project_out = path("project")
+    shutil.rmtree(project_out, ignore_errors=True)
+    p = project_check.run_project(k, project_file, {"robot": args.robot, "urdf": urdf,
+                                                    "prepared": args.out, "out": project_out})
+    if p.returncode != 0:
+        sys.stderr.write(p.stderr)
+        failures.append("kincal run %s exited with %d" % (project_file, p.returncode))
+    else:
+        names = [args.robot + "-nominal.json", args.robot + "-calibrated.json", "report.json",
+                 args.robot + "-calibrated.urdf"]
+        differences = project_check.compare(
+            [path(n) for n in names], [os.path.join(project_out, n) for n in names],
+            project_file, [(project_out + "/", args.out + "/")])
+        failures += differences
+        if not differences:
+            print("kincal run project.yaml wrote the %d files of the command sequence, the same"
+                  % len(names))
     nominal, calibrated = totals["nominal"], totals["calibrated"]
     for i, what in ((0, "spread"), (1, "distance error")):
         if not sum(calibrated[i]) < sum(nominal[i]):

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Calibrate a UR5 from its URDF and laser-tracker data, validate it on held-out poses and
-export the calibrated URDF (docs/calibrating-a-serial-arm.md walks through it).
+export the calibrated URDF (docs/calibrating-a-serial-arm.md walks through it); then the same
+with project.yaml beside this script (kincal run), which must write the same files.
 
     run.py DATASET_DIR [--kincal PATH] [--out DIR] [--max-test-mean-mm 0.11]
 
@@ -18,7 +19,9 @@ calibrate on the grid with the default mask, calibrate a registration-only basel
 frame and measured point only), validate both on the test poses, export the URDF, and check
 the exported URDF's world -> tcp chain with the independent forward kinematics below (plain
 Python, no kincal code): it must reproduce kincal's predictions at every measured
-configuration within 1e-6 mm.
+configuration within 1e-6 mm. Last, `kincal run project.yaml --set data=OUT --set
+out=OUT/project` (the grid and test files above as its data) must write the files of the
+command sequence, the same (examples/project_check.py).
 
 Exit codes: 0 done and the test-set mean within --max-test-mean-mm; 1 a check failed;
 2 bad arguments; 77 the dataset folder is missing (reported as skipped by ctest).
@@ -35,6 +38,9 @@ import sys
 import xml.etree.ElementTree as ET
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+import project_check  # noqa: E402
+
 GRID = "3D_UR5_uncalibrated_grid_cleaned.csv"
 TEST = "3D_UR5_uncalibrated_random_cleaned.csv"
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
@@ -160,6 +166,7 @@ def main():
         print("skipped: the UR5 dataset is not in %s (expected %s and %s; get them from GitHub "
               "pauljac7700/serial_robots_datasets, folder UR5)" % (args.dataset, GRID, TEST))
         return 77
+    args.out = os.path.abspath(args.out)  # the paths the outputs record: the project's, too
     os.makedirs(args.out, exist_ok=True)
     k = args.kincal
     path = lambda name: os.path.join(args.out, name)
@@ -228,6 +235,26 @@ def main():
     if not mean(after) <= args.max_test_mean_mm:
         failures.append("test-set mean %.4f mm above %.3f mm" % (mean(after),
                                                                    args.max_test_mean_mm))
+    # The same calibration as one project file.
+    project_file = os.path.join(HERE, "project.yaml")
+    project_out = os.path.abspath(path("project"))
+    shutil.rmtree(project_out, ignore_errors=True)
+    p = project_check.run_project(k, project_file, {"data": args.out,
+                                                    "out": project_out})
+    if p.returncode != 0:
+        sys.stderr.write(p.stderr)
+        failures.append("kincal run %s exited with %d" % (project_file, p.returncode))
+    else:
+        names = ["ur5.json", "calibrated.json", "report.json", "ur5-fixed.json",
+                 "registration.json", "registration-report.json", "ur5-calibrated.urdf",
+                 "validate-calibrated-test.json", "validate-registration-test.json"]
+        differences = project_check.compare(
+            [path(n) for n in names], [os.path.join(project_out, n) for n in names],
+            project_file, [(project_out + "/", args.out + "/")])
+        failures += differences
+        if not differences:
+            print("kincal run project.yaml wrote the %d files of the command sequence, the same"
+                  % len(names))
     checker = shutil.which("check_urdf")
     if checker:
         run([checker, path("ur5-calibrated.urdf")])

@@ -36,7 +36,9 @@ from .workflows import (
     observability,
     simulate,
     validate,
+    verify,
 )
+from .project import run_project
 
 __all__ = [
     "KincalError",
@@ -60,8 +62,10 @@ __all__ = [
     "model_from_urdf",
     "observability",
     "presets",
+    "run_project",
     "simulate",
     "solve",
     "solvers",
     "validate",
+    "verify",
 ]

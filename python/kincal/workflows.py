@@ -435,6 +435,20 @@ def design(
     return report
 
 
+def verify(report: PathLike, model: Optional[PathLike] = None,
+           json: Optional[PathLike] = None) -> Dict[str, Any]:
+    """Whether the calibrated model file ``model`` (default: the file the report names) is the
+    one the calibration report ``report`` was written with, as ``kincal verify``: a dict with
+    ``match`` (bool), ``model``, ``sha256``, ``expected_sha256`` and, when they differ,
+    ``message``; ``json`` writes the verdict. Called in the library
+    (framework/workflows/verify.hpp)."""
+    try:
+        return dict(_kincal._verify(os.fspath(report), "" if model is None else os.fspath(model),
+                                    "" if json is None else os.fspath(json)))
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+
+
 def export(model: ModelArg, format: str, out: Optional[PathLike] = None) -> str:
     """The calibrated model for a controller (``format`` urdf, csv, json, or one a plug-in
     registers), as ``kincal export``: returns the text, and writes it to ``out`` when given

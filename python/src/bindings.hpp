@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>  // in every file: the casters of std::vector must agree (ODR)
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "kincal/framework/base/types.hpp"
@@ -30,6 +31,11 @@ void bind_vision(py::module_& m);
 /// module prints nothing and passes "-" as the file "./-".
 const StandardOutput& python_output();
 void bind_compensate(py::module_& m);
+void bind_project(py::module_& m);
+
+/// `report` as a JSON report's text, with the key "project" (the step's record) while
+/// kincal.run_project runs a step (python/src/project.cpp).
+std::string report_json_text(nlohmann::ordered_json report);
 
 }  // namespace kincal::python
 

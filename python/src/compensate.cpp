@@ -43,7 +43,7 @@ py::dict compensate_workflow(const ModelHandle& handle, const std::string& targe
   summary["targets"] = targets;
   std::vector<std::pair<std::string, std::string>> contents;
   if (!out.empty()) contents.emplace_back("out", csv);
-  if (!json.empty()) contents.emplace_back("json", summary.dump(2) + "\n");
+  if (!json.empty()) contents.emplace_back("json", report_json_text(summary));
   write_outputs(plan, contents);
   MatrixXd commands(static_cast<Eigen::Index>(result.rows.size()),
                     model.mechanism().num_actuators());

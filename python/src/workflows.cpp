@@ -242,7 +242,7 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
     report["calibrated_model"] = nullptr;
   }
   std::vector<std::pair<std::string, std::string>> contents;
-  if (!json.empty()) contents.push_back({"json", report.dump(2) + "\n"});
+  if (!json.empty()) contents.push_back({"json", report_json_text(report)});
   if (!html.empty()) contents.push_back({"html", kincal::report::calibration_html(result, page)});
   if (!model_text.empty()) contents.push_back({"out", model_text});
   write_outputs(plan, contents);
@@ -330,7 +330,7 @@ py::dict validate_workflow(const ModelHandle& handle, const std::optional<std::s
   }
   const Json out = validation_json(request, result, report_json ? report_name : "", Json());
   std::vector<std::pair<std::string, std::string>> contents;
-  if (!json.empty()) contents.push_back({"json", out.dump(2) + "\n"});
+  if (!json.empty()) contents.push_back({"json", report_json_text(out)});
   if (!html.empty())
     contents.push_back(
         {"html", kincal::report::validation_html(request, result, report_json ? report_name : "")});
@@ -391,7 +391,7 @@ py::dict observability_workflow(
   }
   const Json out = observability_json(result, Json::object());
   std::vector<std::pair<std::string, std::string>> contents;
-  if (!json.empty()) contents.push_back({"json", out.dump(2) + "\n"});
+  if (!json.empty()) contents.push_back({"json", report_json_text(out)});
   if (!html.empty()) contents.push_back({"html", kincal::report::observability_html(result)});
   write_outputs(plan, contents);
   py::dict answer;
@@ -432,7 +432,7 @@ py::dict compare_workflow(const ModelHandle& truth, const ModelHandle& handle,
   }
   const Json out = comparison_json(result);
   std::vector<std::pair<std::string, std::string>> contents;
-  if (!json.empty()) contents.push_back({"json", out.dump(2) + "\n"});
+  if (!json.empty()) contents.push_back({"json", report_json_text(out)});
   if (!html.empty()) contents.push_back({"html", kincal::report::compare_html(result)});
   write_outputs(plan, contents);
   py::dict answer;
@@ -555,7 +555,7 @@ py::dict simulate_workflow(const ModelHandle& handle, const std::string& model_n
   }
   const nlohmann::json report = simulation_json(result);
   std::vector<std::pair<std::string, std::string>> contents;
-  if (!json.empty()) contents.push_back({"json", report.dump(2) + "\n"});
+  if (!json.empty()) contents.push_back({"json", report_json_text(report)});
   if (!trace.empty()) contents.push_back({"trace", simulation_trace_csv(result.run)});
   if (!write_data.empty()) {
     const std::string truth_text = model_to_json(*model, result.scenario.truth).dump(2) + "\n";
@@ -674,7 +674,7 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
   if (result.stopped_before_design) return answer;
   const Json report = design_json(result, out, Json());
   std::vector<std::pair<std::string, std::string>> contents;
-  if (!json.empty()) contents.push_back({"json", report.dump(2) + "\n"});
+  if (!json.empty()) contents.push_back({"json", report_json_text(report)});
   if (!html.empty()) contents.push_back({"html", kincal::report::design_html(result, out)});
   if (!out.empty()) contents.push_back({"out", design_template_csv(result)});
   write_outputs(plan, contents);
