@@ -63,6 +63,10 @@ int run_design(const Args& args) {
       "draw the candidates in the range of the configurations of this CSV file (each "
       "actuator from its least to its largest value: where the robot was measured), instead "
       "of the box around home")(
+      "centre", po::value<std::string>(),
+      "q1,q2,...: draw the candidates around this configuration (in the actuators' units) "
+      "instead of home, ± --config-range (default each actuator's range), within the joint "
+      "limits")(
       "candidates-file", po::value<std::string>(),
       "take the candidate configurations from this CSV file (the model's actuator columns, "
       "unit suffixes allowed) instead of drawing them")(
@@ -160,8 +164,14 @@ int run_design(const Args& args) {
   check_memory("--candidates " + std::to_string(design.num_random), design.num_random,
                kConfigurationBytes + 8.0 * model->num_readings() * (4.0 * n + 2 * 16 + 2),
                "candidate", matrix_bytes);
-  if (vm.count("within") && vm.count("candidates-file"))
-    throw CliError("give --within or --candidates-file, not both");
+  if (vm.count("within") + vm.count("candidates-file") + vm.count("centre") > 1)
+    throw CliError("give one of --within, --candidates-file and --centre");
+  if (vm.count("centre")) {
+    const int na = model->mechanism().num_actuators();
+    const auto v = parse_numbers(vm["centre"].as<std::string>(), na, "centre",
+                                 "one value per actuator, in its unit");
+    design.centre = Eigen::Map<const VectorXd>(v.data(), na);
+  }
   for (const char* option : {"within", "candidates-file"}) {
     if (!vm.count(option)) continue;
     const std::string path = vm[option].as<std::string>();

@@ -64,6 +64,11 @@ UrdfArm::UrdfArm(UrdfArmGeometry geometry) : geometry_(std::move(geometry)) {
     add_frame_parameters(parameters_, j.name + ".origin", j.origin_error);
     parameters_.push_back({j.name + ".offset", j.offset, revolute ? "rad" : "mm", false});
     actuators_.push_back({j.name, revolute ? "rad" : "mm", j.range});
+    // NaN: a continuous joint; equal limits (a joint built in code without any): none.
+    if (std::isfinite(j.lower) && std::isfinite(j.upper) && j.lower < j.upper) {
+      actuators_.back().lower = j.lower;
+      actuators_.back().upper = j.upper;
+    }
     origins_.push_back(frame_from_parameters(j.origin));
   }
   tip_ = frame_from_parameters(geometry_.tip);

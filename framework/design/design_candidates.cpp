@@ -192,14 +192,65 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
     throw std::invalid_argument("the candidate configurations have " +
                                 std::to_string(options.given.cols()) + " columns; the model has " +
                                 std::to_string(na) + " actuators");
+  if (options.centre.size() != 0 && options.centre.size() != na)
+    throw std::invalid_argument("the centre configuration has " +
+                                std::to_string(options.centre.size()) + " values; the model has " +
+                                std::to_string(na) + " actuators");
+  DesignCandidates out;
+  // The box the candidates are drawn from (not used when they are given).
   const bool box = options.box_low.size() == na && options.box_high.size() == na;
-  const VectorXd low = box ? options.box_low : VectorXd(),
-                 high = box ? options.box_high : VectorXd();
+  const bool centred = options.centre.size() == na;
+  const VectorXd& centre = centred ? options.centre : home;
+  bool ranges_default = true, limited = false, all_limited = true;
+  for (int a = 0; a < na; ++a) {
+    const Actuator& actuator = mechanism.actuators()[static_cast<std::size_t>(a)];
+    ranges_default = ranges_default && range[a] == actuator.default_range;
+    const bool has_limits = std::isfinite(actuator.lower) && std::isfinite(actuator.upper);
+    limited = limited || has_limits;
+    if (actuator.commanded) all_limited = all_limited && has_limits;
+  }
+  const bool use_limits = !given && !box && !centred && ranges_default && limited && all_limited;
+  VectorXd low(na), high(na);
+  bool clipped = false;
+  for (int a = 0; a < na; ++a) {
+    const Actuator& actuator = mechanism.actuators()[static_cast<std::size_t>(a)];
+    const bool has_limits = std::isfinite(actuator.lower) && std::isfinite(actuator.upper);
+    if (box) {
+      low[a] = options.box_low[a];
+      high[a] = options.box_high[a];
+    } else if (use_limits && has_limits) {
+      low[a] = actuator.lower;
+      high[a] = actuator.upper;
+    } else {
+      low[a] = centre[a] - range[a];
+      high[a] = centre[a] + range[a];
+    }
+    if (has_limits && !given && (low[a] < actuator.lower || high[a] > actuator.upper)) {
+      low[a] = std::max(low[a], actuator.lower);
+      high[a] = std::min(high[a], actuator.upper);
+      clipped = true;
+      if (!(low[a] <= high[a]))
+        throw std::invalid_argument("the candidates' box of " + actuator.name +
+                                    " lies outside its limits [" + std::to_string(actuator.lower) +
+                                    ", " + std::to_string(actuator.upper) + "] " + actuator.unit);
+    }
+  }
+  out.region = given        ? "given"
+               : box        ? "the box given"
+               : use_limits ? "the joint limits"
+               : centred    ? "the centre ± the actuator ranges"
+                            : "home ± the actuator ranges";
+  if (clipped) out.region += ", clipped to the joint limits";
+  if (!given) {
+    out.region_low = low;
+    out.region_high = high;
+  }
+  // The draw of home ± range as it always was (the same candidates for the same seed).
+  const bool legacy_draw = !given && !box && !use_limits && !centred && !clipped;
   const int num_corners = given ? 0 : na <= 12 ? (1 << na) : 0;
   const int total = given ? static_cast<int>(options.given.rows())
                           : num_corners + std::max(options.num_random, 0);
 
-  DesignCandidates out;
   const int num_sensors = static_cast<int>(model.sensors().size());
   std::vector<int> k(num_sensors);
   int rows_per_configuration = 0;
@@ -234,11 +285,11 @@ DesignCandidates make_design_candidates(const MeasurementModel& model, const Des
     const bool corner = i < num_corners;
     if (given)
       q = options.given.row(i).transpose();
-    else if (box)
+    else if (!legacy_draw)
       for (int a = 0; a < na; ++a)
         q[a] = corner ? ((i >> a) & 1 ? high[a] : low[a])
                       : low[a] + (high[a] - low[a]) * rng.uniform01();
-    else  // home ± range, drawn as it always was (the same candidates for the same seed)
+    else
       for (int a = 0; a < na; ++a)
         q[a] = home[a] + (corner ? ((i >> a) & 1 ? range[a] : -range[a]) : rng.symmetric(range[a]));
     const ForwardKinematicsResult fk = model.predict(nominal, q, readings, &J_ref, ws);

@@ -67,8 +67,13 @@ struct DesignOptions {
   /// at least this.
   double min_singularity_margin = 0.5;
   /// The candidates' box per actuator, [box_low, box_high] (its corners and uniform draws in
-  /// it); both empty: home ± the model's actuator ranges.
+  /// it); both empty: centre ± the model's actuator ranges, or, where every commanded
+  /// actuator has limits and the ranges are the mechanism's defaults, the limits (a serial
+  /// arm's region is where it can go, not a small box around its zero). Any box is clipped
+  /// to the actuators' limits.
   VectorXd box_low, box_high;
+  /// The configuration the box of the actuator ranges is centred on; empty: home.
+  VectorXd centre;
   /// Candidate configurations given (rows x actuators), used instead of drawing any: each is
   /// still kept only where forward kinematics converges, the margin holds and a sensor reads.
   MatrixXd given;
@@ -128,6 +133,11 @@ struct DesignCandidates {
   std::vector<int> row_offset;
   MatrixXd rows;         ///< normalised whitened information rows, all candidates
   bool stopped = false;  ///< the monitor stopped the draw: fewer than asked for
+  /// Where the candidates come from, for the report: "given", "the box given",
+  /// "the joint limits", "home ± the actuator ranges", "the centre ± the actuator ranges"
+  /// (", clipped to the joint limits" when the limits cut the box).
+  std::string region;
+  VectorXd region_low, region_high;  ///< the box drawn from (empty when given)
   int size() const { return static_cast<int>(sensor.size()); }
 };
 

@@ -5,6 +5,7 @@
 // parameter vector (layout = parameters()), so one model object serves every iterate of a
 // calibration and every thread (Pinocchio's model/data split).
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ struct Actuator {
   /// Whether a controller commands it (a joint, a leg); false for an input the mechanism
   /// reads but nobody commands (a payload's mass): compensation leaves it as given.
   bool commanded = true;
+  /// The joint's limits in `unit` (a URDF's <limit>); infinite where it has none. Experiment
+  /// design draws only within them, and by default within them where every joint has some.
+  double lower = -std::numeric_limits<double>::infinity();
+  double upper = std::numeric_limits<double>::infinity();
 };
 
 struct ForwardKinematicsOptions {

@@ -311,10 +311,10 @@ std::string design_text(const ExperimentDesignResult& r, const std::string& temp
       printable(r.model_file).c_str(), criterion, design.count, r.rows.size(),
       static_cast<unsigned long long>(design.seed));
   out += format_text(
-      "candidates: %d (%d box corners + random; rejected: %d unreachable, %d below the "
+      "candidates: %d (%s; %d box corners + random; rejected: %d unreachable, %d below the "
       "singularity margin %g%s)\n",
-      candidates.size(), candidates.num_corners, candidates.rejected_unreachable,
-      candidates.rejected_singular, design.min_singularity_margin,
+      candidates.size(), ("from " + candidates.region).c_str(), candidates.num_corners,
+      candidates.rejected_unreachable, candidates.rejected_singular, design.min_singularity_margin,
       model.sensors_can_miss()
           ? format_text(", %d with nothing in view", candidates.rejected_unseen).c_str()
           : "");
@@ -390,7 +390,18 @@ nlohmann::ordered_json design_json(const ExperimentDesignResult& r,
                      {"rejected_unreachable", candidates.rejected_unreachable},
                      {"rejected_singular", candidates.rejected_singular},
                      {"rejected_unseen", candidates.rejected_unseen},
-                     {"singularity_margin", design.min_singularity_margin}};
+                     {"singularity_margin", design.min_singularity_margin},
+                     {"region", candidates.region}};
+  if (candidates.region_low.size() > 0) {
+    Json low = Json::object(), high = Json::object();
+    for (int a = 0; a < model.mechanism().num_actuators(); ++a) {
+      const Actuator& actuator = model.mechanism().actuators()[static_cast<std::size_t>(a)];
+      low[actuator.name] = candidates.region_low[a];
+      high[actuator.name] = candidates.region_high[a];
+    }
+    j["candidates"]["region_low"] = low;
+    j["candidates"]["region_high"] = high;
+  }
   Json noise = Json::object();
   for (int i = 0; i < model.num_readings(); ++i)
     noise[model.reading_names()[i]] = setup.noise_std[i];

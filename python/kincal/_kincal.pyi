@@ -201,5 +201,5 @@ def _design(
     fix: List[str], prior_std: List[str], noise_std: str, existing_path: Optional[str],
     existing_actuators: Any, existing_readings: Any, bound: bool, out: str, json: str,
     html: str, model_path: str, inputs: List[str], catch_sigint: bool, within: Any,
-    candidate_configurations: Any,
+    candidate_configurations: Any, centre: Any,
 ) -> Dict[str, Any]: ...

@@ -388,6 +388,7 @@ def design(
     bound: bool = False,
     within: Optional[npt.ArrayLike] = None,
     candidate_configurations: Optional[npt.ArrayLike] = None,
+    centre: Optional[npt.ArrayLike] = None,
     out: Optional[PathLike] = None,
     json: Optional[PathLike] = None,
     html: Optional[PathLike] = None,
@@ -396,7 +397,9 @@ def design(
     design`` runs it. ``criterion`` D, A, E or I; ``candidates`` random candidates drawn in
     the actuators' box (``config_range``, default each actuator's range) from ``seed``, or in
     the range of the configurations ``within`` (rows x actuators: where the robot was
-    measured, as ``--within``), or the given ``candidate_configurations`` (``--candidates-file``);
+    measured, as ``--within``), or the given ``candidate_configurations`` (``--candidates-file``),
+    or around the configuration ``centre`` (``--centre``) instead of home; an arm whose joints
+    all have limits (a URDF's) is drawn within them by default, and every box within them;
     ``noise_std`` the readings' noise (default the model's reading_std, which it must then
     state); ``existing`` data already measured (Measurements or a file); ``bound`` also bounds
     how good any design can be. ``report.configurations`` is a Measurements template of the
@@ -422,7 +425,8 @@ def design(
             threading.current_thread() is threading.main_thread(),
             None if within is None else np.asarray(within, dtype=float),
             None if candidate_configurations is None
-            else np.asarray(candidate_configurations, dtype=float))
+            else np.asarray(candidate_configurations, dtype=float),
+            None if centre is None else np.asarray(centre, dtype=float))
     except ValueError as e:
         raise KincalError(str(e)) from None
     if answer["stopped_before_design"]:

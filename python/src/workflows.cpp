@@ -582,7 +582,8 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
                          bool bound, const std::string& out, const std::string& json,
                          const std::string& html, const std::string& model_path,
                          const std::vector<std::string>& inputs, bool catch_sigint,
-                         const py::object& within, const py::object& candidate_configurations) {
+                         const py::object& within, const py::object& candidate_configurations,
+                         const py::object& centre) {
   ExperimentDesignRequest request;
   DesignOptions& design = request.options;
   const py::ssize_t na = handle.model->mechanism().num_actuators();
@@ -598,6 +599,13 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
   if (!candidate_configurations.is_none()) {
     const auto rows = as_rows(candidate_configurations, "candidate_configurations", na);
     design.given = rows_view(rows);
+  }
+  if (!centre.is_none()) {
+    if (!within.is_none() || !candidate_configurations.is_none())
+      throw std::invalid_argument(
+          "give one of within, candidate_configurations and centre, not several");
+    const auto values = as_vector(centre, "centre", na);
+    design.centre = Eigen::Map<const VectorXd>(values.data(), na);
   }
   design.count = count;
   design.num_random = candidates;
@@ -829,6 +837,7 @@ void bind_workflows(py::module_& m) {
         py::arg("existing_actuators"), py::arg("existing_readings"), py::arg("bound"),
         py::arg("out"), py::arg("json"), py::arg("html"), py::arg("model_path"), py::arg("inputs"),
         py::arg("catch_sigint"), py::arg("within"), py::arg("candidate_configurations"),
+        py::arg("centre"),
         "The design workflow (kincal.design is its face): a dict with the report's JSON text, "
         "the text report, the notes, the configurations chosen and whether it was "
         "interrupted.");

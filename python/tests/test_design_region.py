@@ -40,3 +40,31 @@ def test_within_and_given_candidates(program, source_dir, tmp_path):
     with pytest.raises(kincal.KincalError, match="not both"):
         kincal.design(model, count=20, noise_std="0.065mm", within=measured,
                       candidate_configurations=given)
+
+
+def test_limits_by_default_and_centre(program, source_dir, tmp_path):
+    urdf = source_dir / "examples" / "ur5-laser-tracker" / "ur5.urdf"
+    model = kincal.model_from_urdf(str(urdf), "flange", point=[0, 0.09, 31])
+    d = kincal.design(model, count=20, candidates=1000, noise_std="0.065mm")
+    assert d["candidates"]["region"] == "the joint limits"
+    q = d.configurations.actuators
+    assert (np.abs(q[:, 2]) <= np.pi + 1e-12).all() and np.abs(q).max() > 1.0
+    centre = [0, -1.5, 3, -1.5, -1.5, 0]
+    c = kincal.design(model, count=30, candidates=1000, noise_std="0.065mm", centre=centre,
+                      config_range="0.5rad")
+    assert c["candidates"]["region"].endswith("clipped to the joint limits")
+    q = c.configurations.actuators
+    assert (np.abs(q - centre) <= 0.5 + 1e-12).all() and (q[:, 2] <= np.pi + 1e-12).all()
+    # The program's --centre writes the same template.
+    model_file = tmp_path / "ur5.json"
+    model_file.write_text(model.to_json())
+    out_py, out_cli = tmp_path / "py.csv", tmp_path / "cli.csv"
+    kincal.design(str(model_file), count=30, candidates=1000, noise_std="0.065mm", centre=centre,
+                  config_range="0.5rad", out=str(out_py))
+    subprocess.run([program, "design", "--model", str(model_file), "--centre",
+                    ",".join(str(v) for v in centre), "--config-range", "0.5rad", "--poses", "30",
+                    "--candidates", "1000", "--noise-std", "0.065mm", "--out", str(out_cli)],
+                   check=True, capture_output=True)
+    assert out_py.read_text() == out_cli.read_text()
+    with pytest.raises(kincal.KincalError, match="not several"):
+        kincal.design(model, count=20, noise_std="0.065mm", centre=centre, within=[centre])

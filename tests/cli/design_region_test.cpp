@@ -1,5 +1,6 @@
 // Designs a robot can use (issue 40): `design --within D.csv` draws the candidates in the
-// range the robot was measured in, `--candidates-file` takes them as given, and on a freshly
+// range the robot was measured in, `--candidates-file` takes them as given, `--centre` around
+// a configuration, an arm with joint limits within them by default, and on a freshly
 // imported URDF arm (every parameter free) design keeps what the candidates determine, as
 // calibrate does, instead of stopping.
 
@@ -103,7 +104,56 @@ TEST(DesignRegion, AnImportedArmIsDesignedInsideTheMeasuredRange) {
                             dir / "measured.csv" + " --candidates-file " + dir / "given.csv" +
                             " --poses 30 --noise-std 0.065mm --out " + dir / "x.csv");
   EXPECT_EQ(both.exit_code, 2);
-  EXPECT_NE(both.err.find("not both"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("give one of --within, --candidates-file and --centre"),
+            std::string::npos)
+      << both.err;
+}
+
+// Without a region, an arm whose joints all have limits is designed within them (the UR5's
+// URDF: +-2 pi, the elbow +-pi), never in the old small box around zero; --centre draws
+// around a configuration, the box clipped to the limits.
+TEST(DesignRegion, AnArmWithLimitsIsDesignedWithinThem) {
+  TempDir dir("design-limits");
+  ASSERT_EQ(run_cli("model --urdf " + ur5_urdf() + " --tip flange --point 0,0.09,31 --out " +
+                    dir / "ur5.json")
+                .exit_code,
+            0);
+  const auto r = run_cli("design --model " + dir / "ur5.json" +
+                         " --poses 30 --candidates 2000 --noise-std 0.065mm --out " +
+                         dir / "configs.csv" + " --json " + dir / "design.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(from the joint limits;"), std::string::npos) << r.out;
+  double widest = 0;
+  for (const auto& row : rows_of(dir / "configs.csv"))
+    for (int i = 0; i < 6; ++i) {
+      const double q = row[static_cast<std::size_t>(i)];
+      EXPECT_LE(std::abs(q), (i == 2 ? M_PI : 2 * M_PI) + 1e-12) << i;
+      widest = std::max(widest, std::abs(q));
+    }
+  EXPECT_GT(widest, 1.0);  // beyond the old +-0.5 rad box around zero
+  const std::string json = read_text(dir / "design.json");
+  EXPECT_NE(json.find("\"region\": \"the joint limits\""), std::string::npos);
+
+  const auto c = run_cli("design --model " + dir / "ur5.json" +
+                         " --centre 0,-1.5,3,-1.5,-1.5,0 --config-range 0.5rad --poses 30 "
+                         "--candidates 2000 --noise-std 0.065mm --out " +
+                         dir / "centred.csv");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  EXPECT_NE(c.out.find("(from the centre ± the actuator ranges, clipped to the joint limits;"),
+            std::string::npos)
+      << c.out;
+  const double centre[6] = {0, -1.5, 3, -1.5, -1.5, 0};
+  for (const auto& row : rows_of(dir / "centred.csv"))
+    for (int i = 0; i < 6; ++i) {
+      const double q = row[static_cast<std::size_t>(i)];
+      EXPECT_LE(std::abs(q - centre[i]), 0.5 + 1e-12) << i;
+      if (i == 2) {
+        EXPECT_LE(q, M_PI + 1e-12);
+      }
+    }
+  const auto wrong = run_cli("design --model " + dir / "ur5.json" +
+                             " --centre 0,1 --poses 30 --noise-std 0.065mm --out " + dir / "x.csv");
+  EXPECT_EQ(wrong.exit_code, 2);
 }
 
 }  // namespace
