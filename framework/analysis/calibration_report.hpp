@@ -86,6 +86,8 @@ struct CalibrationReport {
   std::vector<ConstraintResidual> constraints;
   /// Parameters the user freed but the analysis fixed (--allow-rank-deficient).
   std::vector<std::string> fixed_by_identifiability;
+  /// For each of fixed_by_identifiability, what the data see of it (dependent_effect).
+  std::vector<std::string> fixed_effects;
   std::vector<int> skipped_lines;  ///< rows dropped as unreachable (--skip-bad-rows)
   /// Readings dropped because their sensor gives none there (Sensor::reads_at), one line
   /// each: "line 12: laser: beam misses the plane".

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "kincal/framework/analysis/identifiability_words.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/kinematics/units.hpp"
 
@@ -160,15 +161,19 @@ std::string to_text(const CalibrationReport& r) {
            "posterior std; data % = the share of each parameter the data determine (1 - "
            "posterior var / prior var), the rest is the prior's\n";
   out << "parameters:\n";
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "  %-22s %-4s %14s %14s %12s %12s", "name", "unit", "nominal",
-                "estimate", "change", "std");
+  // The name column as wide as the longest name (an imported arm's reach 29 characters).
+  int name_width = 22;
+  for (const std::string& name : r.names)
+    name_width = std::max(name_width, static_cast<int>(std::min<std::size_t>(name.size(), 128)));
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "  %-*s %-4s %14s %14s %12s %12s", name_width, "name", "unit",
+                "nominal", "estimate", "change", "std");
   out << buf << (r.prior ? "    prior std  data %\n" : "\n");
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const double change = r.units[i] == kRadian ? wrap_angle(r.estimate[i] - r.nominal[i])
                                                 : r.estimate[i] - r.nominal[i];
-    std::snprintf(buf, sizeof buf, "  %-22s %-4s %14.6f %14.6f %12.6f %12.3g", r.names[i].c_str(),
-                  r.units[i].c_str(), r.nominal[i], r.estimate[i], change,
+    std::snprintf(buf, sizeof buf, "  %-*s %-4s %14.6f %14.6f %12.6f %12.3g", name_width,
+                  r.names[i].c_str(), r.units[i].c_str(), r.nominal[i], r.estimate[i], change,
                   r.uncertainty.std.size() ? r.uncertainty.std[i] : NAN);
     out << buf;
     if (r.prior && r.uncertainty.data_share.size()) {
@@ -183,8 +188,8 @@ std::string to_text(const CalibrationReport& r) {
       out << "\n";
     }
   }
-  for (const auto& name : r.fixed_by_identifiability)
-    out << "  " << name << ": fixed at its model value (not identifiable from this data)\n";
+  if (!r.fixed_by_identifiability.empty())
+    out << fixed_parameters_table(r.fixed_by_identifiability, r.fixed_effects);
   // The strongest correlations are what a reader acts on; the matrix is in the JSON.
   double worst = 0;
   int wi = -1, wj = -1;

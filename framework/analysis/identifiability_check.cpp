@@ -196,13 +196,15 @@ IdentifiabilityCheck check_identifiability(const std::string& where,
         deficiency +
         "; no free parameter is identifiable from this data, so there is nothing to "
         "solve for (--allow-rank-deficient needs at least one)");
-  check.notes.push_back("the data determine " + std::to_string(keep.size()) + " of the " +
-                        std::to_string(check.free.size()) +
-                        " free parameters; fixing the others at their model values (each named "
-                        "with what it duplicates, a null direction of the data):");
+  check.notes.push_back(
+      "the data determine " + std::to_string(keep.size()) + " of the " +
+      std::to_string(check.free.size()) + " free parameters; the other " +
+      std::to_string(check.free.size() - keep.size()) +
+      " are fixed at their model values (the table of fixed parameters says what each "
+      "duplicates, a direction the data cannot see)");
   for (const DependentParameter& d : dependent) {
     check.null_directions.push_back(describe_dependent(d, model));
-    check.notes.push_back("  " + check.null_directions.back());
+    check.fixed_effects.push_back(dependent_effect(d, model));
   }
   const std::vector<int> free = check.free;
   check.free.clear();

@@ -24,6 +24,9 @@ struct IdentifiabilityCheck {
   /// For each of `fixed`, in words, what it duplicates (a null direction of the data), or
   /// that no reading depends on it (framework/analysis/identifiability_words.hpp).
   std::vector<std::string> null_directions;
+  /// For each of `fixed`, the part of its null direction after its name (dependent_effect),
+  /// for the aligned table of fixed parameters (fixed_parameters_table).
+  std::vector<std::string> fixed_effects;
   /// What a user should read, in order (which parameters were fixed and why, what the prior
   /// determines), for the caller to show.
   std::vector<std::string> notes;

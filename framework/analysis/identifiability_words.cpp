@@ -1,5 +1,6 @@
 #include "kincal/framework/analysis/identifiability_words.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace kincal {
@@ -38,9 +39,38 @@ std::string parameter_words(const std::string& name) {
 }
 
 std::string describe_dependent(const DependentParameter& d, const MeasurementModel& model) {
-  std::string text = d.name + " (" + parameter_words(d.name) + ")";
+  const std::string effect = dependent_effect(d, model);
+  return d.name + " (" + parameter_words(d.name) + ")" +
+         (effect.rfind("moves", 0) == 0 ? " " : ": ") + effect;
+}
+
+std::string fixed_parameters_table(const std::vector<std::string>& names,
+                                   const std::vector<std::string>& effects) {
+  std::size_t name_width = 9, words_width = 8;  // "parameter", "in words"
+  std::vector<std::string> words;
+  for (const std::string& name : names) {
+    words.push_back(parameter_words(name));
+    name_width = std::max(name_width, name.size());
+    words_width = std::max(words_width, words.back().size());
+  }
+  auto pad = [](std::string text, std::size_t width) {
+    text.resize(std::max(text.size(), width), ' ');
+    return text;
+  };
+  std::string out = "fixed at their model values, not identifiable from this data (" +
+                    std::to_string(names.size()) + "), with what each duplicates:\n";
+  out += "  " + pad("parameter", name_width) + "  " + pad("in words", words_width) +
+         "  what the data see of it\n";
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out += "  " + pad(names[i], name_width) + "  " + pad(words[i], words_width) + "  " +
+           (i < effects.size() ? effects[i] : std::string("not determined")) + "\n";
+  return out;
+}
+
+std::string dependent_effect(const DependentParameter& d, const MeasurementModel& model) {
+  std::string text;
   if (d.unseen) {
-    text += ": no reading depends on it";
+    text = "no reading depends on it";
     const int index = model.parameters().find(d.name);
     if (ends_with(d.name, ".offset") && index >= 0 && model.parameters()[index].unit == "rad")
       text += " (the measured point lies on " + d.name.substr(0, d.name.size() - 7) + "'s axis)";
@@ -50,9 +80,8 @@ std::string describe_dependent(const DependentParameter& d, const MeasurementMod
   }
   // A turn of the measurement frame changes no fit: a gauge freedom (docs/theory.md).
   const std::string turn = " a turn of the whole setup, which changes no fit (a gauge freedom)";
-  if (d.equivalent.empty())
-    return text + (d.turn ? " moves the readings only as" + turn : ": not determined");
-  text += " moves the readings as";
+  if (d.equivalent.empty()) return d.turn ? "moves the readings only as" + turn : "not determined";
+  text = "moves the readings as";
   char buf[32];
   for (std::size_t k = 0; k < d.equivalent.size() && k < 4; ++k) {
     std::snprintf(buf, sizeof buf, "%+.3g", d.equivalent[k].second);

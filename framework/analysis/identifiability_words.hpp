@@ -21,6 +21,15 @@ std::string parameter_words(const std::string& name);
 /// when it takes a turn of the measurement frame to duplicate them, that too.
 std::string describe_dependent(const DependentParameter& d, const MeasurementModel& model);
 
+/// The sentence of describe_dependent after the parameter's name and words: "moves the
+/// readings as +1 x base.x", "no reading depends on it (...)", "not determined".
+std::string dependent_effect(const DependentParameter& d, const MeasurementModel& model);
+
+/// The fixed parameters as one aligned table, one line each ("  name  in words  effect"),
+/// under a header line: what calibrate prints instead of a note per parameter.
+std::string fixed_parameters_table(const std::vector<std::string>& names,
+                                   const std::vector<std::string>& effects);
+
 /// The columns of J (the free parameters `free` of `model`) to keep: identifiable_subset, with
 /// the model's identification_priority (an arm imported from a URDF states one), and the turns of
 /// the measurement frame (measurement_frame_turns, rows as J's) that change no fit.

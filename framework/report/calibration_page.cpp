@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "kincal/framework/analysis/identifiability_words.hpp"
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/report/html_page.hpp"
 #include "kincal/framework/report/sections.hpp"
@@ -201,6 +202,71 @@ std::vector<ParameterRow> parameter_rows(const CalibrationReport& r) {
   return rows;
 }
 
+double correction_reach(const ParameterRow& p) {
+  return std::abs(p.change) + (std::isfinite(p.std) ? p.std : 0);
+}
+
+struct CorrectionGroup {
+  std::vector<const ParameterRow*> rows;
+  std::string title_suffix;
+};
+
+// One unit's corrections, split where one scale would hide most of them: the corrections
+// reaching beyond 10 times the group's 75th percentile (the UR5's 33.7 mm reflector offset
+// beside 0.1 mm joint corrections) get a chart of their own, on their own scale.
+std::vector<CorrectionGroup> correction_groups(const std::vector<const ParameterRow*>& all) {
+  std::vector<double> reaches;
+  for (const ParameterRow* p : all) reaches.push_back(correction_reach(*p));
+  std::vector<double> sorted = reaches;
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted.size() < 4) return {{all, ""}};  // too few to call one an exception
+  const double typical = sorted[std::min(sorted.size() - 1, (sorted.size() * 3) / 4)];
+  CorrectionGroup small, large;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    (typical > 0 && reaches[i] > 10 * typical ? large : small).rows.push_back(all[i]);
+  if (large.rows.empty() || small.rows.empty()) return {{all, ""}};
+  large.title_suffix = large.rows.size() == 1 ? ", the large one on its own scale"
+                                              : ", the " + std::to_string(large.rows.size()) +
+                                                    " large ones on their own scale";
+  small.title_suffix = ", the others";
+  return {small, large};
+}
+
+std::string corrections_chart(const CorrectionGroup& group, const DisplayUnit& du) {
+  const std::vector<const ParameterRow*>& list = group.rows;
+  double extent = 0;
+  std::size_t longest = 0;
+  for (const auto* p : list) {
+    extent = std::max(extent, correction_reach(*p) * du.scale);
+    longest = std::max(longest, p->name.size());
+  }
+  extent = extent > 0 ? extent * 1.05 : 1;
+  const int height = 30 + 46 + 18 * static_cast<int>(list.size());
+  // Room for the longest name in the labels' 10 px monospace (0.6 em a character), so that
+  // no label is clipped at the chart's left edge.
+  const int margin = std::max(170, static_cast<int>(std::min<std::size_t>(longest, 80) * 6.2) + 16);
+  SvgChart chart(1000, height, "Corrections (" + du.label + ")" + group.title_suffix, margin);
+  chart.set_x({-extent, extent, false, "estimate - nominal (" + du.label + ")"});
+  chart.set_y({0.5, static_cast<double>(list.size()) + 0.5, false, ""});
+  chart.draw_axes(true, false);
+  chart.line(0, 0.5, 0, list.size() + 0.5, "zero");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const ParameterRow& p = *list[i];
+    // First parameter at the top.
+    const double y = static_cast<double>(list.size() - i), c = p.change * du.scale,
+                 s = p.std * du.scale;
+    chart.text_px(chart.left() - 4, chart.py(y) + 4, p.name, "label", "end");
+    if (std::isfinite(s)) {
+      chart.line(c - s, y, c + s, y, "errbar");
+      chart.line(c - s, y - 0.25, c - s, y + 0.25, "errbar");
+      chart.line(c + s, y - 0.25, c + s, y + 0.25, "errbar");
+    }
+    chart.point(c, y, 3.5, p.weak ? "est-weak" : "est",
+                p.name + ": " + fmt(c, 4) + " \xC2\xB1 " + fmt(s, 3) + " " + du.label);
+  }
+  return chart.str();
+}
+
 std::string parameters_html(const CalibrationReport& r) {
   const std::vector<ParameterRow> rows = parameter_rows(r);
   if (rows.empty()) return "<p>No estimated parameters.</p>";
@@ -210,35 +276,9 @@ std::string parameters_html(const CalibrationReport& r) {
       "direction (section Identifiability).</p>";
   std::map<std::string, std::vector<const ParameterRow*>> by_unit;
   for (const auto& row : rows) by_unit[row.unit].push_back(&row);
-  for (const auto& [unit, list] : by_unit) {
-    const DisplayUnit du = display_unit(unit);
-    double extent = 0;
-    for (const auto* p : list) {
-      const double reach = std::abs(p->change) + (std::isfinite(p->std) ? p->std : 0);
-      extent = std::max(extent, reach * du.scale);
-    }
-    extent = extent > 0 ? extent * 1.05 : 1;
-    const int height = 30 + 46 + 18 * static_cast<int>(list.size());
-    SvgChart chart(1000, height, "Corrections (" + du.label + ")", 170);
-    chart.set_x({-extent, extent, false, "estimate - nominal (" + du.label + ")"});
-    chart.set_y({0.5, static_cast<double>(list.size()) + 0.5, false, ""});
-    chart.draw_axes(true, false);
-    chart.line(0, 0.5, 0, list.size() + 0.5, "zero");
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const ParameterRow& p = *list[i];
-      // First parameter at the top.
-      const double y = static_cast<double>(list.size() - i), c = p.change * du.scale,
-                   s = p.std * du.scale;
-      chart.text_px(chart.left() - 4, chart.py(y) + 4, p.name, "label", "end");
-      if (std::isfinite(s)) {
-        chart.line(c - s, y, c + s, y, "errbar");
-        chart.line(c - s, y - 0.25, c - s, y + 0.25, "errbar");
-        chart.line(c + s, y - 0.25, c + s, y + 0.25, "errbar");
-      }
-      chart.point(c, y, 3.5, p.weak ? "est-weak" : "est",
-                  p.name + ": " + fmt(c, 4) + " \xC2\xB1 " + fmt(s, 3) + " " + du.label);
-    }
-    out += chart.str();
+  for (const auto& [unit, all] : by_unit) {
+    for (const CorrectionGroup& group : correction_groups(all))
+      out += corrections_chart(group, display_unit(unit));
   }
   // The table, with the prior's columns.
   const ParameterUncertainty& u = r.uncertainty;
@@ -261,9 +301,19 @@ std::string parameters_html(const CalibrationReport& r) {
   }
   out += "</table>";
   if (!r.fixed_by_identifiability.empty()) {
-    out += "<p>Fixed at their model values because the data cannot determine them:";
-    for (const auto& name : r.fixed_by_identifiability) out += " <code>" + esc(name) + "</code>";
-    out += "</p>";
+    out += "<p>Fixed at their model values because the data cannot determine them (" +
+           std::to_string(r.fixed_by_identifiability.size()) +
+           "), each with what it duplicates, a direction the data cannot see:</p>"
+           "<table><tr><th class=\"name\">parameter</th><th class=\"name\">in words</th>"
+           "<th class=\"name\">what the data see of it</th></tr>";
+    for (std::size_t i = 0; i < r.fixed_by_identifiability.size(); ++i) {
+      const std::string& name = r.fixed_by_identifiability[i];
+      out += "<tr><td class=\"name\">" + esc(name) + "</td><td class=\"name\">" +
+             esc(parameter_words(name)) + "</td><td class=\"name\">" +
+             esc(i < r.fixed_effects.size() ? r.fixed_effects[i] : std::string("not determined")) +
+             "</td></tr>";
+    }
+    out += "</table>";
   }
   return out;
 }

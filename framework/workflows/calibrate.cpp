@@ -278,6 +278,7 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
     free = std::move(check.free);
     result.fixed_by_identifiability = std::move(check.fixed);
     result.null_directions = std::move(check.null_directions);
+    result.fixed_effects = std::move(check.fixed_effects);
   }
   if (data.size() * model->num_readings() == static_cast<int>(free.size()))
     say("as many readings as free parameters: the fit is exact and the "
@@ -345,6 +346,7 @@ CalibrateResult calibrate(const CalibrateRequest& request) {
   report.model_file = request.model_file;
   report.data_file = request.data_file;
   report.fixed_by_identifiability = result.fixed_by_identifiability;
+  report.fixed_effects = result.fixed_effects;
   report.skipped_lines = loaded.skipped_lines;
   report.dropped_readings = loaded.dropped_readings;
   if (home_check.far) report.warnings.push_back(home_check.warning);

@@ -111,6 +111,7 @@ struct CalibrateResult {
   std::vector<int> free;
   std::vector<std::string> fixed_by_identifiability;
   std::vector<std::string> null_directions;
+  std::vector<std::string> fixed_effects;  ///< per fixed: dependent_effect
   CalibrationReport report;
   StartsReport starts;
   CalibrationVerdict verdict;

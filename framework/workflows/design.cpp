@@ -348,13 +348,17 @@ std::string design_text(const ExperimentDesignResult& r, const std::string& temp
                         o.orientation_rms);
   out += prediction_row("orientation error max 95% (rad)", d.orientation_max_95,
                         a.orientation_max_95, o.orientation_max_95);
-  out += format_text("predicted parameter std:\n  %-22s %-4s %12s %12s %12s\n", "name", "unit",
-                     "designed", "random", "nominal");
+  int name_width = 22;  // as wide as the longest name (an imported arm's reach 29)
+  for (int index : setup.free_indices)
+    name_width = std::max(name_width, static_cast<int>(std::min<std::size_t>(
+                                          model.parameters()[index].name.size(), 128)));
+  out += format_text("predicted parameter std:\n  %-*s %-4s %12s %12s %12s\n", name_width, "name",
+                     "unit", "designed", "random", "nominal");
   for (std::size_t c = 0; c < setup.free_indices.size(); ++c) {
     const Parameter& p = model.parameters()[setup.free_indices[c]];
     const auto k = static_cast<Eigen::Index>(c);
     out +=
-        format_text("  %-22s %-4s %s %s %s\n", p.name.c_str(), p.unit.c_str(),
+        format_text("  %-*s %-4s %s %s %s\n", name_width, p.name.c_str(), p.unit.c_str(),
                     figure(std::sqrt(r.designed_cov(k, k))).c_str(),
                     figure(std::sqrt(r.random_cov(k, k))).c_str(), figure(setup.scale[k]).c_str());
   }

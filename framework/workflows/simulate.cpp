@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "kincal/framework/analysis/identifiability_check.hpp"
+#include "kincal/framework/analysis/identifiability_words.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/calibration/prior_and_noise.hpp"
 #include "kincal/framework/kinematics/units.hpp"
@@ -205,6 +206,13 @@ SimulateResult simulate(const SimulateRequest& request) {
           *problem, J, when_rank_deficient(*model, request.allow_rank_deficient, false),
           IdentifiabilityOptions{}, request.rank_deficiency_remedy);
       for (const std::string& text : check.notes) say(text);
+      if (!check.fixed.empty()) {
+        const std::string table = fixed_parameters_table(check.fixed, check.fixed_effects);
+        for (std::size_t start = 0, end; start < table.size(); start = end + 1) {
+          end = table.find('\n', start);
+          say(table.substr(start, end - start));
+        }
+      }
       scenario.free_indices = check.free;
       result.fixed_by_identifiability = check.fixed;
     }

@@ -124,6 +124,38 @@ TEST(ReportPages, TheFindingsAreTheVerdictsThenThePagesAtTheirLevels) {
   EXPECT_EQ(met.back().level, Finding::Level::kGood);
 }
 
+// One correction 300 times the others' (the UR5's 33.7 mm reflector offset beside 0.1 mm
+// joint corrections) gets a chart of its own, and no label is clipped: the left margin holds
+// the longest name (29 characters) in the labels' 10 px monospace.
+TEST(ReportPages, OneLargeCorrectionDoesNotSwampTheOthersAndNoLabelIsClipped) {
+  CalibrateResult result;
+  result.solved = true;
+  CalibrationReport& r = result.report;
+  const int n = 8;
+  r.nominal = VectorXd::Zero(n);
+  r.estimate = VectorXd(n);
+  r.uncertainty.std = VectorXd::Constant(n, 0.02);
+  for (int i = 0; i < n; ++i) {
+    r.names.push_back(i == 0 ? "shoulder_lift_joint.origin.rz"
+                             : "joint" + std::to_string(i) + ".x");
+    r.units.push_back("mm");
+    r.estimate[i] = 0.1 * (i % 3 - 1) + 0.05;
+  }
+  r.names[n - 1] = "tool.z";
+  r.estimate[n - 1] = 33.7;
+  const std::string html = report::calibration_html(result);
+  EXPECT_EQ(count(html, ">Corrections (mm), the others<"), 1u) << html.substr(0, 2000);
+  EXPECT_EQ(count(html, ">Corrections (mm), the large one on its own scale<"), 1u);
+  // Every label's right end (text-anchor end) leaves room for its characters at 6 px each.
+  for (std::size_t at = html.find("class=\"label\" x=\""); at != std::string::npos;
+       at = html.find("class=\"label\" x=\"", at + 1)) {
+    const double x = std::stod(html.substr(at + 17));
+    const std::size_t open = html.find('>', at), close = html.find("</text>", open);
+    const std::size_t chars = close - open - 1;
+    EXPECT_GE(x, 6.0 * static_cast<double>(chars)) << html.substr(open, close - open);
+  }
+}
+
 TEST(ReportPages, AnEmptyResultStillGivesAPage) {
   const std::string html = report::calibration_html(CalibrateResult());
   EXPECT_NE(html.find("No residuals"), std::string::npos);

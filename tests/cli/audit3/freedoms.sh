@@ -33,7 +33,7 @@ freedoms_kept() {
   check "A7: $robot, every parameter free: calibrate" 0 $? "$robot-cal.err" \
     "the data determine $kept of the $of free parameters"
   for axis in x y z; do
-    has "$robot-cal.err" "note:   base\.r$axis \(.*a turn of the whole setup, which changes no fit \(a gauge freedom\)" \
+    has "$robot-cal.txt" "^  base\.r$axis +the base frame, rotation about $axis .*a turn of the whole setup, which changes no fit \(a gauge freedom\)" \
       "A7: $robot: base.r$axis is fixed as a turn of the whole setup"
   done
   "$kincal" observability --model "$robot-all.json" --data "$robot/train.csv" --json "$robot-obs.json" \
