@@ -54,7 +54,11 @@ int run_ik(const Args& args) {
       "the actuators' units; default: from home")(
       "all", po::bool_switch(),
       "with --pose: every distinct solution found (from --near or home and 200 starts over "
-      "the joints' ranges), nearest first");
+      "the joints' ranges), nearest first")(
+      "seeds", po::bool_switch(),
+      "with --data: each row's solution is the one nearest the configuration in its own "
+      "actuator columns (the model's actuator names, unit suffixes such as _deg allowed): a "
+      "start per row, e.g. where the robot is");
   // --poses is a count of configurations in every other command; a table is --data, as in fk.
   add_deprecated_alias(options, "poses", "data", po::value<std::string>());
   add_table_outputs(options);
@@ -68,16 +72,26 @@ int run_ik(const Args& args) {
     plan.input("--data", vm["data"].as<std::string>());
     if (!vm.count("model")) throw CliError("--model FILE is required");
     if (vm["all"].as<bool>()) throw CliError("--all takes one --pose, not a table (--data)");
+    const bool seeds = vm["seeds"].as<bool>();
+    if (seeds && vm.count("near")) throw CliError("give --near or --seeds, not both");
     plan.check();
     const auto model = load_model_option(vm);
     const VectorXd near = near_option(vm, *model);
     OutputPlan table_plan = plan;
-    return run_table("ik", vm, table_plan, *model, "data", kPoseColumns,
+    std::vector<std::string> columns = kPoseColumns;
+    if (seeds)
+      for (const std::string& name : model->mechanism().actuator_names()) columns.push_back(name);
+    return run_table("ik", vm, table_plan, *model, "data", columns,
                      [&](const MeasurementModel& m, const std::vector<double>& v) {
-                       return inverse_from_values(m, v, near.size() ? &near : nullptr);
+                       if (!seeds) return inverse_from_values(m, v, near.size() ? &near : nullptr);
+                       // This row's own start: the configuration in its actuator columns.
+                       const VectorXd seed = Eigen::Map<const VectorXd>(
+                           v.data() + 6, static_cast<Eigen::Index>(v.size() - 6));
+                       return inverse_from_values(m, v, &seed);
                      });
   }
   if (vm.count("out")) throw CliError("--out writes the table of --data; give --data FILE");
+  if (vm["seeds"].as<bool>()) throw CliError("--seeds reads a start per row of --data FILE");
   const std::string json_file = json_output(vm);
   if (!json_file.empty()) plan.output("--json", json_file);
   plan.check();

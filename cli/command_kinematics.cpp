@@ -1,5 +1,6 @@
 #include "kincal/cli/command_kinematics.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "kincal/cli/common_options.hpp"
@@ -33,13 +34,20 @@ int run_table(const std::string& command, const po::variables_map& vm, OutputPla
   MeasurementTable table;
   try {
     table = read_measurements(input_file, columns, {}, data_limits(vm));
-    // fk reads actuator columns, ik pose columns (whose names say mm and deg already).
-    if (columns == model.mechanism().actuator_names()) {
-      std::vector<std::string> units;
+    // fk reads actuator columns, ik pose columns (whose names say mm and deg already) and,
+    // with --seeds, the actuator columns after them: those take unit suffixes.
+    const std::vector<std::string> actuator_names = model.mechanism().actuator_names();
+    const std::size_t na = actuator_names.size();
+    if (columns.size() >= na &&
+        std::equal(actuator_names.begin(), actuator_names.end(), columns.end() - na)) {
+      std::vector<std::string> units(columns.size() - na, "");
       for (const auto& a : model.mechanism().actuators()) units.push_back(a.unit);
       convert_column_units(table, units, {}, input_file);
-      const std::string hint = check_data_units(model, model.parameters().nominal_values(), table);
-      if (!hint.empty()) throw CliError(input_file + ": " + hint);
+      if (columns.size() == na) {
+        const std::string hint =
+            check_data_units(model, model.parameters().nominal_values(), table);
+        if (!hint.empty()) throw CliError(input_file + ": " + hint);
+      }
     }
   } catch (const std::invalid_argument& e) {
     throw measurement_file_error(e);

@@ -39,6 +39,8 @@ class PoseTracker final : public Sensor {
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   /// x, y, z: the measured point in the tracker's frame.
   int position_reading_index() const override { return 0; }
+  /// rotvec_x, _y, _z: the marker's orientation in the tracker's frame.
+  int orientation_reading_index() const override { return 3; }
 
   void predict(const Eigen::Ref<const VectorXd>& params, const Pose& pose,
                Eigen::Ref<VectorXd> reading, MatrixXd* J_reading_pose,

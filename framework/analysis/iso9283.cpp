@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "kincal/framework/base/format_text.hpp"
+#include "kincal/framework/kinematics/pose.hpp"
 
 namespace kincal {
 
@@ -25,7 +26,23 @@ struct Group {
   int first_row;
   std::vector<Vector3d> measured;
   Vector3d predicted;
+  std::vector<Matrix3d> measured_rotation;  // with an orientation reading
+  Matrix3d predicted_rotation = Matrix3d::Identity();
 };
+
+// The rotation R̄ with Σ log(R_j R̄ᵀ) = 0, by fixed-point steps from the first (a few steps
+// suffice for the small spread of repeats).
+Matrix3d mean_rotation(const std::vector<Matrix3d>& rotations) {
+  Matrix3d mean = rotations.front();
+  for (int step = 0; step < 20; ++step) {
+    Vector3d delta = Vector3d::Zero();
+    for (const Matrix3d& R : rotations) delta += log_so3(R * mean.transpose());
+    delta /= static_cast<double>(rotations.size());
+    mean = exp_so3(delta) * mean;
+    if (delta.norm() < 1e-15) break;
+  }
+  return mean;
+}
 
 }  // namespace
 
@@ -38,6 +55,18 @@ Iso9283Stats iso9283_statistics(const MeasurementModel& model, const VectorXd& v
     if (index >= 0) offset = model.sensor_reading_offset(static_cast<int>(s)) + index;
   }
   if (offset < 0) return stats;
+  // The same sensor's orientation, when it measures one.
+  int rotation_offset = -1;
+  for (std::size_t s = 0; s < model.sensors().size(); ++s) {
+    const int o = model.sensor_reading_offset(static_cast<int>(s));
+    const int index = model.sensors()[s]->position_reading_index();
+    if (index >= 0 && o + index == offset) {
+      const int rotation = model.sensors()[s]->orientation_reading_index();
+      if (rotation >= 0) rotation_offset = o + rotation;
+      break;
+    }
+  }
+  stats.has_orientation = rotation_offset >= 0;
   // The rows of each configuration, in the order configurations first appear.
   std::map<std::vector<double>, int> index_of;
   std::vector<Group> groups;
@@ -46,6 +75,11 @@ Iso9283Stats iso9283_statistics(const MeasurementModel& model, const VectorXd& v
   for (int r = 0; r < data.size(); ++r) {
     const Vector3d p = data.readings.row(r).segment<3>(offset).transpose();
     if (!p.allFinite()) continue;
+    Vector3d rotation = Vector3d::Zero();
+    if (stats.has_orientation) {
+      rotation = data.readings.row(r).segment<3>(rotation_offset).transpose();
+      if (!rotation.allFinite()) continue;
+    }
     const VectorXd q = data.actuators.row(r).transpose();
     const std::vector<double> key(q.data(), q.data() + q.size());
     auto [it, fresh] = index_of.emplace(key, static_cast<int>(groups.size()));
@@ -55,9 +89,13 @@ Iso9283Stats iso9283_statistics(const MeasurementModel& model, const VectorXd& v
         index_of.erase(it);
         continue;
       }
-      groups.push_back({r, {}, predicted.segment<3>(offset)});
+      groups.push_back({r, {}, predicted.segment<3>(offset), {}, Matrix3d::Identity()});
+      if (stats.has_orientation)
+        groups.back().predicted_rotation = exp_so3(predicted.segment<3>(rotation_offset));
     }
-    groups[static_cast<std::size_t>(it->second)].measured.push_back(p);
+    Group& group = groups[static_cast<std::size_t>(it->second)];
+    group.measured.push_back(p);
+    if (stats.has_orientation) group.measured_rotation.push_back(exp_so3(rotation));
   }
   std::vector<int> pose_of_group(groups.size(), -1);
   for (std::size_t g = 0; g < groups.size(); ++g) {
@@ -74,6 +112,20 @@ Iso9283Stats iso9283_statistics(const MeasurementModel& model, const VectorXd& v
     double l_mean, l_std;
     mean_and_std(l, l_mean, l_std);
     pose.repeatability = l_mean + 3 * l_std;
+    if (stats.has_orientation) {
+      pose.has_orientation = true;
+      const Matrix3d mean = mean_rotation(group.measured_rotation);
+      pose.orientation_accuracy = log_so3(mean * group.predicted_rotation.transpose());
+      Vector3d squares = Vector3d::Zero();
+      for (const Matrix3d& R : group.measured_rotation)
+        squares += log_so3(R * mean.transpose()).cwiseAbs2();
+      pose.orientation_repeatability =
+          3 * (squares / static_cast<double>(group.measured_rotation.size() - 1)).cwiseSqrt();
+      stats.max_orientation_accuracy =
+          std::max(stats.max_orientation_accuracy, pose.orientation_accuracy.norm());
+      stats.max_orientation_repeatability =
+          std::max(stats.max_orientation_repeatability, pose.orientation_repeatability.maxCoeff());
+    }
     pose_of_group[g] = static_cast<int>(stats.poses.size());
     stats.poses.push_back(pose);
     stats.max_accuracy = std::max(stats.max_accuracy, pose.accuracy);
@@ -127,6 +179,11 @@ std::string iso9283_text(const Iso9283Stats& stats, const std::vector<int>& line
         "  distance accuracy |AD| max %.4g, repeatability RD max %.4g (%zu pairs of "
         "consecutive poses)\n",
         stats.max_distance_accuracy, stats.max_distance_repeatability, stats.distances.size());
+  if (stats.has_orientation)
+    out << format_text(
+        "  orientation accuracy |APa,b,c| max %.4g rad, repeatability RPa, RPb, RPc max %.4g rad "
+        "(a, b, c about the sensor's x, y, z)\n",
+        stats.max_orientation_accuracy, stats.max_orientation_repeatability);
   int count = 0;
   for (const Iso9283Pose& p : stats.poses) {
     if (count++ >= shown) {
@@ -134,8 +191,14 @@ std::string iso9283_text(const Iso9283Stats& stats, const std::vector<int>& line
                          stats.poses.size() - static_cast<std::size_t>(shown));
       break;
     }
-    out << format_text("  line %-5d n %-3d AP %-9.4g RP %-9.4g\n", line_of(lines, p.first_row),
+    out << format_text("  line %-5d n %-3d AP %-9.4g RP %-9.4g", line_of(lines, p.first_row),
                        p.repeats, p.accuracy, p.repeatability);
+    if (p.has_orientation)
+      out << format_text(" APabc %.3g %.3g %.3g  RPabc %.3g %.3g %.3g rad",
+                         p.orientation_accuracy.x(), p.orientation_accuracy.y(),
+                         p.orientation_accuracy.z(), p.orientation_repeatability.x(),
+                         p.orientation_repeatability.y(), p.orientation_repeatability.z());
+    out << "\n";
   }
   return out.str();
 }
@@ -144,13 +207,19 @@ nlohmann::ordered_json iso9283_json(const Iso9283Stats& stats, const std::vector
   using Json = nlohmann::ordered_json;
   const auto vec = [](const Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); };
   Json poses = Json::array();
-  for (const Iso9283Pose& p : stats.poses)
+  for (const Iso9283Pose& p : stats.poses) {
     poses.push_back({{"line", line_of(lines, p.first_row)},
                      {"repeats", p.repeats},
                      {"predicted_mm", vec(p.predicted)},
                      {"barycentre_mm", vec(p.barycentre)},
                      {"ap_mm", p.accuracy},
                      {"rp_mm", p.repeatability}});
+    if (p.has_orientation) {
+      poses.back()["ap_abc_rad"] = vec(p.orientation_accuracy);
+      poses.back()["ap_orientation_rad"] = p.orientation_accuracy.norm();
+      poses.back()["rp_abc_rad"] = vec(p.orientation_repeatability);
+    }
+  }
   Json distances = Json::array();
   for (const Iso9283Distance& d : stats.distances)
     distances.push_back(
@@ -160,12 +229,17 @@ nlohmann::ordered_json iso9283_json(const Iso9283Stats& stats, const std::vector
          {"commanded_mm", d.commanded},
          {"ad_mm", d.accuracy},
          {"rd_mm", d.repeatability}});
-  return {{"max_ap_mm", stats.max_accuracy},
-          {"max_rp_mm", stats.max_repeatability},
-          {"max_ad_mm", stats.max_distance_accuracy},
-          {"max_rd_mm", stats.max_distance_repeatability},
-          {"poses", poses},
-          {"distances", distances}};
+  Json out = {{"max_ap_mm", stats.max_accuracy},
+              {"max_rp_mm", stats.max_repeatability},
+              {"max_ad_mm", stats.max_distance_accuracy},
+              {"max_rd_mm", stats.max_distance_repeatability}};
+  if (stats.has_orientation) {
+    out["max_ap_orientation_rad"] = stats.max_orientation_accuracy;
+    out["max_rp_orientation_rad"] = stats.max_orientation_repeatability;
+  }
+  out["poses"] = poses;
+  out["distances"] = distances;
+  return out;
 }
 
 }  // namespace kincal

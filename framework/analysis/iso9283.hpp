@@ -20,6 +20,16 @@
 //   distance repeatability  RD = 3 S_D,  S_D = sqrt(Σ (D_j − D̄)² / (n − 1))
 //
 // Consecutive repeated configurations (in the order they first appear) form the pairs.
+//
+// Orientation, for a sensor that measures one (a pose tracker: orientations R_j, predicted
+// R_c): the standard's angles a, b, c about x, y, z are taken, for the small angles between
+// repeats, as the components of rotation vectors in the sensor's axes (no Euler convention to
+// choose, continuous at every attitude):
+//
+//   mean orientation   R̄: the rotation with Σ log(R_j R̄ᵀ) = 0 (iterated from R_1)
+//   accuracy           (APa, APb, APc) = log(R̄ R_cᵀ)               (and its angle |.|)
+//   repeatability      RPa = 3 S_a,  S_a = sqrt(Σ e_ja² / (n − 1)),  e_j = log(R_j R̄ᵀ)
+//                      (likewise b, c; ISO writes ±3 S_a)
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -36,6 +46,10 @@ struct Iso9283Pose {
   Vector3d barycentre = Vector3d::Zero();
   double accuracy = 0;       ///< AP, mm
   double repeatability = 0;  ///< RP, mm
+  /// With an orientation (else empty): (APa, APb, APc) and (RPa, RPb, RPc), rad.
+  bool has_orientation = false;
+  Vector3d orientation_accuracy = Vector3d::Zero();
+  Vector3d orientation_repeatability = Vector3d::Zero();
 };
 
 struct Iso9283Distance {
@@ -52,6 +66,9 @@ struct Iso9283Stats {
   /// The largest AP and RP over the poses, AD (absolute) and RD over the pairs.
   double max_accuracy = 0, max_repeatability = 0, max_distance_accuracy = 0,
          max_distance_repeatability = 0;
+  /// With an orientation: the largest angle |log(R̄ R_cᵀ)| and the largest RPa, RPb, RPc (rad).
+  bool has_orientation = false;
+  double max_orientation_accuracy = 0, max_orientation_repeatability = 0;
   bool computed() const { return !poses.empty(); }
 };
 
@@ -67,7 +84,9 @@ Iso9283Stats iso9283_statistics(const MeasurementModel& model, const VectorXd& v
 std::string iso9283_text(const Iso9283Stats& stats, const std::vector<int>& lines, int shown = 10);
 /// {"max_ap_mm", "max_rp_mm", "max_ad_mm", "max_rd_mm", "poses": [{line, repeats,
 ///  predicted_mm, barycentre_mm, ap_mm, rp_mm}], "distances": [{first, second, repeats,
-///  commanded_mm, ad_mm, rd_mm}]} (first, second: the poses' lines)
+///  commanded_mm, ad_mm, rd_mm}]} (first, second: the poses' lines); with an orientation also
+///  "max_ap_orientation_rad", "max_rp_orientation_rad" and per pose "ap_abc_rad",
+///  "ap_orientation_rad" (the angle), "rp_abc_rad".
 nlohmann::ordered_json iso9283_json(const Iso9283Stats& stats, const std::vector<int>& lines);
 
 }  // namespace kincal

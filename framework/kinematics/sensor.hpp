@@ -57,6 +57,10 @@ class Sensor {
   /// mm, in the sensor's own Cartesian frame), or -1 when the sensor measures no point (a
   /// length gauge). Accuracy in the field's terms (3-D position error) is computed from them.
   virtual int position_reading_index() const { return -1; }
+  /// Index of the first of three readings that are the measured frame's orientation as a
+  /// rotation vector (axis times angle, rad, in the sensor's frame), or -1 (the default) when
+  /// the sensor measures no orientation. ISO 9283's orientation statistics come from them.
+  virtual int orientation_reading_index() const { return -1; }
   /// Index of the first of three readings that are a vector in the measurement frame itself
   /// (the frame the mechanism's base and the sensors' own placements are given in), or -1
   /// (the default) for readings in a frame of the sensor's own (a tracker's) or no vector at

@@ -298,6 +298,64 @@ std::string reading_before_after_html(const View& view) {
   return out;
 }
 
+// ISO 9283's figures (framework/analysis/iso9283.hpp) as tables: the summary, then one row
+// per repeated configuration and per pair of consecutive ones.
+std::string iso9283_html(const ValidateResult& result) {
+  const Iso9283Stats& s = result.iso9283;
+  const auto line = [&](int row) {
+    return row < static_cast<int>(result.lines.size()) ? result.lines[static_cast<std::size_t>(row)]
+                                                       : row + 1;
+  };
+  std::string out =
+      "<p>The standard's command is the calibrated model's prediction at the commanded "
+      "configuration: accuracy AP is how far the measurements' barycentre lies from it, "
+      "repeatability RP = mean + 3 std of the distances from the barycentre";
+  if (s.has_orientation)
+    out += "; orientation a, b, c about the sensor's x, y, z as rotation-vector components";
+  out +=
+      " (docs: calibrating-a-machine.md, ISO 9283 statistics).</p><table><tr>"
+      "<th>largest AP (mm)</th><th>largest RP (mm)</th>";
+  if (!s.distances.empty()) out += "<th>largest |AD| (mm)</th><th>largest RD (mm)</th>";
+  if (s.has_orientation) out += "<th>largest AP angle (rad)</th><th>largest RPa,b,c (rad)</th>";
+  out += "</tr><tr><td>" + fmt(s.max_accuracy, 4) + "</td><td>" + fmt(s.max_repeatability, 4) +
+         "</td>";
+  if (!s.distances.empty())
+    out += "<td>" + fmt(s.max_distance_accuracy, 4) + "</td><td>" +
+           fmt(s.max_distance_repeatability, 4) + "</td>";
+  if (s.has_orientation)
+    out += "<td>" + fmt(s.max_orientation_accuracy, 4) + "</td><td>" +
+           fmt(s.max_orientation_repeatability, 4) + "</td>";
+  out +=
+      "</tr></table><table><tr><th>first line</th><th>repeats</th><th>AP (mm)</th>"
+      "<th>RP (mm)</th>";
+  if (s.has_orientation)
+    out += "<th>APa</th><th>APb</th><th>APc</th><th>RPa</th><th>RPb</th><th>RPc</th>";
+  out += "</tr>";
+  for (const Iso9283Pose& p : s.poses) {
+    out += "<tr><td>" + std::to_string(line(p.first_row)) + "</td><td>" +
+           std::to_string(p.repeats) + "</td><td>" + fmt(p.accuracy, 4) + "</td><td>" +
+           fmt(p.repeatability, 4) + "</td>";
+    if (p.has_orientation)
+      for (const Vector3d* v : {&p.orientation_accuracy, &p.orientation_repeatability})
+        for (int k = 0; k < 3; ++k) out += "<td>" + fmt((*v)[k], 3) + "</td>";
+    out += "</tr>";
+  }
+  out += "</table>";
+  if (!s.distances.empty()) {
+    out +=
+        "<table><tr><th>pair (first lines)</th><th>repeats</th><th>commanded (mm)</th>"
+        "<th>AD (mm)</th><th>RD (mm)</th></tr>";
+    for (const Iso9283Distance& d : s.distances)
+      out +=
+          "<tr><td>" + std::to_string(line(s.poses[static_cast<std::size_t>(d.first)].first_row)) +
+          " &amp; " + std::to_string(line(s.poses[static_cast<std::size_t>(d.second)].first_row)) +
+          "</td><td>" + std::to_string(d.repeats) + "</td><td>" + fmt(d.commanded, 6) +
+          "</td><td>" + fmt(d.accuracy, 4) + "</td><td>" + fmt(d.repeatability, 4) + "</td></tr>";
+    out += "</table>";
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string validation_html(const ValidateRequest& request, const ValidateResult& result,
@@ -317,6 +375,8 @@ std::string validation_html(const ValidateRequest& request, const ValidateResult
   else
     page.add_section("position", "3-D position error before and after calibration",
                      before_after_html(view));
+  if (result.iso9283.computed())
+    page.add_section("iso9283", "ISO 9283 pose accuracy and repeatability", iso9283_html(result));
   return page.str();
 }
 

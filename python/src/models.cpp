@@ -206,24 +206,40 @@ kincal.Model.from_json().)doc")
           "reason), as `kincal fk`. A failed row is NaN with its status and reason.")
       .def(
           "inverse_kinematics",
-          [](const ModelHandle& h, const py::object& poses) {
+          [](const ModelHandle& h, const py::object& poses, const py::object& near) {
             const auto a = as_rows(poses, "poses", 6);
             const ConstRowMap p = rows_view(a);
+            const Eigen::Index na = h.model->mechanism().num_actuators();
+            // near: one configuration for every row, or one per row (a seed each).
+            py::array_t<double, py::array::c_style> starts;
+            if (!near.is_none()) {
+              starts = as_rows(near, "near", na);
+              if (starts.shape(0) != 1 && starts.shape(0) != p.rows())
+                throw std::invalid_argument("near: expected one configuration, or one per pose (" +
+                                            std::to_string(p.rows()) + "), got " +
+                                            std::to_string(starts.shape(0)));
+            }
+            const bool with_starts = !near.is_none();
+            const ConstRowMap s = with_starts ? rows_view(starts) : ConstRowMap(nullptr, 0, na);
             std::vector<KinematicsRow> rows(p.rows());
             {
               py::gil_scoped_release release;
+              VectorXd start(na);
               for (Eigen::Index i = 0; i < p.rows(); ++i) {
                 std::array<double, 6> pose;
                 for (int k = 0; k < 6; ++k) pose[k] = p(i, k);
-                rows[i] = inverse_row(*h.model, pose);
+                if (with_starts) start = s.row(s.rows() == 1 ? 0 : i).transpose();
+                rows[i] = inverse_row(*h.model, pose, with_starts ? &start : nullptr);
               }
             }
             const py::tuple t = rows_to_arrays(*h.model, rows);
             return py::make_tuple(t[0], t[2], t[3], t[4]);
           },
-          py::arg("poses"),
+          py::arg("poses"), py::arg("near") = py::none(),
           "Inverse kinematics at the nominal values: poses (n, 6) as forward_kinematics gives "
-          "them -> (actuators (n, num_actuators), readings, status, reason), as `kincal ik`.")
+          "them -> (actuators (n, num_actuators), readings, status, reason), as `kincal ik`. "
+          "`near`: the configuration each solution should be nearest (a serial arm's branch), "
+          "one for every pose (`--near`) or one per pose (`--seeds`); default from home.")
       .def("__repr__", [](const ModelHandle& h) {
         return "<kincal.Model " + h.source + ": " + std::to_string(h.model->num_parameters()) +
                " parameters, " + std::to_string(h.model->parameters().num_free()) + " free>";

@@ -47,6 +47,23 @@ def test_forward_then_inverse_kinematics_round_trip():
     np.testing.assert_allclose(readings2, readings, atol=1e-8)
 
 
+def test_inverse_kinematics_near_a_configuration_or_one_per_pose():
+    m = kincal.Model.preset("ur5-urdf")
+    q = np.radians([[20, -70, 80, -90, -90, 10], [20, -150, -80, 40, -90, 10],
+                    [160, -120, -60, -30, 70, -20]])
+    poses, _, status, _ = m.forward_kinematics(q)
+    assert status == ["ok"] * 3
+    seeded, _, status, _ = m.inverse_kinematics(poses, near=q)  # a start per pose
+    assert status == ["ok"] * 3
+    np.testing.assert_allclose(seeded, q, atol=1e-7)
+    one, _, _, _ = m.inverse_kinematics(poses[1:2], near=q[1])  # one start for every pose
+    np.testing.assert_allclose(one[0], q[1], atol=1e-7)
+    home, _, _, _ = m.inverse_kinematics(poses)
+    assert np.abs(home - q).max() > 1e-3  # from home some pose lands on another branch
+    with pytest.raises(ValueError, match="one per pose"):
+        m.inverse_kinematics(poses, near=q[:2])
+
+
 def test_one_configuration_may_be_a_vector():
     m = kincal.Model.preset("puma560")
     poses, _, status, _ = m.forward_kinematics(np.zeros(6))

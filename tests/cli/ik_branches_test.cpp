@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
@@ -53,6 +54,71 @@ TEST(IkBranches, NearPicksTheBranchAndAllFindsTheUr5sEight) {
   const auto bad = run_cli("ik --model " + dir / "m.json" + " " + text + " --near 1,2");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--near"), std::string::npos) << bad.err;
+}
+
+// A start per row (issue 40): `ik --data P.csv --seeds` takes each row's start from its own
+// actuator columns (unit suffixes allowed), so a table of poses with the configurations the
+// robot was in comes back on the robot's branches; from home the rows land elsewhere.
+TEST(IkBranches, SeedsGiveEachRowItsOwnStart) {
+  TempDir dir("ik-seeds");
+  ASSERT_EQ(run_cli("model --preset ur5-urdf --out " + dir / "m.json").exit_code, 0);
+  // Configurations on several branches (elbow up and down, wrist flipped), in degrees.
+  std::ofstream(dir / "q.csv") << "shoulder_pan_joint_deg,shoulder_lift_joint_deg,elbow_joint_deg,"
+                                  "wrist_1_joint_deg,wrist_2_joint_deg,wrist_3_joint_deg\n"
+                                  "20,-70,80,-90,-90,10\n"
+                                  "20,-150,-80,40,-90,10\n"
+                                  "-40,-60,100,-120,90,30\n"
+                                  "160,-120,-60,-30,70,-20\n";
+  const auto fk = run_cli("fk --model " + dir / "m.json" + " --data " + dir / "q.csv" + " --out " +
+                          dir / "poses.csv");
+  ASSERT_EQ(fk.exit_code, 0) << fk.err;
+  // The fk table has the pose columns and, renamed with _deg, the configurations as seeds.
+  std::ifstream in(dir / "poses.csv");
+  std::ofstream seeded(dir / "seeded.csv");
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header) {
+      for (const char* j : {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                            "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"}) {
+        const std::size_t at = line.find(std::string(",") + j + ",");
+        ASSERT_NE(at, std::string::npos) << line;
+        line.replace(at + 1, std::string(j).size(), std::string("seed_") + j);
+      }
+      header = false;
+    }
+    seeded << line << "\n";
+  }
+  seeded.close();
+  // Seeds in the columns the model names: the fk table itself.
+  const auto with = run_cli("ik --model " + dir / "m.json" + " --data " + dir / "poses.csv" +
+                            " --seeds --json -");
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  const auto from_home =
+      run_cli("ik --model " + dir / "m.json" + " --data " + dir / "seeded.csv" + " --json -");
+  ASSERT_EQ(from_home.exit_code, 0) << from_home.err;
+  const double q[4][6] = {{20, -70, 80, -90, -90, 10},
+                          {20, -150, -80, 40, -90, 10},
+                          {-40, -60, 100, -120, 90, 30},
+                          {160, -120, -60, -30, 70, -20}};
+  const auto rows = nlohmann::ordered_json::parse(with.out)["rows"];
+  const auto home_rows = nlohmann::ordered_json::parse(from_home.out)["rows"];
+  ASSERT_EQ(rows.size(), 4u);
+  int elsewhere = 0;
+  for (int r = 0; r < 4; ++r) {
+    const auto seeded_q = joints_of(rows[r]), home_q = joints_of(home_rows[r]);
+    double off = 0;
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_NEAR(seeded_q[i], q[r][i] * M_PI / 180, 1e-7) << r << " " << i;
+      off = std::max(off, std::abs(home_q[i] - q[r][i] * M_PI / 180));
+    }
+    elsewhere += off > 1e-3;
+  }
+  EXPECT_GE(elsewhere, 1);  // without the seeds some row is on another branch
+  const auto both = run_cli("ik --model " + dir / "m.json" + " --data " + dir / "poses.csv" +
+                            " --seeds --near 0,0,0,0,0,0");
+  EXPECT_EQ(both.exit_code, 2);
 }
 
 }  // namespace
