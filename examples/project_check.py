@@ -6,7 +6,9 @@ that the paths it records are its own and its JSON reports record the project (t
 import hashlib
 import json
 import os
+import shutil
 import subprocess
+import sys
 
 
 def run_project(kincal, project, variables):
@@ -46,4 +48,21 @@ def compare(sequence_files, project_files, project_path, replace):
         if got != expected:
             failures.append("%s differs from the command sequence's %s" % (got_path,
                                                                            expected_path))
+    return failures
+
+
+def check(kincal, project, variables, sequence_dir, project_dir, names, replace):
+    """Runs the project into `project_dir` (emptied first; `variables` set on the command
+    line) and compares the files `names` with the command sequence's in `sequence_dir`;
+    prints the outcome and returns the failures."""
+    shutil.rmtree(project_dir, ignore_errors=True)
+    p = run_project(kincal, project, variables)
+    if p.returncode != 0:
+        sys.stderr.write(p.stdout + p.stderr)
+        return ["kincal run %s exited with %d" % (project, p.returncode)]
+    failures = compare([os.path.join(sequence_dir, n) for n in names],
+                       [os.path.join(project_dir, n) for n in names], project, replace)
+    if not failures:
+        print("kincal run %s wrote the %d files of the command sequence, the same"
+              % (os.path.basename(project), len(names)))
     return failures

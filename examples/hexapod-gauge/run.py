@@ -38,10 +38,11 @@ def main():
     ap.add_argument("--out", default="hexapod-gauge-out", help="folder for the files written")
     args = ap.parse_args()
     out = os.path.abspath(args.out)
+    if os.sep in args.kincal:  # the commands run in a folder of their own
+        args.kincal = os.path.abspath(args.kincal)
     commands, project = os.path.join(out, "commands"), os.path.join(out, "project")
-    for folder in (commands, project):
-        shutil.rmtree(folder, ignore_errors=True)
-        os.makedirs(folder)
+    shutil.rmtree(commands, ignore_errors=True)
+    os.makedirs(commands)
     for step in SEQUENCE:
         p = subprocess.run([args.kincal] + step, cwd=commands, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE, text=True)
@@ -49,20 +50,11 @@ def main():
             sys.stderr.write(p.stdout + p.stderr)
             print("FAILED: kincal %s exited with %d" % (" ".join(step), p.returncode))
             return 1
-    project_file = os.path.join(HERE, "project.yaml")
-    p = project_check.run_project(args.kincal, project_file, {"out": project})
-    if p.returncode != 0:
-        sys.stderr.write(p.stdout + p.stderr)
-        print("FAILED: kincal run exited with %d" % p.returncode)
-        return 1
-    failures = project_check.compare([os.path.join(commands, f) for f in OUTPUTS],
-                                     [os.path.join(project, f) for f in OUTPUTS], project_file,
-                                     [(project + "/", "")])
+    failures = project_check.check(args.kincal, os.path.join(HERE, "project.yaml"),
+                                   {"out": project}, commands, project, OUTPUTS,
+                                   [(project + "/", "")])
     for f in failures:
         print("FAILED: " + f)
-    if not failures:
-        print("kincal run %s wrote the %d files of the command sequence, the same"
-              % (os.path.relpath(project_file, os.getcwd()), len(OUTPUTS)))
     return 1 if failures else 0
 
 

@@ -339,24 +339,13 @@ def main():
               % (s, hole, min(left_out[(s, hole)]), max(left_out[(s, hole)]), min(miss), max(miss),
                  min(kept), max(kept)))
     # The kincal commands above as one project file, on the prepared model and training file.
-    project_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "project.yaml")
     project_out = path("project")
-    shutil.rmtree(project_out, ignore_errors=True)
-    p = project_check.run_project(k, project_file, {"robot": args.robot, "urdf": urdf,
-                                                    "prepared": args.out, "out": project_out})
-    if p.returncode != 0:
-        sys.stderr.write(p.stderr)
-        failures.append("kincal run %s exited with %d" % (project_file, p.returncode))
-    else:
-        names = [args.robot + "-nominal.json", args.robot + "-calibrated.json", "report.json",
-                 args.robot + "-calibrated.urdf"]
-        differences = project_check.compare(
-            [path(n) for n in names], [os.path.join(project_out, n) for n in names],
-            project_file, [(project_out + "/", args.out + "/")])
-        failures += differences
-        if not differences:
-            print("kincal run project.yaml wrote the %d files of the command sequence, the same"
-                  % len(names))
+    failures += project_check.check(
+        k, os.path.join(os.path.dirname(os.path.abspath(__file__)), "project.yaml"),
+        {"robot": args.robot, "urdf": urdf, "prepared": args.out, "out": project_out}, args.out,
+        project_out, [args.robot + "-nominal.json", args.robot + "-calibrated.json", "report.json",
+                      args.robot + "-calibrated.urdf"],
+        [(project_out + "/", args.out + "/")])
     nominal, calibrated = totals["nominal"], totals["calibrated"]
     for i, what in ((0, "spread"), (1, "distance error")):
         if not sum(calibrated[i]) < sum(nominal[i]):

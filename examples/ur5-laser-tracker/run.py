@@ -236,25 +236,13 @@ def main():
         failures.append("test-set mean %.4f mm above %.3f mm" % (mean(after),
                                                                    args.max_test_mean_mm))
     # The same calibration as one project file.
-    project_file = os.path.join(HERE, "project.yaml")
-    project_out = os.path.abspath(path("project"))
-    shutil.rmtree(project_out, ignore_errors=True)
-    p = project_check.run_project(k, project_file, {"data": args.out,
-                                                    "out": project_out})
-    if p.returncode != 0:
-        sys.stderr.write(p.stderr)
-        failures.append("kincal run %s exited with %d" % (project_file, p.returncode))
-    else:
-        names = ["ur5.json", "calibrated.json", "report.json", "ur5-fixed.json",
-                 "registration.json", "registration-report.json", "ur5-calibrated.urdf",
-                 "validate-calibrated-test.json", "validate-registration-test.json"]
-        differences = project_check.compare(
-            [path(n) for n in names], [os.path.join(project_out, n) for n in names],
-            project_file, [(project_out + "/", args.out + "/")])
-        failures += differences
-        if not differences:
-            print("kincal run project.yaml wrote the %d files of the command sequence, the same"
-                  % len(names))
+    project_out = path("project")
+    failures += project_check.check(
+        k, os.path.join(HERE, "project.yaml"), {"data": args.out, "out": project_out}, args.out,
+        project_out, ["ur5.json", "calibrated.json", "report.json", "ur5-fixed.json",
+                      "registration.json", "registration-report.json", "ur5-calibrated.urdf",
+                      "validate-calibrated-test.json", "validate-registration-test.json"],
+        [(project_out + "/", args.out + "/")])
     checker = shutil.which("check_urdf")
     if checker:
         run([checker, path("ur5-calibrated.urdf")])
