@@ -53,13 +53,24 @@ int run_table(const std::string& command, const po::variables_map& vm, OutputPla
     throw measurement_file_error(e);
   }
   // A measurement file given to fk has reading columns: expected there, not worth a note.
+  // The actuator columns of a table of poses (ik) are not "not an actuator": one note says
+  // how they would be used.
+  int actuator_columns = 0;
   for (const auto& n : table.notices) {
-    bool reading_column = false;
+    bool reading_column = false, actuator_column = false;
     for (const auto& name : model.reading_names())
       reading_column =
           reading_column || n.find("ignoring column '" + name + "'") != std::string::npos;
-    if (!reading_column) note(command, n);
+    for (const auto& name : model.mechanism().actuator_names())
+      actuator_column =
+          actuator_column || n.find("ignoring column '" + name + "'") != std::string::npos;
+    actuator_columns += actuator_column;
+    if (!reading_column && !actuator_column) note(command, n);
   }
+  if (actuator_columns > 0)
+    note(command, input_file + ": the actuator columns are not read" +
+                      (command == "ik" ? std::string(" (--seeds starts each row from them)")
+                                       : std::string()));
   std::vector<KinematicsRow> rows;
   int failures = 0;
   for (int r = 0; r < table.data.size(); ++r) {

@@ -32,6 +32,8 @@ std::string parameter_words(const std::string& name) {
     part = "the target point of " + prefix.substr(0, prefix.size() - 7);
   else if (ends_with(prefix, ".marker"))
     part = "the marker of " + prefix.substr(0, prefix.size() - 7);
+  else if (prefix.find('.') != std::string::npos)  // "leg1.platform" -> "leg1's platform"
+    part = prefix.substr(0, prefix.rfind('.')) + "'s " + prefix.substr(prefix.rfind('.') + 1);
   if (component.size() == 1) return part + ", shift along " + component;
   if (component.size() == 2 && component[0] == 'r')
     return part + ", rotation about " + component.substr(1);

@@ -191,14 +191,16 @@ std::string iso9283_text(const Iso9283Stats& stats, const std::vector<int>& line
                          stats.poses.size() - static_cast<std::size_t>(shown));
       break;
     }
-    out << format_text("  line %-5d n %-3d AP %-9.4g RP %-9.4g", line_of(lines, p.first_row),
-                       p.repeats, p.accuracy, p.repeatability);
+    std::string line =
+        format_text("  line %-5d n %-3d AP %-9.4g RP %-9.4g", line_of(lines, p.first_row),
+                    p.repeats, p.accuracy, p.repeatability);
     if (p.has_orientation)
-      out << format_text(" APabc %.3g %.3g %.3g  RPabc %.3g %.3g %.3g rad",
-                         p.orientation_accuracy.x(), p.orientation_accuracy.y(),
-                         p.orientation_accuracy.z(), p.orientation_repeatability.x(),
-                         p.orientation_repeatability.y(), p.orientation_repeatability.z());
-    out << "\n";
+      line += format_text(" APabc %.3g %.3g %.3g  RPabc %.3g %.3g %.3g rad",
+                          p.orientation_accuracy.x(), p.orientation_accuracy.y(),
+                          p.orientation_accuracy.z(), p.orientation_repeatability.x(),
+                          p.orientation_repeatability.y(), p.orientation_repeatability.z());
+    line.erase(line.find_last_not_of(' ') + 1);  // no trailing blanks
+    out << line << "\n";
   }
   return out.str();
 }

@@ -10,6 +10,7 @@
 #include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/sha256.hpp"
+#include "kincal/framework/kinematics/names.hpp"
 
 namespace kincal {
 
@@ -123,6 +124,8 @@ class Reader {
                            (near.empty() ? "" : " (did you mean '" + near + "'?)") +
                            (known.empty() ? "" : "; it declares " + join(known)));
       }
+      if (!is_valid_utf8(value))
+        throw ProjectError("--set " + name + ": the value is not UTF-8 text");
       variables_[name] = value;
     }
   }
@@ -259,6 +262,18 @@ Project parse_project(const std::string& text, const std::string& path,
     throw ProjectError(path + ":1: larger than the limit of 1 MiB for a project file");
   if (text.find('\0') != std::string::npos)
     throw ProjectError(path + ":1: holds a NUL byte; expected a project file (YAML or JSON text)");
+  // Reports record the content as JSON text, which is UTF-8: refuse other bytes here, at the
+  // line of the first line that is not UTF-8.
+  if (!is_valid_utf8(text)) {
+    int line = 1;
+    for (std::size_t start = 0; start < text.size(); ++line) {
+      const std::size_t end = std::min(text.find('\n', start), text.size());
+      if (!is_valid_utf8(text.substr(start, end - start))) break;
+      start = end + 1;
+    }
+    throw ProjectError(path + ":" + std::to_string(line) +
+                       ": not UTF-8 text; expected a project file in UTF-8 (save it as UTF-8)");
+  }
   return Reader(path, overrides).read(text);
 }
 

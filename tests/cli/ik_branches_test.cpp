@@ -116,6 +116,14 @@ TEST(IkBranches, SeedsGiveEachRowItsOwnStart) {
     elsewhere += off > 1e-3;
   }
   EXPECT_GE(elsewhere, 1);  // without the seeds some row is on another branch
+  // Without --seeds the actuator columns are said to be unused, not "not an actuator".
+  const auto unused = run_cli("ik --model " + dir / "m.json" + " --data " + dir / "poses.csv" +
+                              " --out " + dir / "unused.csv");
+  EXPECT_NE(unused.err.find("the actuator columns are not read (--seeds starts each row from "
+                            "them)"),
+            std::string::npos)
+      << unused.err;
+  EXPECT_EQ(unused.err.find("ignoring column 'elbow_joint'"), std::string::npos) << unused.err;
   const auto both = run_cli("ik --model " + dir / "m.json" + " --data " + dir / "poses.csv" +
                             " --seeds --near 0,0,0,0,0,0");
   EXPECT_EQ(both.exit_code, 2);

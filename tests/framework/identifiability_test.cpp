@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "kincal/framework/analysis/calibration_report.hpp"
+#include "kincal/framework/analysis/identifiability_words.hpp"
 #include "kincal/framework/base/random.hpp"
 #include "kincal/framework/calibration/simulation.hpp"
 #include "kincal/framework/least_squares/solver_registry.hpp"
@@ -235,6 +236,16 @@ TEST(Identifiability, TurnsTheParametersReproduceAreNotDetermined) {
   // Nor does a turn of residuals that are all zero (it is no direction).
   EXPECT_EQ(analyze_identifiability(J, names, {}, MatrixXd::Zero(m, 3)).singular_values,
             without.singular_values);
+}
+
+// Parameters in words, as the table of fixed parameters shows them.
+TEST(Identifiability, ParameterNamesInWords) {
+  EXPECT_EQ(parameter_words("shoulder_pan_joint.origin.rx"),
+            "shoulder_pan_joint's origin, rotation about x");
+  EXPECT_EQ(parameter_words("leg1.platform.z"), "leg1's platform, shift along z");
+  EXPECT_EQ(parameter_words("tracker.frame.y"), "tracker's frame, shift along y");
+  EXPECT_EQ(parameter_words("elbow_joint.offset"), "elbow_joint's zero offset");
+  EXPECT_EQ(parameter_words("base.rz"), "the base frame, rotation about z");
 }
 
 TEST(Uncertainty, SigmaHatUsesTheDegreesOfFreedom) {

@@ -121,6 +121,10 @@ TEST(ProjectFile, ErrorsNameTheFileLineAndKey) {
   EXPECT_NE(flow.find("/p/proj.yaml:3: malformed YAML"), std::string::npos) << flow;
   EXPECT_NE(flow.find("must be quoted"), std::string::npos) << flow;
   EXPECT_NE(error_of(std::string("steps:\0", 7)).find("NUL byte"), std::string::npos);
+  // Not UTF-8 (Latin-1 'é'): refused at its line, since reports record the content as JSON
+  // text (the fuzzer's find: the record's dump threw).
+  EXPECT_EQ(error_of("steps:\n  - calibrate:\n      data: caf\xe9.csv\n"),
+            "/p/proj.yaml:3: not UTF-8 text; expected a project file in UTF-8 (save it as UTF-8)");
   // Nesting beyond any project's is refused before it is walked.
   std::string deep = "steps:\n  - calibrate:\n      free: ";
   for (int i = 0; i < 20; ++i) deep += "[";
