@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <iostream>
 
+#include "kincal/cli/cli_util.hpp"
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/project_record.hpp"
-#include "kincal/cli/shared_options.hpp"
 #include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/output_plan.hpp"
