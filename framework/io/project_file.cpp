@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <set>
 
+#include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/sha256.hpp"
@@ -40,9 +41,12 @@ class Reader {
   Reader(std::string file, const std::vector<std::pair<std::string, std::string>>& overrides)
       : file_(std::move(file)), overrides_(overrides) {}
 
+  // `where` and `what` quote the file's keys and values, which may hold line breaks (a quoted
+  // or block-scalar key) or run long: each is cut and escaped so the message stays one line.
   [[noreturn]] void fail(int line, const std::string& where, const std::string& what) const {
     throw ProjectError(file_ + ":" + std::to_string(line) + ": " +
-                       (where.empty() ? "" : where + ": ") + what);
+                       (where.empty() ? "" : message_excerpt(where, 120) + ": ") +
+                       message_excerpt(what, 400));
   }
 
   static int line_of(const YAML::Node& node) { return node.Mark().line + 1; }
@@ -120,12 +124,13 @@ class Reader {
         std::vector<std::string> known;
         for (const auto& [key, unused] : variables_) known.push_back(key);
         const std::string near = nearest_name(name, known);
-        throw ProjectError("--set " + name + ": " + file_ + " declares no variable '" + name + "'" +
-                           (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+        const std::string shown = message_excerpt(name, 60);
+        throw ProjectError("--set " + shown + ": " + file_ + " declares no variable '" + shown +
+                           "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
                            (known.empty() ? "" : "; it declares " + join(known)));
       }
       if (!is_valid_utf8(value))
-        throw ProjectError("--set " + name + ": the value is not UTF-8 text");
+        throw ProjectError("--set " + message_excerpt(name, 60) + ": the value is not UTF-8 text");
       variables_[name] = value;
     }
   }

@@ -125,6 +125,15 @@ TEST(ProjectFile, ErrorsNameTheFileLineAndKey) {
   // text (the fuzzer's find: the record's dump threw).
   EXPECT_EQ(error_of("steps:\n  - calibrate:\n      data: caf\xe9.csv\n"),
             "/p/proj.yaml:3: not UTF-8 text; expected a project file in UTF-8 (save it as UTF-8)");
+  // A key with line breaks (a quoted key) or of any length is quoted on one short line (the
+  // fuzzer's second find: the message carried the key's line breaks).
+  EXPECT_EQ(error_of("\"st\\neps\": 1\nsteps: [x]\n"),
+            "/p/proj.yaml:1: st\\x0Aeps: not a key of a project (did you mean 'steps'?); expected "
+            "name, variables, "
+            "steps");
+  const std::string long_key = error_of("? " + std::string(5000, 'k') + "\n: 1\nsteps: [x]\n");
+  EXPECT_LT(long_key.size(), 300u) << long_key;
+  EXPECT_NE(long_key.find("kkk...: not a key"), std::string::npos) << long_key;
   // Nesting beyond any project's is refused before it is walked.
   std::string deep = "steps:\n  - calibrate:\n      free: ";
   for (int i = 0; i < 20; ++i) deep += "[";
