@@ -3,6 +3,7 @@
 // before the first one runs, and a step that fails stops the run at its line.
 
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 
 #include "kincal/cli/cli_util.hpp"
@@ -39,15 +40,36 @@ std::string at_step(const Project& project, std::size_t index, const std::string
          std::to_string(index + 1) + "]." + step.command + ": " + message;
 }
 
+// One argument as a POSIX shell would take it back: bare when plain, else in single quotes
+// (a quote inside as '\''), or as $'...' with \xNN escapes when it holds a control character,
+// so that the progress line stays one line whatever a project's value holds.
+std::string shell_word(const std::string& arg) {
+  const bool plain = !arg.empty() && arg.find_first_not_of(
+                                         "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                         "0123456789-_./=:,+@%") == std::string::npos;
+  if (plain) return arg;
+  const bool control = std::any_of(arg.begin(), arg.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  std::string word = control ? "$'" : "'";
+  for (const char c : arg) {
+    if (control && (static_cast<unsigned char>(c) < 0x20 || c == 0x7f || c == '\\' || c == '\'')) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(c));
+      word += hex;
+    } else if (!control && c == '\'') {
+      word += "'\\''";
+    } else {
+      word += c;
+    }
+  }
+  return word + "'";
+}
+
 // The step's command line as a shell would take it, for the progress line.
 std::string shell_line(const ProjectStep& step) {
   std::string line = "kincal " + step.command;
-  for (const std::string& arg : project_step_arguments(step)) {
-    const bool plain = !arg.empty() && arg.find_first_not_of(
-                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                           "0123456789-_./=:,+@%") == std::string::npos;
-    line += " " + (plain ? arg : "'" + arg + "'");
-  }
+  for (const std::string& arg : project_step_arguments(step)) line += " " + shell_word(arg);
   return line;
 }
 

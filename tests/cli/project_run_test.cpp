@@ -106,6 +106,17 @@ TEST(ProjectRun, DryRunPrintsTheCommandsAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir / "elsewhere"));
 }
 
+TEST(ProjectRun, EachStepIsOneShellLineWhateverItsValuesHold) {
+  TempDir dir("project-words");
+  // A line break and quotes in a value: printed as a shell would take the word back.
+  write(dir / "p.yaml",
+        "steps:\n  - export:\n      model: \"m\\nx'y.json\"\n      format: \"it's\"\n");
+  const auto run = run_cli("run " + (dir / "p.yaml") + " --dry-run");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.out,
+            "kincal export --model $'" + (dir / "m") + "\\x0Ax\\x27y.json' --format 'it'\\''s'\n");
+}
+
 TEST(ProjectRun, ProjectErrorsAreOneLine) {
   TempDir dir("project-errors");
   write(dir / "p.yaml", "steps:\n  - calibrat: {}\n  - run: {}\n");
