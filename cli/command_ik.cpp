@@ -12,24 +12,6 @@ namespace kincal::cli {
 
 namespace {
 
-KinematicsRow inverse_from_values(const MeasurementModel& model, const std::vector<double>& v,
-                                  const VectorXd* near) {
-  return inverse_row(model, {v[0], v[1], v[2], v[3], v[4], v[5]}, near);
-}
-
-// The actuator values of a row, one per line with its name, then the readings.
-void print_row(const MeasurementModel& model, const KinematicsRow& row) {
-  const auto& names = model.mechanism().actuator_names();
-  // Micrometres for lengths; for angles nanoradians, a micrometre at a metre's reach.
-  const auto& actuators = model.mechanism().actuators();
-  for (int i = 0; i < row.actuators.size(); ++i)
-    out() << format_text(actuators[i].unit == kRadian ? "%-8s %.9f\n" : "%-8s %.6f\n",
-                         names[i].c_str(), row.actuators[i]);
-  const auto reading_names = model.reading_names();
-  for (int k = 0; k < row.readings.size(); ++k)
-    out() << format_text("%-8s %.6f\n", reading_names[k].c_str(), row.readings[k]);
-}
-
 // --near's actuator values, or none.
 VectorXd near_option(const po::variables_map& vm, const MeasurementModel& model) {
   if (!vm.count("near")) return {};
@@ -76,19 +58,12 @@ int run_ik(const Args& args) {
     if (seeds && vm.count("near")) throw CliError("give --near or --seeds, not both");
     plan.check();
     const auto model = load_model_option(vm);
-    const VectorXd near = near_option(vm, *model);
+    KinematicsTableRequest request;
+    request.inverse = true;
+    request.seeds = seeds;
+    request.near = near_option(vm, *model);
     OutputPlan table_plan = plan;
-    std::vector<std::string> columns = kPoseColumns;
-    if (seeds)
-      for (const std::string& name : model->mechanism().actuator_names()) columns.push_back(name);
-    return run_table("ik", vm, table_plan, *model, "data", columns,
-                     [&](const MeasurementModel& m, const std::vector<double>& v) {
-                       if (!seeds) return inverse_from_values(m, v, near.size() ? &near : nullptr);
-                       // This row's own start: the configuration in its actuator columns.
-                       const VectorXd seed = Eigen::Map<const VectorXd>(
-                           v.data() + 6, static_cast<Eigen::Index>(v.size() - 6));
-                       return inverse_from_values(m, v, &seed);
-                     });
+    return run_table("ik", vm, table_plan, *model, request);
   }
   if (vm.count("out")) throw CliError("--out writes the table of --data; give --data FILE");
   if (vm["seeds"].as<bool>()) throw CliError("--seeds reads a start per row of --data FILE");
@@ -99,53 +74,26 @@ int run_ik(const Args& args) {
   const auto model = load_model_option(vm);
   const VectorXd near = near_option(vm, *model);
   const std::string text = vm["pose"].as<std::string>();
-  const std::vector<double> pose =
-      parse_numbers(text, 6, "pose", "x,y,z in mm and rx,ry,rz in degrees");
+  const VectorXd* start = near.size() ? &near : nullptr;
   if (vm["all"].as<bool>()) {
     const std::vector<KinematicsRow> solutions =
-        inverse_solutions(*model, {pose[0], pose[1], pose[2], pose[3], pose[4], pose[5]},
-                          near.size() ? &near : nullptr);
-    if (solutions.empty())
-      throw CliError("--pose '" + text +
-                     "': no solution found from 201 starts; expected a pose "
-                     "the model can reach");
+        inverse_solutions_at(*model, text, "--pose", start);
     if (!json_file.empty()) {
-      nlohmann::ordered_json json = {{"format", "kincal-ik"},
-                                     {"version", 1},
-                                     {"model", vm["model"].as<std::string>()},
-                                     {"solutions", nlohmann::ordered_json::array()}};
-      for (const KinematicsRow& s : solutions) json["solutions"].push_back(row_json(*model, s));
+      const auto json =
+          kinematics_solutions_document(vm["model"].as<std::string>(), *model, solutions);
       plan.write({{"--json", json.dump(2) + "\n"}});
       if (plan.to_stdout("--json")) return 0;
     }
-    for (std::size_t k = 0; k < solutions.size(); ++k) {
-      out() << format_text("solution %zu of %zu%s\n", k + 1, solutions.size(),
-                           k == 0 ? (near.size() ? " (nearest --near)" : " (nearest home)") : "");
-      print_row(*model, solutions[k]);
-    }
+    out() << inverse_solutions_text(*model, solutions, start != nullptr);
     return 0;
   }
-  const KinematicsRow row = inverse_from_values(*model, pose, near.size() ? &near : nullptr);
-  if (row.status == "overflow")
-    throw CliError("--pose '" + text +
-                   "': the actuator values or readings at this pose are not finite numbers (the "
-                   "arithmetic overflows); expected a pose near the machine's workspace");
-  if (!row.ok())
-    throw CliError("--pose '" + text + "': " + row.reason +
-                   "; expected a pose the model can reach");
+  const KinematicsRow row = inverse_at(*model, text, "--pose", start);
   if (!json_file.empty()) {
-    nlohmann::ordered_json json = {
-        {"format", "kincal-ik"}, {"version", 1}, {"model", vm["model"].as<std::string>()}};
-    json.update(row_json(*model, row));
+    const auto json = kinematics_row_document(true, vm["model"].as<std::string>(), *model, row);
     plan.write({{"--json", json.dump(2) + "\n"}});
     if (plan.to_stdout("--json")) return 0;
   }
-  print_row(*model, row);
-  const auto& actuators = model->mechanism().actuators();
-  // The unit of each actuator value above, last so that the lines above stay name-value.
-  std::string units;
-  for (const auto& a : actuators) units += (units.empty() ? "" : ", ") + a.name + " " + a.unit;
-  out() << format_text("(actuator units: %s)\n", units.c_str());
+  out() << inverse_row_text(*model, row) << actuator_units_line(*model);
   return 0;
 }
 

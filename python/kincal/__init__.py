@@ -8,7 +8,7 @@
 Models (``Model.preset``, ``Model.load``, ``model_from_urdf``), forward and inverse
 kinematics over arrays, ``Measurements`` in kincal's CSV format, the workflows ``simulate``,
 ``calibrate``, ``validate``, ``observability``, ``compare``, ``design``, ``compensate``, ``export``,
-``detect`` (images of a target, with OpenCV) and ``html_report`` (the library's, called
+``fk`` and ``ik`` (one configuration or a file of them), ``detect`` (images of a target, with OpenCV) and ``html_report`` (the library's, called
 directly with typed keyword arguments), the generic
 least-squares layer (``LeastSquaresProblem``, ``solve``) and studies on Dask
 (``kincal.studies``).
@@ -31,7 +31,9 @@ from .workflows import (
     design,
     detect,
     export,
+    fk,
     html_report,
+    ik,
     model_from_urdf,
     observability,
     simulate,
@@ -56,7 +58,9 @@ __all__ = [
     "design",
     "detect",
     "export",
+    "fk",
     "html_report",
+    "ik",
     "load_plugin",
     "loaded_plugins",
     "model_from_urdf",

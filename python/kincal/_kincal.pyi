@@ -175,6 +175,10 @@ def _model_from_urdf(path: str, tip: str, base: str, sensor: str, point: List[fl
 def _compensate(model: Model, targets: str, nominal: Optional[Model], near: List[float],
                 payload: Optional[float], tolerance: float, out: str, json: str,
                 inputs: List[str]) -> Dict[str, Any]: ...
+def _fk(model: Model, model_name: str, actuators: str, data: str, out: str, json: str,
+        inputs: List[str]) -> Dict[str, Any]: ...
+def _ik(model: Model, model_name: str, pose: str, data: str, near: List[float], seeds: bool,
+        all: bool, out: str, json: str, inputs: List[str]) -> Dict[str, Any]: ...
 def _observability(
     model: Model, data_path: Optional[str], actuators: Any, readings: Any, poses: int, seed: int,
     rcond: float, config_range: str, free: List[str], fix: List[str], prior_std: List[str],

@@ -21,6 +21,8 @@ from .workflows import (
     design,
     detect,
     export,
+    fk,
+    ik,
     model_from_urdf,
     observability,
     simulate,
@@ -38,6 +40,8 @@ _WORKFLOWS: Dict[str, Callable[..., Any]] = {
     "design": design,
     "detect": detect,
     "export": export,
+    "fk": fk,
+    "ik": ik,
     "observability": observability,
     "simulate": simulate,
     "validate": validate,
@@ -86,6 +90,8 @@ def _argument(key: str, values: List[str], is_switch: bool, parameter: inspect.P
         return items
     if "Sequence[str]" in annotation:
         return list(values)
+    if "Sequence[float]" in annotation and "str" not in annotation:
+        return _numbers(key, values)
     text = _single(key, values)
     try:
         if annotation in ("int", "Optional[int]"):
@@ -243,6 +249,11 @@ def run_project(path: Optional[PathLike] = None, variables: Optional[Mapping[str
             _kincal._set_project_record("")
         if command == "verify" and not result["match"]:
             raise KincalError(_location(project, index, None, result["message"]))
+        if command in ("fk", "ik") and result.to_dict().get("failed"):
+            # As the program exits with 1 when rows failed (their files are written).
+            raise KincalError(_location(project, index, None, "%d of %d rows failed (see their "
+                                        "status and reason)" % (result["failed"],
+                                                                len(result["rows"]))))
         results.append((command, result))
     return results
 

@@ -466,6 +466,79 @@ def export(model: ModelArg, format: str, out: Optional[PathLike] = None) -> str:
         raise KincalError(str(e)) from None
 
 
+def _values_text(values: Union[str, Sequence[float], None]) -> str:
+    """A configuration or pose as the program's text: a string as given (units allowed where
+    the program takes them), numbers written exactly (repr round-trips)."""
+    if values is None:
+        return ""
+    if isinstance(values, str):
+        return values
+    return ",".join(repr(float(v)) for v in values)
+
+
+def _kinematics(command: str, answer: Dict[str, Any]) -> Report:
+    report = _report(command, answer)
+    if "notes" not in answer:
+        report.__dict__["notes"] = []
+        report.__dict__["messages"] = ""
+    return report
+
+
+def fk(
+    model: ModelArg,
+    actuators: Union[str, Sequence[float], None] = None,
+    *,
+    data: Optional[PathLike] = None,
+    out: Optional[PathLike] = None,
+    json: Optional[PathLike] = None,
+) -> Report:
+    """Forward kinematics at the model's values, as ``kincal fk``: of one configuration
+    (``actuators``: numbers in the actuators' units, or the program's text with a unit after
+    each value, ``"90deg,-45deg,..."``), or of each row of the CSV file ``data`` (its actuator
+    columns; unit suffixes such as ``_deg`` allowed). Returns the program's JSON as a Report
+    (one result: ``pose`` in mm and degrees, ``readings``; a table: ``rows`` with each one's
+    ``status``, and ``failed``), with ``text`` (what the program prints; a table's CSV) and
+    ``notes``. ``out`` writes a table's CSV, ``json`` the JSON. A configuration that cannot be
+    computed raises KincalError; a table's row that cannot is a status."""
+    m, model_path = _model(model)
+    inputs = [p for p in (model_path, _path(data)) if p]
+    try:
+        answer = _kincal._fk(m, model_path, _values_text(actuators), _path(data), _path(out),
+                             _path(json), inputs)
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    return _kinematics("fk", answer)
+
+
+def ik(
+    model: ModelArg,
+    pose: Union[str, Sequence[float], None] = None,
+    *,
+    data: Optional[PathLike] = None,
+    near: Optional[Sequence[float]] = None,
+    seeds: bool = False,
+    all: bool = False,
+    out: Optional[PathLike] = None,
+    json: Optional[PathLike] = None,
+) -> Report:
+    """Inverse kinematics at the model's values, as ``kincal ik``: at one ``pose`` (x, y, z in
+    mm and rx, ry, rz in degrees, Z-Y-X: R = Rz(rz) Ry(ry) Rx(rx)), or at each row of the CSV
+    file ``data`` (columns x_mm, y_mm, z_mm, rx_deg, ry_deg, rz_deg). ``near`` (actuator values)
+    picks the solution nearest them, a serial arm's branch; ``seeds`` starts each row of
+    ``data`` from its own actuator columns; ``all`` lists every distinct solution found at
+    ``pose``, nearest first (``solutions``). Returns the program's JSON as a Report, with
+    ``text`` and ``notes``, as ``fk``."""
+    m, model_path = _model(model)
+    inputs = [p for p in (model_path, _path(data)) if p]
+    try:
+        answer = _kincal._ik(m, model_path, _values_text(pose), _path(data),
+                             [float(v) for v in near] if near is not None else [], bool(seeds),
+                             bool(all), _path(out), _path(json), inputs)
+    except ValueError as e:
+        raise KincalError(str(e)) from None
+    return _kinematics("ik", answer)
+
+
 def detect(
     target: str,
     out: PathLike,

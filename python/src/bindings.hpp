@@ -31,6 +31,7 @@ void bind_vision(py::module_& m);
 /// module prints nothing and passes "-" as the file "./-".
 const StandardOutput& python_output();
 void bind_compensate(py::module_& m);
+void bind_kinematics(py::module_& m);
 void bind_project(py::module_& m);
 
 /// `report` as a JSON report's text, with the key "project" (the step's record) while

@@ -20,6 +20,7 @@ PYBIND11_MODULE(_kincal, m) {
   kp::bind_studies(m);
   kp::bind_workflows(m);
   kp::bind_compensate(m);
+  kp::bind_kinematics(m);
   kp::bind_project(m);
   kp::bind_vision(m);
   m.attr("__version__") = KINCAL_VERSION_STRING;

@@ -56,9 +56,10 @@ def test_errors_name_the_file_line_and_step(tmp_path: Path) -> None:
                                                  r"not an option of kincal\.calibrate"):
         kincal.run_project(typo)
     assert not (tmp_path / "m.json").exists()  # checked before the first step ran
-    unknown = _write(tmp_path / "unknown.yaml", "steps:\n  - fk:\n      model: m.json\n")
-    with pytest.raises(kincal.KincalError, match=r"unknown\.yaml:2: steps\[1\]\.fk: 'fk' is not "
-                                                 r"a step kincal\.run_project runs"):
+    unknown = _write(tmp_path / "unknown.yaml", "steps:\n  - reproduce:\n      trials: 3\n")
+    with pytest.raises(kincal.KincalError, match=r"unknown\.yaml:2: steps\[1\]\.reproduce: "
+                                                 r"'reproduce' is not a step kincal\.run_project "
+                                                 r"runs"):
         kincal.run_project(unknown)
     order = _write(tmp_path / "order.yaml",
                    "steps:\n  - calibrate:\n      model: m.json\n      data: d.csv\n"
@@ -74,3 +75,75 @@ def test_errors_name_the_file_line_and_step(tmp_path: Path) -> None:
         kincal.run_project(missing, {"x": "1"})
     with pytest.raises(kincal.KincalError, match="either path or from_report"):
         kincal.run_project()
+
+
+_KINEMATICS_PROJECT = """variables:
+  out: results
+steps:
+  - model: {preset: ur5, out: '${out}/ur5.json'}
+  - fk:
+      model: ${out}/ur5.json
+      actuators: 0,-90deg,90deg,0,90deg,0
+      json: ${out}/fk.json
+  - fk: {model: '${out}/ur5.json', data: configurations.csv, out: '${out}/fk.csv',
+         json: '${out}/fk_table.json'}
+  - ik: {model: '${out}/ur5.json', data: '${out}/fk.csv', seeds: true, out: '${out}/ik.csv'}
+  - ik:
+      model: ${out}/ur5.json
+      pose: -474.55,-109.15,419.509,90,0,-90
+      near: 0,-1.5,1.5,0,1.5,0
+      json: ${out}/ik.json
+  - ik:
+      model: ${out}/ur5.json
+      pose: -474.55,-109.15,419.509,90,0,-90
+      all: true
+      json: ${out}/ik_all.json
+"""
+
+
+def test_fk_and_ik_steps_write_what_kincal_run_writes(tmp_path: Path, program: str) -> None:
+    project = _write(tmp_path / "kinematics.yaml", _KINEMATICS_PROJECT)
+    _write(tmp_path / "configurations.csv",
+           "joint1_deg,joint2_deg,joint3_deg,joint4_deg,joint5_deg,joint6_deg\n"
+           "0,-90,90,0,90,0\n10,-80,70,-30,80,20\n")
+    py_out, cli_out = tmp_path / "python", tmp_path / "program"
+    results = kincal.run_project(project, {"out": str(py_out)})
+    assert [command for command, _ in results] == ["model", "fk", "fk", "ik", "ik", "ik"]
+    p = subprocess.run([program, "run", str(project), "--set", "out=%s" % cli_out],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    from_python, from_program = _files(py_out, str(py_out)), _files(cli_out, str(cli_out))
+    assert sorted(from_program) == ["fk.csv", "fk.json", "fk_table.json", "ik.csv", "ik.json",
+                                    "ik_all.json", "ur5.json"]
+    for name in from_program:
+        assert from_python[name] == from_program[name], name
+    # What the files say: the seeded ik finds each row's own configuration again.
+    rows = json.loads(from_python["fk_table.json"])["rows"]
+    assert [r["status"] for r in rows] == ["ok", "ok"]
+    assert results[3][1].text.splitlines()[2].startswith("3,0.1745329251994")
+    assert len(results[5][1]["solutions"]) > 1
+
+
+def test_fk_and_ik_one_pose_and_their_errors(tmp_path: Path) -> None:
+    model = kincal.Model.preset("cube-hexapod")
+    forward = kincal.fk(model, [350.0] * 6)
+    assert forward["format"] == "kincal-fk" and forward["status"] == "ok"
+    pose = [forward["pose"][k] for k in ("x_mm", "y_mm", "z_mm", "rx_deg", "ry_deg", "rz_deg")]
+    inverse = kincal.ik(model, pose)
+    assert inverse["actuators"]["leg1"] == pytest.approx(350.0, abs=1e-9)
+    assert inverse.text.endswith("(actuator units: leg1 mm, leg2 mm, leg3 mm, leg4 mm, leg5 mm, "
+                                 "leg6 mm)\n")
+    assert kincal.fk(model, "0.35m,350,350mm,350,350,350")["pose"] == forward["pose"]
+    with pytest.raises(kincal.KincalError, match=r"actuators '1,2': 2 numbers, expected 6"):
+        kincal.fk(model, "1,2")
+    with pytest.raises(kincal.KincalError, match=r"leg1 = a value in deg, but leg1 is a length"):
+        kincal.fk(model, "90deg,350,350,350,350,350")
+    with pytest.raises(kincal.KincalError, match=r"pose '0,0,9000,0,0,0': .*expected a pose the "
+                                                 r"model can reach"):
+        kincal.ik(kincal.Model.preset("ur5"), "0,0,9000,0,0,0")
+    with pytest.raises(kincal.KincalError, match="give actuators or data, not both"):
+        kincal.fk(model, [350.0] * 6, data=tmp_path / "x.csv")
+    with pytest.raises(kincal.KincalError, match="seeds reads a start per row of data"):
+        kincal.ik(model, pose, seeds=True)
+    with pytest.raises(kincal.KincalError, match=r"near: 2 numbers, expected 6"):
+        kincal.ik(model, pose, near=[1.0, 2.0])
