@@ -177,12 +177,7 @@ int run_design(const Args& args) {
     const std::string path = vm[option].as<std::string>();
     MatrixXd q;
     try {
-      MeasurementTable table =
-          read_measurements(path, model->mechanism().actuator_names(), {}, data_limits(vm));
-      std::vector<std::string> units;
-      for (const Actuator& a : model->mechanism().actuators()) units.push_back(a.unit);
-      convert_column_units(table, units, {}, path);
-      q = table.data.actuators;
+      q = read_configurations(path, *model, data_limits(vm));
     } catch (const std::invalid_argument& e) {
       throw CliError(std::string("--") + option + ": " + e.what());
     }

@@ -103,6 +103,13 @@ std::map<int, std::string> parse_csv_text_column(std::istream& in, const std::st
 MeasurementTable read_model_columns(const std::string& path, const MeasurementModel& model,
                                     const CsvLimits& limits = {});
 
+/// The configurations of a CSV file: its columns named as `model`'s actuators (other columns
+/// ignored, unit suffixes such as _deg converted into each actuator's unit), one row per data
+/// line; candidates to choose among, or where the robot was measured (design's
+/// --candidates-file and --within). Throws as read_measurements (a file without rows too).
+MatrixXd read_configurations(const std::string& path, const MeasurementModel& model,
+                             const CsvLimits& limits = {});
+
 /// read_model_columns, then check_sensor_readings: a measurement file to calibrate from.
 MeasurementTable read_measurements(const std::string& path, const MeasurementModel& model,
                                    const CsvLimits& limits = {});

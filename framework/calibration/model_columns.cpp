@@ -125,6 +125,15 @@ ColumnPlan plan_columns(const MeasurementModel& model, const CsvHeader& header,
 
 }  // namespace
 
+MatrixXd read_configurations(const std::string& path, const MeasurementModel& model,
+                             const CsvLimits& limits) {
+  MeasurementTable table = read_measurements(path, model.mechanism().actuator_names(), {}, limits);
+  std::vector<std::string> units;
+  for (const Actuator& a : model.mechanism().actuators()) units.push_back(a.unit);
+  convert_column_units(table, units, {}, path);
+  return table.data.actuators;
+}
+
 MeasurementTable read_model_columns(const std::string& path, const MeasurementModel& model,
                                     const CsvLimits& limits) {
   const CsvHeader header = read_csv_header(path, limits);

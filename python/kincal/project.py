@@ -48,7 +48,10 @@ _WORKFLOWS: Dict[str, Callable[..., Any]] = {
     "verify": verify,
 }
 # Where a keyword is spelt otherwise than the program's option.
-_RENAMED = {("calibrate", "step"): "steps"}
+_RENAMED = {("calibrate", "step"): "steps", ("design", "poses"): "count",
+            ("design", "candidates-file"): "candidate_configurations"}
+# The program's progress on stderr: Python prints nothing, so the key has nothing to do.
+_DISPLAY_ONLY = {"progress"}
 _MODEL_KEYS = ["preset", "urdf", "tip", "base", "sensor", "point", "frame", "target",
                "compliance", "payload-column", "payload-centre", "out", "free", "fix"]
 
@@ -90,8 +93,9 @@ def _argument(key: str, values: List[str], is_switch: bool, parameter: inspect.P
         return items
     if "Sequence[str]" in annotation:
         return list(values)
-    if "Sequence[float]" in annotation and "str" not in annotation:
-        return _numbers(key, values)
+    if ("Sequence[float]" in annotation or "ArrayLike" in annotation) and \
+            "str" not in annotation and "PathLike" not in annotation:
+        return _numbers(key, values)  # e.g. ik's near, design's centre: "q1,q2,..."
     text = _single(key, values)
     try:
         if annotation in ("int", "Optional[int]"):
@@ -110,8 +114,8 @@ def _keywords(command: str, options: List[Option]) -> Dict[str, Any]:
     kwargs: Dict[str, Any] = {}
     free_at = fix_at = -1
     for index, (key, values, is_switch, _) in enumerate(options):
-        if key == "plugin":
-            continue  # loaded before the step (_load_plugins)
+        if key == "plugin" or key in _DISPLAY_ONLY:
+            continue  # plug-ins are loaded before the step (_load_plugins)
         name = _RENAMED.get((command, key), key.replace("-", "_"))
         if name not in parameters:
             raise _StepError(key, "not an option of kincal.%s (its options: %s); kincal run "

@@ -386,8 +386,8 @@ def design(
     noise_std: Optional[Quantity] = None,
     existing: Optional[DataArg] = None,
     bound: bool = False,
-    within: Optional[npt.ArrayLike] = None,
-    candidate_configurations: Optional[npt.ArrayLike] = None,
+    within: Union[PathLike, npt.ArrayLike, None] = None,
+    candidate_configurations: Union[PathLike, npt.ArrayLike, None] = None,
     centre: Optional[npt.ArrayLike] = None,
     out: Optional[PathLike] = None,
     json: Optional[PathLike] = None,
@@ -396,8 +396,9 @@ def design(
     """Chooses ``count`` configurations worth measuring: the design workflow, as ``kincal
     design`` runs it. ``criterion`` D, A, E or I; ``candidates`` random candidates drawn in
     the actuators' box (``config_range``, default each actuator's range) from ``seed``, or in
-    the range of the configurations ``within`` (rows x actuators: where the robot was
-    measured, as ``--within``), or the given ``candidate_configurations`` (``--candidates-file``),
+    the range of the configurations ``within`` (rows x actuators, or a CSV file of them: where
+    the robot was measured, as ``--within``), or the given ``candidate_configurations`` (rows
+    or a file, ``--candidates-file``),
     or around the configuration ``centre`` (``--centre``) instead of home; an arm whose joints
     all have limits (a URDF's) is drawn within them by default, and every box within them;
     ``noise_std`` the readings' noise (default the model's reading_std, which it must then
@@ -416,6 +417,14 @@ def design(
         if existing_path:
             inputs.append(existing_path)
     specs = [prior_std] if isinstance(prior_std, str) else list(prior_std or [])
+
+    def configurations(value: Union[PathLike, npt.ArrayLike, None]) -> object:
+        if isinstance(value, (str, os.PathLike)):
+            inputs.append(os.fspath(value))
+            return os.fspath(value)  # read by the library, as the program reads the file
+        return None if value is None else np.asarray(value, dtype=float)
+
+    within_rows, candidate_rows = configurations(within), configurations(candidate_configurations)
     try:
         answer = _kincal._design(
             m, count, criterion, candidates, seed, singularity_margin,
@@ -423,9 +432,7 @@ def design(
             list(fix), specs, _quantity(noise_std) or "", existing_path, existing_a, existing_r,
             bound, _path(out), _path(json), _path(html), model_path, inputs,
             threading.current_thread() is threading.main_thread(),
-            None if within is None else np.asarray(within, dtype=float),
-            None if candidate_configurations is None
-            else np.asarray(candidate_configurations, dtype=float),
+            within_rows, candidate_rows,
             None if centre is None else np.asarray(centre, dtype=float))
     except ValueError as e:
         raise KincalError(str(e)) from None

@@ -589,17 +589,26 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
   const py::ssize_t na = handle.model->mechanism().num_actuators();
   if (!within.is_none() && !candidate_configurations.is_none())
     throw std::invalid_argument("give within or candidate_configurations, not both");
+  // Rows of configurations, or a CSV file of them (str: the face passes paths as str).
+  auto configurations = [&](const py::object& value, const char* name) -> MatrixXd {
+    if (py::isinstance<py::str>(value)) {
+      try {
+        return read_configurations(value.cast<std::string>(), *handle.model);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(name) + ": " + e.what());
+      }
+    }
+    const auto rows = as_rows(value, name, na);
+    if (rows.shape(0) == 0) throw std::invalid_argument(std::string(name) + ": no configuration");
+    return rows_view(rows);
+  };
   if (!within.is_none()) {
-    const auto rows = as_rows(within, "within", na);
-    if (rows.shape(0) == 0) throw std::invalid_argument("within: no configuration");
-    const MatrixXd q = rows_view(rows);
+    const MatrixXd q = configurations(within, "within");
     design.box_low = q.colwise().minCoeff().transpose();
     design.box_high = q.colwise().maxCoeff().transpose();
   }
-  if (!candidate_configurations.is_none()) {
-    const auto rows = as_rows(candidate_configurations, "candidate_configurations", na);
-    design.given = rows_view(rows);
-  }
+  if (!candidate_configurations.is_none())
+    design.given = configurations(candidate_configurations, "candidate_configurations");
   if (!centre.is_none()) {
     if (!within.is_none() || !candidate_configurations.is_none())
       throw std::invalid_argument(

@@ -68,3 +68,42 @@ def test_limits_by_default_and_centre(program, source_dir, tmp_path):
     assert out_py.read_text() == out_cli.read_text()
     with pytest.raises(kincal.KincalError, match="not several"):
         kincal.design(model, count=20, noise_std="0.065mm", centre=centre, within=[centre])
+
+
+def test_files_of_configurations_and_a_project_design_step(program, source_dir, tmp_path):
+    urdf = source_dir / "examples" / "ur5-laser-tracker" / "ur5.urdf"
+    model = kincal.model_from_urdf(str(urdf), "flange", point=[0, 0.09, 31])
+    model_file = tmp_path / "ur5.json"
+    model_file.write_text(model.to_json())
+    within = tmp_path / "within.csv"
+    within.write_text("shoulder_pan_joint_deg,shoulder_lift_joint_deg,elbow_joint_deg,"
+                      "wrist_1_joint_deg,wrist_2_joint_deg,wrist_3_joint_deg,note\n"
+                      "-60,-150,30,-180,40,-90,a\n60,-40,140,-20,140,90,b\n")
+    # A file is read by the library as the program reads it (degrees converted).
+    d = kincal.design(model, count=30, candidates=1000, noise_std="0.065mm", within=within)
+    measured = np.radians([[-60, -150, 30, -180, 40, -90], [60, -40, 140, -20, 140, 90]])
+    a = kincal.design(model, count=30, candidates=1000, noise_std="0.065mm", within=measured)
+    assert np.array_equal(d.configurations.actuators, a.configurations.actuators)
+    empty = tmp_path / "empty.csv"
+    empty.write_text("shoulder_pan_joint,shoulder_lift_joint,elbow_joint,wrist_1_joint,"
+                     "wrist_2_joint,wrist_3_joint\n")
+    with pytest.raises(kincal.KincalError, match=r"within: .*empty\.csv: no measurement rows"):
+        kincal.design(model, count=30, noise_std="0.065mm", within=empty)
+    # A project's design step with within, candidates-file and centre: Python writes the
+    # program's templates.
+    project = tmp_path / "design.yaml"
+    project.write_text("""variables:
+  out: x
+steps:
+  - design: {model: ur5.json, within: within.csv, poses: 20, candidates: 500,
+             noise-std: 0.065mm, out: '${out}/within.csv'}
+  - design: {model: ur5.json, candidates-file: within.csv, poses: 2, noise-std: 0.065mm,
+             out: '${out}/given.csv'}
+  - design: {model: ur5.json, centre: '0,-1.5,1.5,-1.5,-1.5,0', config-range: 0.3rad,
+             poses: 20, candidates: 500, noise-std: 0.065mm, out: '${out}/centre.csv'}
+""")
+    kincal.run_project(project, {"out": str(tmp_path / "py")})
+    subprocess.run([program, "run", str(project), "--set", "out=%s" % (tmp_path / "cli")],
+                   check=True, capture_output=True)
+    for name in ("within.csv", "given.csv", "centre.csv"):
+        assert (tmp_path / "py" / name).read_text() == (tmp_path / "cli" / name).read_text(), name
