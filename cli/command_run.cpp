@@ -10,6 +10,7 @@
 #include "kincal/cli/commands.hpp"
 #include "kincal/cli/console.hpp"
 #include "kincal/cli/project_record.hpp"
+#include "kincal/framework/analysis/calibration_verdict.hpp"
 #include "kincal/framework/base/nearest_name.hpp"
 #include "kincal/framework/io/json_input.hpp"
 #include "kincal/framework/io/output_plan.hpp"
@@ -160,7 +161,9 @@ int run_project(const Args& args) {
     set_active_project_record(std::nullopt);
     if (code == 0) continue;
     worst = std::max(worst, code);
-    const bool go_on = keep_going && code == 1;
+    // A verdict (1, or 3 for a calibration not to load) lets --keep-going go on; bad input
+    // (2) or an interrupt (130) does not.
+    const bool go_on = keep_going && (code == 1 || code == kDoNotLoadExitCode);
     err() << "kincal run: " << project_step_location(project, i) << " exited with " << code
           << (i + 1 == count ? ""
               : go_on        ? "; running the later steps (--keep-going)"

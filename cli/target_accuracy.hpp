@@ -16,8 +16,7 @@ namespace kincal::cli {
 /// Adds --target to a command's options.
 void add_target_option(po::options_description& options);
 
-/// --target parsed; nullopt when not given. Throws CliError naming --target and the text
-/// when it is not one positive length with an optional positive angle.
+/// --target parsed (parse_target_accuracy); nullopt when not given.
 std::optional<TargetAccuracy> target_option(const po::variables_map& vm);
 
 }  // namespace kincal::cli

@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+
+#include "kincal/framework/kinematics/units.hpp"
 
 namespace kincal {
 
@@ -24,6 +27,30 @@ const char* const kPredictedFigure =
     "predicted pose error (95 % quantile at the worst sampled configuration of the workspace)";
 
 }  // namespace
+
+TargetAccuracy parse_target_accuracy(const std::string& text, const std::string& label) {
+  const std::string expected =
+      "; expected a length with its unit, e.g. 0.1mm, optionally with "
+      "an angle, e.g. 0.1mm,0.05deg";
+  UnitValues values;
+  try {
+    values = UnitValues::parse(text);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(label + " '" + text + "': " + e.what() + expected);
+  }
+  if (text.find("mm") == std::string::npos || !values.has(kMillimetre))
+    throw std::invalid_argument(label + " '" + text + "': no length in mm" + expected);
+  TargetAccuracy target;
+  target.position_mm = values.get(kMillimetre);
+  target.has_orientation = values.has(kRadian);
+  target.orientation_rad = values.get(kRadian, 0);
+  if (!(target.position_mm > 0) || !std::isfinite(target.position_mm) ||
+      (target.has_orientation &&
+       (!(target.orientation_rad > 0) || !std::isfinite(target.orientation_rad))))
+    throw std::invalid_argument(label + " '" + text +
+                                "': the accuracy must be positive and finite" + expected);
+  return target;
+}
 
 std::string TargetAccuracy::to_string() const {
   std::string out = figure_text(position_mm) + " mm";

@@ -1,7 +1,7 @@
 #pragma once
 // A pose accuracy a user needs (calibrate, validate and design --target) and its comparison
 // with a predicted or measured pose error, as data: the text, the JSON ("target") and the
-// page render the same judgement. Parsing the option is the faces' (cli/target_accuracy).
+// page render the same judgement.
 
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -21,6 +21,12 @@ struct TargetAccuracy {
   /// "0.1 mm" or "0.1 mm and 0.001 rad", for messages.
   std::string to_string() const;
 };
+
+/// "0.1mm" or "0.1mm,0.05deg" (a length with its unit, optionally an angle): the program's
+/// --target, Python's target=. Throws std::invalid_argument "<label> '<text>': ..." when it is
+/// not one positive length with an optional positive angle (a bare number, which would be
+/// taken as mm, included: an accuracy says its unit).
+TargetAccuracy parse_target_accuracy(const std::string& text, const std::string& label);
 
 /// The target compared with an error figure.
 struct TargetJudgement {

@@ -140,13 +140,13 @@ def _calibrate(
     fix: List[str], prior_std: List[str], noise_std: str, folds: int, starts: int, seed: int,
     rcond: float, allow_rank_deficient: bool, formulation: str, skip_bad_rows: bool,
     threads: int, out: str, json: str, html: str, model_path: str, inputs: List[str],
-    catch_sigint: bool, tolerance_priors: str, images: str, steps: List[str],
+    catch_sigint: bool, tolerance_priors: str, images: str, steps: List[str], target: str,
 ) -> Dict[str, Any]: ...
 def _validate(
     model: Model, data_path: Optional[str], actuators: Any, readings: Any,
     report_json: Optional[str], report_name: str, before: Optional[Model], before_name: str,
     noise_std: str, skip_bad_rows: bool, json: str, html: str, model_path: str,
-    inputs: List[str],
+    inputs: List[str], target: str,
 ) -> Dict[str, Any]: ...
 def _export(model: Model, format: str, model_path: str, out: str) -> str: ...
 def _read_project(path: str, overrides: List[Tuple[str, str]]) -> Dict[str, Any]: ...
@@ -205,5 +205,5 @@ def _design(
     fix: List[str], prior_std: List[str], noise_std: str, existing_path: Optional[str],
     existing_actuators: Any, existing_readings: Any, bound: bool, out: str, json: str,
     html: str, model_path: str, inputs: List[str], catch_sigint: bool, within: Any,
-    candidate_configurations: Any, centre: Any,
+    candidate_configurations: Any, centre: Any, target: str,
 ) -> Dict[str, Any]: ...

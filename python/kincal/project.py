@@ -206,15 +206,45 @@ def _location(project: Dict[str, Any], index: int, key: Optional[str], message: 
                                         message)
 
 
+def _verdict(command: str, result: Any) -> Optional[str]:
+    """Why the program would end this step with a verdict's exit code (1, or 3 for a
+    calibration not to load), its files written; None when it would exit with 0."""
+    if command == "verify":
+        return None if result["match"] else str(result["message"])
+    if not hasattr(result, "to_dict"):
+        return None  # model (a Model), export (its text)
+    report = result.to_dict()
+    if command in ("fk", "ik", "compensate") and report.get("failed"):
+        return "%d of %d %s failed (see their status and reason)" % (
+            report["failed"], len(report.get("rows", [])) or report.get("targets", 0),
+            "targets" if command == "compensate" else "rows")
+    if command in ("calibrate", "simulate") and report.get("termination") not in (
+            None, "converged", "max_iterations") and getattr(result, "calibrated_model", 1) is None:
+        return "the solver did not reach a solution (%s: %s)" % (report["termination"],
+                                                                 report.get("message", ""))
+    if command == "calibrate" and report["verdict"]["overall"] == "do_not_load":
+        for finding in report["verdict"]["findings"]:
+            if finding["level"] == "do_not_load":
+                return "verdict: do not load this calibration: " + finding["text"]
+    if command == "validate" and report["verdict"] == "larger_than_predicted":
+        return "verdict: the held-out residuals are larger than predicted"
+    return None
+
+
 def run_project(path: Optional[PathLike] = None, variables: Optional[Mapping[str, str]] = None,
-                from_report: Optional[PathLike] = None) -> List[Tuple[str, Any]]:
+                from_report: Optional[PathLike] = None,
+                keep_going: bool = False) -> List[Tuple[str, Any]]:
     """Runs the project file ``path`` (YAML or JSON, docs/projects.md), or the project the
     JSON report ``from_report`` records, step by step with the library's workflows; returns
     (command, result) per step: a Model for ``model``, the workflow's answer for the others.
     ``variables`` replace the values of the project's variables (``--set NAME=VALUE``).
     Every step's keys are checked before the first step runs; an error is a KincalError
-    naming the file, the line and the step. A ``verify`` that finds another model stops the
-    run with a KincalError, as the program exits with 1."""
+    naming the file, the line and the step. A step the program would end with a verdict (a
+    ``verify`` that finds another model, a calibration not to load, held-out residuals larger
+    than predicted, rows of ``fk``, ``ik`` or ``compensate`` that failed, a solve that reached
+    no solution) stops the run with a KincalError after writing its files, as ``kincal run``
+    stops; with ``keep_going`` (``--keep-going``) the later steps run and each result carries
+    its own verdict."""
     overrides = [(str(k), str(v)) for k, v in (variables or {}).items()]
     try:
         if path is not None and from_report is None:
@@ -251,14 +281,11 @@ def run_project(path: Optional[PathLike] = None, variables: Optional[Mapping[str
             raise KincalError(_location(project, index, None, str(e))) from None
         finally:
             _kincal._set_project_record("")
-        if command == "verify" and not result["match"]:
-            raise KincalError(_location(project, index, None, result["message"]))
-        if command in ("fk", "ik") and result.to_dict().get("failed"):
-            # As the program exits with 1 when rows failed (their files are written).
-            raise KincalError(_location(project, index, None, "%d of %d rows failed (see their "
-                                        "status and reason)" % (result["failed"],
-                                                                len(result["rows"]))))
         results.append((command, result))
+        verdict = _verdict(command, result)
+        if verdict is not None and not keep_going:
+            raise KincalError(_location(project, index, None, verdict.rstrip(".") + "; the later "
+                                        "steps were not run (keep_going=True runs them)"))
     return results
 
 

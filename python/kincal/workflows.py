@@ -112,6 +112,7 @@ def calibrate(
     html: Optional[PathLike] = None,
     images: Optional[PathLike] = None,
     steps: Sequence[str] = (),
+    target: Optional[str] = None,
 ) -> Report:
     """Calibrates ``model`` (a Model or a model file) from ``data`` (Measurements or a
     measurement file): the calibrate workflow, as ``kincal calibrate`` runs it.
@@ -130,6 +131,8 @@ def calibrate(
     (as ``kincal.detect`` writes it) relative to ``images`` (default: the data file's folder).
     ``steps`` calibrates in steps, as ``--step``: each a comma-separated list of glob patterns
     (``["camera.*"]``) solved for alone first, in order; the full solve starts where they end.
+    ``target`` is the pose accuracy needed (``"0.1mm"`` or ``"0.1mm,0.05deg"``, as
+    ``--target``): the report's ``target`` says whether the predicted pose error meets it.
 
     Returns the report (``to_dict()`` is the program's JSON) with ``report.text`` (the text
     report), ``report.notes`` (what a user should read) and ``report.calibrated_model`` (a
@@ -147,7 +150,7 @@ def calibrate(
             list(fix), specs, noise_std or "", folds, starts, seed, rcond, allow_rank_deficient,
             formulation or "", skip_bad_rows, threads, _path(out), _path(json), _path(html),
             model_path, inputs, threading.current_thread() is threading.main_thread(),
-            tolerance_priors, _path(images), list(steps))
+            tolerance_priors, _path(images), list(steps), target or "")
     except ValueError as e:
         raise KincalError(str(e)) from None
     report = _report("calibrate", answer)
@@ -167,14 +170,16 @@ def validate(
     skip_bad_rows: bool = False,
     json: Optional[PathLike] = None,
     html: Optional[PathLike] = None,
+    target: Optional[str] = None,
 ) -> Report:
     """Checks a calibrated ``model`` on held-out ``data``: the validate workflow, as
     ``kincal validate`` runs it. ``report`` is the calibration's report (a file, or the
     Report ``calibrate`` returned): its noise and the parameters' uncertainty predict the
     residuals; ``before`` the model the calibration started from (default with a report: its
     nominal values), for the position error before; ``noise_std`` replaces the predicted
-    noise; ``json`` and ``html`` write the result. Returns its report, with ``text`` and
-    ``notes``."""
+    noise; ``target`` the pose accuracy needed (``"0.1mm"``, as ``--target``), judged against
+    the measured error; ``json`` and ``html`` write the result. Returns its report, with
+    ``text`` and ``notes``."""
     m, model_path = _model(model)
     data_path, actuators, readings = _data(data, m)
     inputs = [p for p in (model_path, data_path) if p]
@@ -202,7 +207,8 @@ def validate(
     try:
         answer = _kincal._validate(
             m, data_path, actuators, readings, report_json, report_name, before_model, before_name,
-            noise_std or "", skip_bad_rows, _path(json), _path(html), model_path, inputs)
+            noise_std or "", skip_bad_rows, _path(json), _path(html), model_path, inputs,
+            target or "")
     except ValueError as e:
         raise KincalError(str(e)) from None
     result = _report("validate", answer)
@@ -392,6 +398,7 @@ def design(
     out: Optional[PathLike] = None,
     json: Optional[PathLike] = None,
     html: Optional[PathLike] = None,
+    target: Optional[str] = None,
 ) -> Report:
     """Chooses ``count`` configurations worth measuring: the design workflow, as ``kincal
     design`` runs it. ``criterion`` D, A, E or I; ``candidates`` random candidates drawn in
@@ -403,7 +410,8 @@ def design(
     all have limits (a URDF's) is drawn within them by default, and every box within them;
     ``noise_std`` the readings' noise (default the model's reading_std, which it must then
     state); ``existing`` data already measured (Measurements or a file); ``bound`` also bounds
-    how good any design can be. ``report.configurations`` is a Measurements template of the
+    how good any design can be; ``target`` the pose accuracy needed (``"0.1mm"``, as
+    ``--target``), judged against the design's predicted error. ``report.configurations`` is a Measurements template of the
     chosen configurations (readings NaN); ``out`` writes it as the program does, ``json`` and
     ``html`` the reports. Ctrl-C stops the work with the best design so far (marked partial)
     and raises ``KincalInterrupt`` carrying the report."""
@@ -433,7 +441,7 @@ def design(
             bound, _path(out), _path(json), _path(html), model_path, inputs,
             threading.current_thread() is threading.main_thread(),
             within_rows, candidate_rows,
-            None if centre is None else np.asarray(centre, dtype=float))
+            None if centre is None else np.asarray(centre, dtype=float), target or "")
     except ValueError as e:
         raise KincalError(str(e)) from None
     if answer["stopped_before_design"]:

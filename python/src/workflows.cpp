@@ -17,6 +17,7 @@
 
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "kincal/framework/analysis/target_accuracy.hpp"
 #include "kincal/framework/base/angles.hpp"
 #include "kincal/framework/base/message_excerpt.hpp"
 #include "kincal/framework/base/parallel.hpp"
@@ -157,20 +158,25 @@ void apply_prior_std(MeasurementModel& model, const std::vector<std::string>& sp
   }
 }
 
-py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::string>& data_path,
-                            const py::object& actuators, const py::object& readings,
-                            const std::string& solver, int max_iterations,
-                            const std::map<std::string, std::string>& solver_options,
-                            const std::string& loss, const std::vector<std::string>& free,
-                            const std::vector<std::string>& fix,
-                            const std::vector<std::string>& prior_std, const std::string& noise_std,
-                            int folds, int starts, std::uint64_t seed, double rcond,
-                            bool allow_rank_deficient, const std::string& formulation,
-                            bool skip_bad_rows, int threads, const std::string& out,
-                            const std::string& json, const std::string& html,
-                            const std::string& model_path, const std::vector<std::string>& inputs,
-                            bool catch_sigint, const std::string& tolerance_priors,
-                            const std::string& images, const std::vector<std::string>& steps) {
+// target= (the program's --target): "" for none.
+std::optional<TargetAccuracy> target_accuracy(const std::string& target) {
+  if (target.empty()) return std::nullopt;
+  return parse_target_accuracy(target, "target");
+}
+
+py::dict calibrate_workflow(
+    const ModelHandle& handle, const std::optional<std::string>& data_path,
+    const py::object& actuators, const py::object& readings, const std::string& solver,
+    int max_iterations, const std::map<std::string, std::string>& solver_options,
+    const std::string& loss, const std::vector<std::string>& free,
+    const std::vector<std::string>& fix, const std::vector<std::string>& prior_std,
+    const std::string& noise_std, int folds, int starts, std::uint64_t seed, double rcond,
+    bool allow_rank_deficient, const std::string& formulation, bool skip_bad_rows, int threads,
+    const std::string& out, const std::string& json, const std::string& html,
+    const std::string& model_path, const std::vector<std::string>& inputs, bool catch_sigint,
+    const std::string& tolerance_priors, const std::string& images,
+    const std::vector<std::string>& steps, const std::string& target) {
+  const std::optional<TargetAccuracy> accuracy = target_accuracy(target);
   if (!(rcond > 0 && rcond < 1)) throw std::invalid_argument("rcond must be in (0, 1)");
   if (folds != 0 && folds < 2)
     throw std::invalid_argument("folds must be at least 2 (the number of cross-validation folds)");
@@ -216,10 +222,15 @@ py::dict calibrate_workflow(const ModelHandle& handle, const std::optional<std::
   std::string extra_text;
   kincal::report::CalibrationPageExtras page;
   std::vector<std::string> notes = result.notes;
+  if (accuracy) {  // as the program: the judgement before a camera's views
+    page.target = judge_calibration_target(result, *accuracy);
+    extra["target"] = to_json(*page.target);
+    extra_text += "target: " + page.target->verdict + "\n";
+  }
   if (result.solved && has_camera(*model)) {
     CameraViewChecks views = calibration_camera_views(*model, result.parameters,
                                                       request.measurements, request.data_file);
-    extra_text = views.text;
+    extra_text += views.text;
     extra["camera_views"] = views.views_json;
     extra["view_checks"] = views.json;
     if (!html.empty()) {
@@ -269,7 +280,9 @@ py::dict validate_workflow(const ModelHandle& handle, const std::optional<std::s
                            const std::string& report_name, const std::optional<ModelHandle>& before,
                            const std::string& before_name, const std::string& noise_std,
                            bool skip_bad_rows, const std::string& json, const std::string& html,
-                           const std::string& model_path, const std::vector<std::string>& inputs) {
+                           const std::string& model_path, const std::vector<std::string>& inputs,
+                           const std::string& target) {
+  const std::optional<TargetAccuracy> accuracy = target_accuracy(target);
   const OutputPlan plan = plan_outputs(inputs, {{"json", json}, {"html", html}});
 
   const std::shared_ptr<const MeasurementModel> model = handle.model;
@@ -328,16 +341,24 @@ py::dict validate_workflow(const ModelHandle& handle, const std::optional<std::s
     py::gil_scoped_release release;
     result = validate(request);
   }
-  const Json out = validation_json(request, result, report_json ? report_name : "", Json());
+  const PositionComparison& position = result.position;
+  const std::optional<TargetJudgement> judged =
+      accuracy ? std::optional<TargetJudgement>(judge_measured_target(
+                     *accuracy, position.computed ? &position.after : nullptr,
+                     "these held-out readings measure no point of the mechanism"))
+               : std::nullopt;
+  const Json out = validation_json(request, result, report_json ? report_name : "",
+                                   judged ? to_json(*judged) : Json());
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", report_json_text(out)});
   if (!html.empty())
-    contents.push_back(
-        {"html", kincal::report::validation_html(request, result, report_json ? report_name : "")});
+    contents.push_back({"html", kincal::report::validation_html(
+                                    request, result, report_json ? report_name : "", judged)});
   write_outputs(plan, contents);
   py::dict answer;
   answer["report"] = out.dump();
-  answer["text"] = validation_text(request, result, request.model_file, request.data_file);
+  answer["text"] = validation_text(request, result, request.model_file, request.data_file) +
+                   (judged ? "target: " + judged->verdict + "\n" : std::string());
   answer["notes"] = result.notes;
   return answer;
 }
@@ -583,7 +604,8 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
                          const std::string& html, const std::string& model_path,
                          const std::vector<std::string>& inputs, bool catch_sigint,
                          const py::object& within, const py::object& candidate_configurations,
-                         const py::object& centre) {
+                         const py::object& centre, const std::string& target) {
+  const std::optional<TargetAccuracy> accuracy = target_accuracy(target);
   ExperimentDesignRequest request;
   DesignOptions& design = request.options;
   const py::ssize_t na = handle.model->mechanism().num_actuators();
@@ -689,14 +711,19 @@ py::dict design_workflow(const ModelHandle& handle, int count, const std::string
   answer["stopped_before_design"] = result.stopped_before_design;
   answer["notes"] = result.notes;
   if (result.stopped_before_design) return answer;
-  const Json report = design_json(result, out, Json());
+  const std::optional<TargetJudgement> judged =
+      accuracy
+          ? std::optional<TargetJudgement>(judge_predicted_target(*accuracy, result.designed_pose))
+          : std::nullopt;
+  const Json report = design_json(result, out, judged ? to_json(*judged) : Json());
   std::vector<std::pair<std::string, std::string>> contents;
   if (!json.empty()) contents.push_back({"json", report_json_text(report)});
-  if (!html.empty()) contents.push_back({"html", kincal::report::design_html(result, out)});
+  if (!html.empty()) contents.push_back({"html", kincal::report::design_html(result, out, judged)});
   if (!out.empty()) contents.push_back({"out", design_template_csv(result)});
   write_outputs(plan, contents);
   answer["report"] = report.dump();
-  answer["text"] = design_text(result, out);
+  answer["text"] =
+      design_text(result, out) + (judged ? "target: " + judged->verdict + "\n" : std::string());
   answer["configurations"] = to_numpy(result.rows.actuators);
   return answer;
 }
@@ -846,7 +873,7 @@ void bind_workflows(py::module_& m) {
         py::arg("existing_actuators"), py::arg("existing_readings"), py::arg("bound"),
         py::arg("out"), py::arg("json"), py::arg("html"), py::arg("model_path"), py::arg("inputs"),
         py::arg("catch_sigint"), py::arg("within"), py::arg("candidate_configurations"),
-        py::arg("centre"),
+        py::arg("centre"), py::arg("target"),
         "The design workflow (kincal.design is its face): a dict with the report's JSON text, "
         "the text report, the notes, the configurations chosen and whether it was "
         "interrupted.");
@@ -865,13 +892,14 @@ void bind_workflows(py::module_& m) {
         py::arg("seed"), py::arg("rcond"), py::arg("allow_rank_deficient"), py::arg("formulation"),
         py::arg("skip_bad_rows"), py::arg("threads"), py::arg("out"), py::arg("json"),
         py::arg("html"), py::arg("model_path"), py::arg("inputs"), py::arg("catch_sigint"),
-        py::arg("tolerance_priors"), py::arg("images"), py::arg("steps"),
+        py::arg("tolerance_priors"), py::arg("images"), py::arg("steps"), py::arg("target"),
         "The calibrate workflow (kincal.calibrate is its face): a dict with the report's "
         "JSON text, the text report, the notes, solved, interrupted and the calibrated Model.");
   m.def("_validate", &validate_workflow, py::arg("model"), py::arg("data_path"),
         py::arg("actuators"), py::arg("readings"), py::arg("report_json"), py::arg("report_name"),
         py::arg("before"), py::arg("before_name"), py::arg("noise_std"), py::arg("skip_bad_rows"),
         py::arg("json"), py::arg("html"), py::arg("model_path"), py::arg("inputs"),
+        py::arg("target"),
         "The validate workflow (kincal.validate is its face): a dict with the report's JSON "
         "text, the text report and the notes.");
 }

@@ -147,3 +147,58 @@ def test_fk_and_ik_one_pose_and_their_errors(tmp_path: Path) -> None:
         kincal.ik(model, pose, seeds=True)
     with pytest.raises(kincal.KincalError, match=r"near: 2 numbers, expected 6"):
         kincal.ik(model, pose, near=[1.0, 2.0])
+
+
+_TARGET_PROJECT = """variables:
+  out: results
+steps:
+  - model: {preset: cube-hexapod, out: '${out}/nominal.json'}
+  - simulate: {model: '${out}/nominal.json', case: 5, seed: 7, solver: gn,
+               write-data: '${out}/measured.csv'}
+  - simulate: {model: '${out}/nominal.json', truth: '${out}/measured.truth.json', case: 5,
+               seed: 8, solver: gn, write-data: '${out}/held-out.csv'}
+  - calibrate: {model: '${out}/nominal.json', data: '${out}/measured.csv', target: 0.05mm,
+                out: '${out}/calibrated.json', json: '${out}/report.json',
+                html: '${out}/report.html'}
+  - validate: {model: '${out}/calibrated.json', data: '${out}/held-out.csv', target: 0.05mm,
+               report: '${out}/report.json', json: '${out}/validate.json',
+               html: '${out}/validate.html'}
+  - design: {model: '${out}/nominal.json', poses: 30, candidates: 2000, noise-std: 0.0072mm,
+             target: 0.001mm, out: '${out}/design.csv', json: '${out}/design.json',
+             html: '${out}/design.html'}
+"""
+
+
+def test_target_is_judged_as_the_program_judges_it(tmp_path: Path, program: str) -> None:
+    project = _write(tmp_path / "target.yaml", _TARGET_PROJECT)
+    py_out, cli_out = tmp_path / "python", tmp_path / "program"
+    # One gauge cannot place the platform to 0.05 mm everywhere: the calibration is not to be
+    # loaded, and the run stops there, as the program's does (exit code 3).
+    with pytest.raises(kincal.KincalError, match=r"target\.yaml:9: steps\[4\]\.calibrate: "
+                                                 r"verdict: do not load this calibration: .*does "
+                                                 r"not meet the 0\.05 mm target.*later steps"):
+        kincal.run_project(project, {"out": str(tmp_path / "stopped")})
+    assert (tmp_path / "stopped" / "report.json").exists()
+    assert not (tmp_path / "stopped" / "validate.json").exists()
+    results = kincal.run_project(project, {"out": str(py_out)}, keep_going=True)
+    p = subprocess.run([program, "run", str(project), "--set", "out=%s" % cli_out,
+                        "--keep-going"], capture_output=True, text=True)
+    assert p.returncode == 3, p.stderr
+    from_python, from_program = _files(py_out, str(py_out)), _files(cli_out, str(cli_out))
+    assert sorted(from_python) == sorted(from_program)
+    for name in from_program:
+        # Where a report names an option, it spells it as the face does.
+        spelt = from_python[name].replace("from noise_std", "from --noise-std")
+        assert spelt.replace('source": "noise_std"', 'source": "--noise-std"') == \
+            from_program[name], name
+    targets = {command: result["target"] for command, result in results
+               if command in ("calibrate", "validate", "design")}
+    assert targets["calibrate"]["meets"] is False and targets["design"]["meets"] is False
+    # A length gauge measures no point: the held-out data cannot judge a position target.
+    assert targets["validate"]["meets"] is None
+    assert results[4][1]["verdict"] == "consistent"
+    assert "target: does not meet the 0.05 mm target" in results[3][1].text
+    assert "target: does not meet the 0.001 mm target" in results[5][1].text
+    assert "target: does not meet the 0.05 mm target" in p.stdout
+    with pytest.raises(kincal.KincalError, match=r"target '0\.1': no length in mm"):
+        kincal.validate(py_out / "calibrated.json", py_out / "held-out.csv", target="0.1")

@@ -157,6 +157,18 @@ TEST(ProjectRun, KeepGoingRunsPastAVerdict) {
   const auto going = run_cli("run " + (dir / "q.yaml") + " --keep-going");
   EXPECT_EQ(going.exit_code, 1);
   EXPECT_TRUE(fs::exists(dir / "results/joints.csv"));
+  // A calibration not to load (3, a target one gauge cannot meet) is a verdict too.
+  write(dir / "r.yaml",
+        "steps:\n  - calibrate:\n      model: results/nominal.json\n      data: "
+        "results/measured.csv\n      target: 0.05mm\n      out: results/strict.json\n  - "
+        "export:\n      model: results/strict.json\n      format: csv\n      out: "
+        "results/strict.csv\n");
+  const auto strict = run_cli("run " + (dir / "r.yaml") + " --keep-going");
+  EXPECT_EQ(strict.exit_code, 3) << strict.err;
+  EXPECT_NE(strict.err.find("steps[1].calibrate exited with 3; running the later steps"),
+            std::string::npos)
+      << strict.err;
+  EXPECT_TRUE(fs::exists(dir / "results/strict.csv"));
 }
 
 }  // namespace
