@@ -218,9 +218,8 @@ def _verdict(command: str, result: Any) -> Optional[str]:
         return "%d of %d %s failed (see their status and reason)" % (
             report["failed"], len(report.get("rows", [])) or report.get("targets", 0),
             "targets" if command == "compensate" else "rows")
-    if command in ("calibrate", "simulate") and report.get("termination") not in (
-            None, "converged", "max_iterations") and getattr(result, "calibrated_model", 1) is None:
-        return "the solver did not reach a solution (%s: %s)" % (report["termination"],
+    if command in ("calibrate", "simulate") and not result.solved:
+        return "the solver did not reach a solution (%s: %s)" % (report.get("termination"),
                                                                  report.get("message", ""))
     if command == "calibrate" and report["verdict"]["overall"] == "do_not_load":
         for finding in report["verdict"]["findings"]:

@@ -137,7 +137,7 @@ def calibrate(
     Returns the report (``to_dict()`` is the program's JSON) with ``report.text`` (the text
     report), ``report.notes`` (what a user should read) and ``report.calibrated_model`` (a
     Model at the estimate, or None when the solver reached no solution, a status in
-    ``report.termination``). Bad input is ``KincalError``; Ctrl-C stops the solve at its best
+    ``report.termination``; ``report.solved`` says which). Bad input is ``KincalError``; Ctrl-C stops the solve at its best
     point and raises ``KincalInterrupt`` carrying the report."""
     m, model_path = _model(model)
     data_path, actuators, readings = _data(data, m)
@@ -155,6 +155,7 @@ def calibrate(
         raise KincalError(str(e)) from None
     report = _report("calibrate", answer)
     report.__dict__["calibrated_model"] = answer["calibrated_model"]
+    report.__dict__["solved"] = bool(answer["solved"])
     if answer["interrupted"]:
         raise KincalInterrupt("kincal.calibrate interrupted", report)
     return report
@@ -371,6 +372,7 @@ def simulate(
     except ValueError as e:
         raise KincalError(str(e)) from None
     report = _report("simulate", answer)
+    report.__dict__["solved"] = bool(answer["solved"])
     if answer["interrupted"]:
         raise KincalInterrupt("kincal.simulate interrupted", report)
     return report
