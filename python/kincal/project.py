@@ -49,7 +49,9 @@ _WORKFLOWS: Dict[str, Callable[..., Any]] = {
 }
 # Where a keyword is spelt otherwise than the program's option.
 _RENAMED = {("calibrate", "step"): "steps", ("design", "poses"): "count",
-            ("design", "candidates-file"): "candidate_configurations"}
+            ("design", "candidates-file"): "candidate_configurations", ("detect", "gate"): "gate_px"}
+# Keys whose Python keyword takes the number without the unit the program's option carries.
+_UNIT_SUFFIX = {("detect", "gate"): "px"}
 # The program's progress on stderr: Python prints nothing, so the key has nothing to do.
 _DISPLAY_ONLY = {"progress"}
 _MODEL_KEYS = ["preset", "urdf", "tip", "base", "sensor", "point", "frame", "target",
@@ -120,6 +122,9 @@ def _keywords(command: str, options: List[Option]) -> Dict[str, Any]:
         if name not in parameters:
             raise _StepError(key, "not an option of kincal.%s (its options: %s); kincal run "
                              "runs what Python does not" % (command, ", ".join(parameters)))
+        suffix = _UNIT_SUFFIX.get((command, key))
+        if suffix:
+            values = [v[:-len(suffix)] if v.endswith(suffix) else v for v in values]
         free_at = index if key == "free" else free_at
         fix_at = index if key == "fix" else fix_at
         kwargs[name] = _argument(key, values, is_switch, parameters[name])

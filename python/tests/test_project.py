@@ -202,3 +202,18 @@ def test_target_is_judged_as_the_program_judges_it(tmp_path: Path, program: str)
     assert "target: does not meet the 0.05 mm target" in p.stdout
     with pytest.raises(kincal.KincalError, match=r"target '0\.1': no length in mm"):
         kincal.validate(py_out / "calibrated.json", py_out / "held-out.csv", target="0.1")
+
+
+def test_keys_spelt_otherwise_in_python_are_mapped() -> None:
+    from kincal.project import _keywords
+
+    assert _keywords("detect", [("target", ["chessboard:6x8:20mm"], False, 3),
+                                ("gate", ["1.5px"], False, 4),
+                                ("intrinsics", ["800,800,320,240"], False, 5),
+                                ("progress", [], True, 6)]) == {
+        "target": "chessboard:6x8:20mm", "gate_px": 1.5, "intrinsics": [800.0, 800.0, 320.0, 240.0]}
+    assert _keywords("design", [("poses", ["20"], False, 3), ("centre", ["0,1.5"], False, 4),
+                                ("candidates-file", ["c.csv"], False, 5)]) == {
+        "count": 20, "centre": [0.0, 1.5], "candidate_configurations": "c.csv"}
+    assert _keywords("ik", [("near", ["0,-1.5,1.5,0,1.5,0"], False, 3), ("all", [], True, 4)]) == {
+        "near": [0.0, -1.5, 1.5, 0.0, 1.5, 0.0], "all": True}
