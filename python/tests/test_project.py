@@ -217,3 +217,40 @@ def test_keys_spelt_otherwise_in_python_are_mapped() -> None:
         "count": 20, "centre": [0.0, 1.5], "candidate_configurations": "c.csv"}
     assert _keywords("ik", [("near", ["0,-1.5,1.5,0,1.5,0"], False, 3), ("all", [], True, 4)]) == {
         "near": [0.0, -1.5, 1.5, 0.0, 1.5, 0.0], "all": True}
+
+
+def _ur5_dataset(source_dir: Path) -> Path:
+    folder = Path(os.environ.get("KINCAL_DATASETS", source_dir.parent / "shared" / "datasets"))
+    folder = folder / "ur5-laser-tracker"
+    if not folder.is_dir():
+        # As the example's test (exit 77): the public dataset is not committed.
+        pytest.skip("the public UR5 dataset is not at %s" % folder)
+    return folder
+
+
+def test_the_ur5_project_from_python_writes_the_programs_files(tmp_path: Path, program: str,
+                                                               source_dir: Path) -> None:
+    import importlib.util
+
+    example = source_dir / "examples" / "ur5-laser-tracker"
+    spec = importlib.util.spec_from_file_location("ur5_run", example / "run.py")
+    assert spec is not None and spec.loader is not None
+    ur5 = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ur5)
+    dataset = _ur5_dataset(source_dir)
+    data = tmp_path / "data"
+    data.mkdir()
+    ur5.write_measurements(ur5.read_dataset(str(dataset / ur5.GRID)), str(data / "grid.csv"))
+    ur5.write_measurements(ur5.read_dataset(str(dataset / ur5.TEST)), str(data / "test.csv"))
+    project = example / "project.yaml"
+    py_out, cli_out = tmp_path / "python", tmp_path / "program"
+    results = kincal.run_project(project, {"data": str(data), "out": str(py_out)})
+    assert [command for command, _ in results] == ["model", "calibrate", "model", "calibrate",
+                                                   "export", "validate", "validate"]
+    p = subprocess.run([program, "run", str(project), "--set", "data=%s" % data,
+                        "--set", "out=%s" % cli_out], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    from_python, from_program = _files(py_out, str(py_out)), _files(cli_out, str(cli_out))
+    assert sorted(from_python) == sorted(from_program) and len(from_program) == 9
+    for name in from_program:
+        assert from_python[name] == from_program[name], name
