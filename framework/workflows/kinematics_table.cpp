@@ -9,6 +9,7 @@
 #include "kincal/framework/base/format_text.hpp"
 #include "kincal/framework/calibration/data_checks.hpp"
 #include "kincal/framework/kinematics/units.hpp"
+#include "kincal/framework/workflows/option_name.hpp"
 
 namespace kincal {
 
@@ -190,9 +191,10 @@ KinematicsTable kinematics_table(const MeasurementModel& model,
     if (!actuator_column && !ignores_one_of(n, model.reading_names())) result.notes.push_back(n);
   }
   if (actuator_columns_ignored)
-    result.notes.push_back(
-        request.data_file + ": the actuator columns are not read" +
-        (request.inverse ? std::string(" (--seeds starts each row from them)") : std::string()));
+    result.notes.push_back(request.data_file + ": the actuator columns are not read" +
+                           (request.inverse ? " (" + option_name(request.option_prefix, "seeds") +
+                                                  " starts each row from them)"
+                                            : std::string()));
 
   const Measurements& data = table.data;
   const VectorXd* near = request.near.size() > 0 ? &request.near : nullptr;

@@ -27,6 +27,9 @@ struct KinematicsTableRequest {
   /// ik without seeds: the solution nearest these actuator values (empty: from home).
   VectorXd near;
   CsvLimits limits;
+  /// How the face spells its options in the notes (option_name.hpp): "--" for the program,
+  /// "" for Python.
+  std::string option_prefix = "--";
 };
 
 struct KinematicsTable {

@@ -55,6 +55,7 @@ py::dict fk_workflow(const ModelHandle& handle, const std::string& model_name,
     if (!actuators.empty()) throw std::invalid_argument("give actuators or data, not both");
     KinematicsTableRequest request;
     request.data_file = data;
+    request.option_prefix = "";  // Python's spelling in the notes
     return table_answer(model, "fk", name, request, out, json, inputs);
   }
   if (!out.empty()) throw std::invalid_argument("out writes the table of data; give data");
@@ -85,6 +86,7 @@ py::dict ik_workflow(const ModelHandle& handle, const std::string& model_name,
     request.data_file = data;
     request.seeds = seeds;
     request.near = start;
+    request.option_prefix = "";  // Python's spelling in the notes: seeds
     return table_answer(model, "ik", name, request, out, json, inputs);
   }
   if (!out.empty()) throw std::invalid_argument("out writes the table of data; give data");

@@ -121,6 +121,9 @@ def test_fk_and_ik_steps_write_what_kincal_run_writes(tmp_path: Path, program: s
     rows = json.loads(from_python["fk_table.json"])["rows"]
     assert [r["status"] for r in rows] == ["ok", "ok"]
     assert results[3][1].text.splitlines()[2].startswith("3,0.1745329251994")
+    unseeded = kincal.ik(py_out / "ur5.json", data=py_out / "fk.csv")
+    assert any("the actuator columns are not read (seeds starts each row from them)" in n
+               for n in unseeded.notes), unseeded.notes
     assert len(results[5][1]["solutions"]) > 1
 
 
