@@ -220,8 +220,9 @@ def _verdict(command: str, result: Any) -> Optional[str]:
         return None  # model (a Model), export (its text)
     report = result.to_dict()
     if command in ("fk", "ik", "compensate") and report.get("failed"):
+        rows = report["rows"]  # fk, ik: the rows; compensate: their count
         return "%d of %d %s failed (see their status and reason)" % (
-            report["failed"], len(report.get("rows", [])) or report.get("targets", 0),
+            report["failed"], rows if isinstance(rows, int) else len(rows),
             "targets" if command == "compensate" else "rows")
     if command in ("calibrate", "simulate") and not result.solved:
         return "the solver did not reach a solution (%s: %s)" % (report.get("termination"),

@@ -257,3 +257,26 @@ def test_the_ur5_project_from_python_writes_the_programs_files(tmp_path: Path, p
     assert sorted(from_python) == sorted(from_program) and len(from_program) == 9
     for name in from_program:
         assert from_python[name] == from_program[name], name
+
+
+def test_rows_that_failed_stop_the_run_as_the_program_exits_with_1(tmp_path: Path,
+                                                                    program: str) -> None:
+    # The gauge cannot read 5000 mm: compensate's second target fails, fk's second row too.
+    _write(tmp_path / "targets.csv", "gauge\n342.5\n5000\n")
+    _write(tmp_path / "legs.csv", "leg1,leg2,leg3,leg4,leg5,leg6\n350,350,350,350,350,350\n"
+                                  "350,350,350,350,350,1e6\n")
+    project = _write(tmp_path / "rows.yaml", """steps:
+  - model: {preset: cube-hexapod, out: m.json}
+  - compensate: {model: m.json, targets: targets.csv, out: commands.csv}
+  - fk: {model: m.json, data: legs.csv, out: poses.csv}
+""")
+    with pytest.raises(kincal.KincalError, match=r"rows\.yaml:3: steps\[2\]\.compensate: 1 of 2 "
+                                                 r"targets failed .*later steps were not run"):
+        kincal.run_project(project)
+    assert (tmp_path / "commands.csv").exists() and not (tmp_path / "poses.csv").exists()
+    results = kincal.run_project(project, keep_going=True)
+    assert results[2][1]["failed"] == 1
+    p = subprocess.run([program, "run", str(project), "--keep-going"], capture_output=True,
+                       text=True)
+    assert p.returncode == 1, p.stderr
+    assert "steps[2].compensate exited with 1; running the later steps" in p.stderr
