@@ -37,8 +37,7 @@ py::dict table_answer(const MeasurementModel& model, const std::string& command,
 
 // One result's document, written to `json` when given, and its text.
 py::dict one_answer(const nlohmann::ordered_json& document, const std::string& text,
-                    const std::string& json, const std::vector<std::string>& inputs) {
-  const OutputPlan plan = plan_outputs(inputs, {{"json", json}});
+                    const std::string& json, const OutputPlan& plan) {
   if (!json.empty()) write_outputs(plan, {{"json", document.dump(2) + "\n"}});
   py::dict answer;
   answer["report"] = document.dump();
@@ -60,10 +59,10 @@ py::dict fk_workflow(const ModelHandle& handle, const std::string& model_name,
   }
   if (!out.empty()) throw std::invalid_argument("out writes the table of data; give data");
   if (actuators.empty()) throw std::invalid_argument("actuators (or data) is required");
-  (void)plan_outputs(inputs, {{"json", json}});  // before any work
+  const OutputPlan plan = plan_outputs(inputs, {{"json", json}});  // before any work
   const KinematicsRow row = forward_at(model, actuators, "actuators");
   return one_answer(kinematics_row_document(false, name, model, row), forward_row_text(model, row),
-                    json, inputs);
+                    json, plan);
 }
 
 py::dict ik_workflow(const ModelHandle& handle, const std::string& model_name,
@@ -92,7 +91,7 @@ py::dict ik_workflow(const ModelHandle& handle, const std::string& model_name,
   if (!out.empty()) throw std::invalid_argument("out writes the table of data; give data");
   if (seeds) throw std::invalid_argument("seeds reads a start per row of data");
   if (pose.empty()) throw std::invalid_argument("pose (or data) is required");
-  (void)plan_outputs(inputs, {{"json", json}});  // before any work
+  const OutputPlan plan = plan_outputs(inputs, {{"json", json}});  // before any work
   const VectorXd* from = near.empty() ? nullptr : &start;
   if (all) {
     std::vector<KinematicsRow> solutions;
@@ -101,11 +100,11 @@ py::dict ik_workflow(const ModelHandle& handle, const std::string& model_name,
       solutions = inverse_solutions_at(model, pose, "pose", from);
     }
     return one_answer(kinematics_solutions_document(name, model, solutions),
-                      inverse_solutions_text(model, solutions, from != nullptr), json, inputs);
+                      inverse_solutions_text(model, solutions, from != nullptr), json, plan);
   }
   const KinematicsRow row = inverse_at(model, pose, "pose", from);
   return one_answer(kinematics_row_document(true, name, model, row),
-                    inverse_row_text(model, row) + actuator_units_line(model), json, inputs);
+                    inverse_row_text(model, row) + actuator_units_line(model), json, plan);
 }
 
 }  // namespace
